@@ -1,0 +1,42 @@
+"""Closed-form 3x3 solves with a guarded determinant (no NaN in values or gradients)."""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+
+def cross2(r, v):
+    """z-component of r x v for 2-vectors (..., 2)."""
+    return r[..., 0] * v[..., 1] - r[..., 1] * v[..., 0]
+
+
+def generalized(r, v):
+    """Generalised force (Fx, Fy, Mz about the reference point) of a unit force v applied at offset r."""
+    return jnp.stack([v[..., 0], v[..., 1], cross2(r, v)], -1)
+
+
+def det3(m):
+    return (m[..., 0, 0] * (m[..., 1, 1] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 1])
+            - m[..., 0, 1] * (m[..., 1, 0] * m[..., 2, 2] - m[..., 1, 2] * m[..., 2, 0])
+            + m[..., 0, 2] * (m[..., 1, 0] * m[..., 2, 1] - m[..., 1, 1] * m[..., 2, 0]))
+
+
+def adjugate3(m):
+    c = lambda i, j, k, l: m[..., i, j] * m[..., k, l] - m[..., i, l] * m[..., k, j]  # noqa: E731
+    rows = [
+        [c(1, 1, 2, 2), -c(0, 1, 2, 2), c(0, 1, 1, 2)],
+        [-c(1, 0, 2, 2), c(0, 0, 2, 2), -c(0, 0, 1, 2)],
+        [c(1, 0, 2, 1), -c(0, 0, 2, 1), c(0, 0, 1, 1)],
+    ]
+    return jnp.stack([jnp.stack(r, -1) for r in rows], -2)
+
+
+def solve3(m, b, rel_tol=1e-12):
+    """Solve m x = b by Cramer's rule. Returns (x, ok); where the matrix is (numerically) singular,
+    ok is False and x is 0, with the determinant guarded by the double-where pattern."""
+    det = det3(m)
+    scale = jnp.prod(jnp.linalg.norm(m, axis=-1), axis=-1)
+    ok = jnp.abs(det) > rel_tol * scale
+    safe_det = jnp.where(ok, det, 1.0)
+    x = jnp.einsum("...ij,...j->...i", adjugate3(m), b) / safe_det[..., None]
+    return jnp.where(ok[..., None], x, 0.0), ok

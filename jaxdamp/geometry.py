@@ -1,0 +1,126 @@
+"""Damper cross-section geometry (the paper's Fig. 3).
+
+Coordinates are normalised to the damper height H = 1 (absolute size drops out of every force
+result). The origin is the left base corner A, x is circumferential (to the right), y is radial
+(outward, "up"). The left flank runs from A to the vertex V, the right flank from B to V.
+"""
+
+from __future__ import annotations
+
+import json
+from importlib import resources
+from typing import NamedTuple
+
+import jax.numpy as jnp
+
+from ._validate import check_range
+
+CONTACT_NAMES = ("R1", "L1", "L2")
+FAMILY = ("90L", "74L", "60sym", "74R", "90R")
+
+
+class DamperShape(NamedTuple):
+    """A damper shape, as a pytree (every field may be a traced array).
+
+    theta_l, theta_r: base angles in degrees, in (0, 90].
+    br_over_hr: offset b_R of pad R1 from R, up the right flank, in units of the flank length h_R.
+    bl2_over_hl: pad spacing 2 b_L between L1 and L2 in units of the left flank length h_L, in (0, 1].
+    x_d: horizontal position of the centre of mass (where F_D acts) in units of the height H,
+        measured from the left base corner; None means the triangle's centroid.
+    """
+
+    theta_l: jnp.ndarray | float
+    theta_r: jnp.ndarray | float
+    br_over_hr: jnp.ndarray | float
+    bl2_over_hl: jnp.ndarray | float = 0.8
+    x_d: jnp.ndarray | float | None = None
+
+
+def validate_shape(shape: DamperShape) -> DamperShape:
+    """Raise ValueError naming the parameter and its valid range (concrete values only)."""
+    check_range("theta_l", shape.theta_l, 0.0, 90.0, lo_open=True, unit="deg")
+    check_range("theta_r", shape.theta_r, 0.0, 90.0, lo_open=True, unit="deg")
+    check_range("br_over_hr", shape.br_over_hr, -0.5, 0.5)
+    check_range("bl2_over_hl", shape.bl2_over_hl, 0.0, 1.0, lo_open=True)
+    if shape.x_d is not None:
+        check_range("x_d", shape.x_d, -1e6, 1e6)
+    return shape
+
+
+def paper_tables() -> dict:
+    """The paper's reference numbers shipped with the package (jaxdamp/data/paper_tables.json)."""
+    text = resources.files("jaxdamp").joinpath("data/paper_tables.json").read_text()
+    return json.loads(text)
+
+
+def family_shape(name: str) -> DamperShape:
+    """The paper's shapes: 90L, 74L, 60sym, 74R, 90R (the 60sym family) and 45sym (b_R/h_R = +0.20)."""
+    shapes = paper_tables()["shapes"]
+    if name not in shapes:
+        raise ValueError(f"shape must be one of {', '.join(shapes)}; got {name!r}")
+    s = shapes[name]
+    return DamperShape(s["theta_l"], s["theta_r"], s["br_over_hr"], s["bl2_over_hl"])
+
+
+class SectionGeometry(NamedTuple):
+    """Points (x, y), outward unit normals and unit tangents (up the flank) of the section.
+
+    Contact arrays are ordered (R1, L1, L2); shape (..., 3, 2).
+    """
+
+    points: jnp.ndarray
+    normals: jnp.ndarray
+    tangents: jnp.ndarray
+    D: jnp.ndarray
+    R: jnp.ndarray
+    L: jnp.ndarray
+    A: jnp.ndarray
+    B: jnp.ndarray
+    V: jnp.ndarray
+    h_l: jnp.ndarray
+    h_r: jnp.ndarray
+
+
+def section_geometry(shape: DamperShape) -> SectionGeometry:
+    """Pads, reference points, normals and tangents; differentiable, valid at vertical flanks."""
+    tl = jnp.deg2rad(jnp.asarray(shape.theta_l, dtype=float))
+    tr = jnp.deg2rad(jnp.asarray(shape.theta_r, dtype=float))
+    sl, cl, sr, cr = jnp.sin(tl), jnp.cos(tl), jnp.sin(tr), jnp.cos(tr)
+    # cot written as cos/sin: finite at 90 degrees, no tan() singularity.
+    x_v = cl / sl
+    x_b = x_v + cr / sr
+    zero = jnp.zeros_like(x_v)
+    A = jnp.stack([zero, zero], -1)
+    B = jnp.stack([x_b, zero], -1)
+    V = jnp.stack([x_v, jnp.ones_like(x_v)], -1)
+    h_l, h_r = 1.0 / sl, 1.0 / sr
+    e_l = jnp.stack([cl, sl], -1)
+    e_r = jnp.stack([-cr, sr], -1)
+    n_l = jnp.stack([-sl, cl], -1)
+    n_r = jnp.stack([sr, cr], -1)
+    L = A + 0.5 * h_l[..., None] * e_l
+    R = B + 0.5 * h_r[..., None] * e_r
+    x_d = (x_b + x_v) / 3.0 if shape.x_d is None else jnp.asarray(shape.x_d, dtype=float) + zero
+    D = jnp.stack([x_d, 0.5 + zero], -1)
+    b_l = 0.5 * jnp.asarray(shape.bl2_over_hl, dtype=float) * h_l
+    b_r = jnp.asarray(shape.br_over_hr, dtype=float) * h_r
+    r1 = R + b_r[..., None] * e_r
+    l1 = L + b_l[..., None] * e_l
+    l2 = L - b_l[..., None] * e_l
+    points = jnp.stack([r1, l1, l2], -2)
+    normals = jnp.stack([n_r, n_l, n_l], -2)
+    tangents = jnp.stack([e_r, e_l, e_l], -2)
+    return SectionGeometry(points, normals, tangents, D, R, L, A, B, V, h_l, h_r)
+
+
+def full_slip_slide_rates(shape: DamperShape) -> jnp.ndarray:
+    """Sliding per unit relative platform displacement in full slip (Appendix C, eqs. C.1-C.2).
+
+    Returns (R1, L1, L2) magnitudes; written as cos/sin(theta_l + theta_r) so vertical flanks are finite.
+    """
+    tl = jnp.deg2rad(jnp.asarray(shape.theta_l, dtype=float))
+    tr = jnp.deg2rad(jnp.asarray(shape.theta_r, dtype=float))
+    s = jnp.sin(tl + tr)
+    right = jnp.cos(tl) / s
+    left = jnp.cos(tr) / s
+    return jnp.stack([right, left, left], -1)

@@ -1,0 +1,56 @@
+"""Contact and load parameters as pytrees."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax.numpy as jnp
+
+from ._validate import check_positive, check_range
+
+# The paper's reference contact pair, refitted by `jaxdamp.calibrate` against Tables B3.1/B4.1
+# (see docs/paper_comparison.md). MODEL.md's first quick fit was kn = 17.9 N/um, kt = 3.6 N/um.
+REFERENCE_KN = 17900.0  # N/mm
+REFERENCE_KT = 3600.0  # N/mm
+
+
+class Contacts(NamedTuple):
+    """Jenkins contact stiffness in N/mm: scalars (shared) or arrays ordered (R1, L1, L2)."""
+
+    kn: jnp.ndarray | float = REFERENCE_KN
+    kt: jnp.ndarray | float = REFERENCE_KT
+
+    def per_contact(self) -> tuple[jnp.ndarray, jnp.ndarray]:
+        """(kn, kt) as arrays of shape (3,): a scalar is shared by R1, L1 and L2."""
+        return _three(self.kn), _three(self.kt)
+
+
+def _three(k) -> jnp.ndarray:
+    k = jnp.asarray(k, dtype=float)
+    return jnp.broadcast_to(k, (3,)) if k.ndim == 0 else k
+
+
+class LoadCase(NamedTuple):
+    """Centrifugal force F_D (N), virtual blade pitch q* (mm), and the pitch term r*sin(beta) (mm)."""
+
+    F_D: jnp.ndarray | float = 1000.0
+    q_star: jnp.ndarray | float = 100.0
+    r_sin_beta: jnp.ndarray | float = 0.0
+
+
+def validate_mu(mu):
+    check_range("mu", mu, 0.0, 5.0, lo_open=True)
+    return mu
+
+
+def validate_contacts(contacts: Contacts) -> Contacts:
+    check_positive("kn", contacts.kn, unit="N/mm")
+    check_positive("kt", contacts.kt, unit="N/mm")
+    return contacts
+
+
+def validate_load(load: LoadCase) -> LoadCase:
+    check_positive("F_D", load.F_D, unit="N")
+    check_positive("q_star", load.q_star, unit="mm")
+    check_range("r_sin_beta", load.r_sin_beta, -1e9, 1e9, unit="mm")
+    return load

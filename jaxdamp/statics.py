@@ -1,0 +1,131 @@
+"""Full-slip statics: contact forces at the two full-slip ends of the cycle (normalised to F_D = 1)."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from ._linalg import generalized, solve3
+from .geometry import DamperShape, full_slip_slide_rates, section_geometry, validate_shape
+from .params import validate_mu
+
+# Friction direction factor s_i (T_i = s_i * mu * N_i along the up-flank tangent) at cycle start,
+# i.e. after the left platform moved down relative to the right one: the damper slides down the
+# right flank and up the left flank, so friction points up the right flank and down the left one.
+START_FRICTION_SIGNS = jnp.array([1.0, -1.0, -1.0])
+
+
+class FullSlipState(NamedTuple):
+    """Contact forces (R1, L1, L2) on the damper, normalised to F_D, at one full-slip end."""
+
+    N: jnp.ndarray  # normal forces (compressive > 0)
+    T: jnp.ndarray  # tangential forces along the up-flank tangent
+    resultant_pos_pct: jnp.ndarray  # left resultant from L1 (0) to L2 (100), % of L1-L2
+    min_normal: jnp.ndarray
+    solvable: jnp.ndarray  # False where the force lines make the statics singular
+
+
+class FullSlipStatics(NamedTuple):
+    start: FullSlipState  # cycle start, point 0
+    mid: FullSlipState  # mid-cycle, point C
+    liftoff: jnp.ndarray
+    min_normal_over_fd: jnp.ndarray
+
+
+def contact_columns(shape: DamperShape):
+    """Generalised unit normal (a_i) and tangent (c_i) vectors of each contact about D, (3, 3) each."""
+    geo = section_geometry(shape)
+    r = geo.points - geo.D[..., None, :]
+    return generalized(r, geo.normals), generalized(r, geo.tangents), geo
+
+
+def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
+    """Statics with every contact at its friction limit T_i = s_i mu N_i (pure function, jit-able)."""
+    a, c, _ = contact_columns(shape)
+    # Force on the damper per unit N: -n_i + s_i mu t_i; plus F_D = 1 upward at D.
+    cols = -a + (friction_signs * mu)[:, None] * c
+    N, ok = solve3(cols.T, jnp.array([0.0, -1.0, 0.0]))
+    T = friction_signs * mu * N
+    left = N[1] + N[2]
+    safe = jnp.where(jnp.abs(left) > 1e-300, left, 1.0)
+    pos = jnp.where(jnp.abs(left) > 1e-300, 100.0 * N[2] / safe, jnp.inf)
+    return FullSlipState(N, T, pos, jnp.min(N), ok)
+
+
+@jax.jit
+def _statics(shape: DamperShape, mu) -> FullSlipStatics:
+    start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
+    mid = full_slip_state(shape, mu, -START_FRICTION_SIGNS)
+    min_n = jnp.minimum(start.min_normal, mid.min_normal)
+    liftoff = (min_n <= 0.0) | ~start.solvable | ~mid.solvable
+    return FullSlipStatics(start, mid, liftoff, min_n)
+
+
+def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
+    """Full-slip contact forces at cycle start and mid-cycle, and the liftoff flag.
+
+    A shape that lifts off is a valid result (liftoff=True), not an error.
+    """
+    validate_shape(shape)
+    validate_mu(mu)
+    return _statics(shape, mu)
+
+
+def full_slip_work_shape_factors(shape: DamperShape, mu) -> jnp.ndarray:
+    """Work shape factors (w_R1, w_L1, w_L2, w_M) from the full-slip forces (Appendix C, C.11-C.14).
+
+    W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch of platform rotation dpsi traversed forward
+    and back; w_M = |(f_Lv - f_R1v)^+ - (f_Lv - f_R1v)^-| and the identity w_M = sum w_i holds.
+    """
+    st = _statics(shape, mu)
+    rates = full_slip_slide_rates(shape)
+    # Appendix C's dv is the displacement of each platform end, half the relative one (C.10).
+    w = 2.0 * mu * (st.start.N + st.mid.N) * rates
+    _, _, geo = contact_columns(shape)
+    w_m = jnp.abs(_left_minus_right_v(st.start, geo) - _left_minus_right_v(st.mid, geo))
+    return jnp.concatenate([w, w_m[None]])
+
+
+def _left_minus_right_v(state: FullSlipState, geo) -> jnp.ndarray:
+    fy = -state.N * geo.normals[..., 1] + state.T * geo.tangents[..., 1]
+    return fy[1] + fy[2] - fy[0]
+
+
+class DesignResult(NamedTuple):
+    br_over_hr: jnp.ndarray  # the centring b_R/h_R
+    found: jnp.ndarray  # a root exists in the search bracket
+    margin_pct: jnp.ndarray  # distance of the resultant from the nearer pad at both ends, % of L1-L2
+    inside: jnp.ndarray  # the resultant lies inside L1-L2 at both ends (no liftoff at mu_max)
+
+
+def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult:
+    """The paper's design rule (§3): the b_R/h_R that puts the left resultant equidistant from L1
+    (cycle start) and L2 (mid-cycle) at mu_max, by bisection. `inside` is False where no b_R keeps
+    the resultant inside L1-L2 (45sym at mu = 0.7)."""
+    validate_shape(shape)
+    validate_mu(mu_max)
+    return _design_br(shape, mu_max, lo, hi)
+
+
+@jax.jit
+def _design_br(shape, mu_max, lo, hi) -> DesignResult:
+    def g(br):
+        st = _statics(shape._replace(br_over_hr=br), mu_max)
+        return st.start.resultant_pos_pct + st.mid.resultant_pos_pct - 100.0
+
+    g_lo, g_hi = g(lo), g(hi)
+    found = jnp.sign(g_lo) * jnp.sign(g_hi) < 0
+
+    def body(_, bracket):
+        a, b, ga = bracket
+        m = 0.5 * (a + b)
+        gm = g(m)
+        same = jnp.sign(gm) == jnp.sign(ga)
+        return jnp.where(same, m, a), jnp.where(same, b, m), jnp.where(same, gm, ga)
+
+    a, b, _ = jax.lax.fori_loop(0, 80, body, (jnp.asarray(lo, float), jnp.asarray(hi, float), g_lo))
+    br = 0.5 * (a + b)
+    margin = _statics(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
+    return DesignResult(br, found, margin, found & (margin > 0.0))

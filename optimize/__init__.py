@@ -1,0 +1,1 @@
+"""Shape optimisation of underplatform dampers with optax (see issue: shape optimisation)."""
