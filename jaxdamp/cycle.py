@@ -1,0 +1,217 @@
+"""The periodic Base-Cycle by the direct piecewise-linear method.
+
+A half-cycle is a bounded `lax.scan` over tracts with masking (so reverse-mode AD works); the
+periodic cycle is a bounded scan over (forward, backward) pairs until the end state repeats.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from .geometry import DamperShape, validate_shape
+from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
+from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
+                    next_event)
+
+MAX_TRACTS = 8  # per half-cycle; the paper's cases need at most 4
+MAX_PAIRS = 10  # forward+backward iterations; frozen mechanisms (90R) converge geometrically
+CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
+
+
+class HalfCycle(NamedTuple):
+    """One half-cycle from a reversal to gross slip. Arrays with a leading tract axis (MAX_TRACTS)."""
+
+    dv: jnp.ndarray  # tract lengths, mm of relative platform travel (>= 0)
+    N0: jnp.ndarray  # (nt, 3) forces at the tract start, units of F_D
+    T0: jnp.ndarray
+    dN: jnp.ndarray  # (nt, 3) rates per mm of travel
+    dT: jnp.ndarray
+    dslip: jnp.ndarray  # (nt, 3) sliding rate of each contact, mm per mm of travel
+    state: jnp.ndarray  # (nt, 3) STICK / SLIP / BACKSLIDE / OPEN
+    active: jnp.ndarray  # (nt,) bool, tract exists
+    gross_dslip: jnp.ndarray  # (3,) sliding rates in the final gross-slip state
+    N_end: jnp.ndarray
+    T_end: jnp.ndarray
+    span: jnp.ndarray  # mm, total travel to gross slip
+    gross_slip: jnp.ndarray  # bool: reached gross slip
+    liftoff: jnp.ndarray
+    failed: jnp.ndarray  # no consistent state set / singular system / ran out of tracts
+
+
+def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mechanics:
+    a, c, geo = contact_columns(shape)
+    # Platform motion per unit dv: R1 moves with the right platform, vertically.
+    w = jnp.array([1.0, 0.0, 0.0])
+    nw = geo.normals[:, 1] * w
+    tw = geo.tangents[:, 1] * w
+    kn, kt = contacts.per_contact()
+    return Mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, jnp.asarray(mu, float))
+
+
+def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS) -> HalfCycle:
+    """Run tracts from a reversal at (N, T) until gross slip (zero incremental stiffness)."""
+    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
+    start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
+    # Back-slide (Appendix A): a contact still sliding on the limit line it had at the reversal.
+    on_start_line = jnp.abs(T) >= mech.mu * N - LIMIT_TOL
+    init = dict(N=N, T=T, done=jnp.array(False), gross=jnp.array(False),
+                liftoff=jnp.min(N) <= LIMIT_TOL, failed=jnp.array(False), gross_dslip=jnp.zeros(3),
+                line=on_start_line)
+    init["done"] = init["liftoff"]
+
+    def step(carry, _):
+        N, T = carry["N"], carry["T"]
+        choice = choose_states(mech, N, T, direction)
+        r = choice.rates
+        frozen = jnp.max(jnp.abs(jnp.concatenate([r.dN, r.dT]))) <= RATE_TOL * scale
+        gross = choice.consistent & frozen
+        ev = next_event(mech, N, T, choice)
+        failed_now = ~choice.consistent | (~gross & (ev.length >= 1e5))
+        live = ~carry["done"]
+        advance = live & ~gross & ~failed_now
+        lam = jnp.where(advance, ev.length, 0.0)
+        N1 = N + lam * r.dN
+        T1 = T + lam * r.dT
+        # Snap to the limit line: slipping contacts stay on it, the event contact lands on it.
+        T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
+        on_cone = advance & ~ev.liftoff
+        hit = jnp.arange(3) == ev.contact
+        T1 = jnp.where(on_cone & hit, ev.side * mech.mu * N1, T1)
+        N1 = jnp.where(advance & ev.liftoff & hit, 0.0, N1)
+        lifted = advance & (ev.liftoff | (jnp.min(N1) <= LIMIT_TOL))
+        line = carry["line"] & choice.slipping & (choice.signs == start_sign)
+        back = jnp.where(advance, line, carry["line"] & choice.slipping)
+        state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
+        state = jnp.where(N <= LIMIT_TOL, OPEN, state)
+        out = dict(dv=lam, N0=N, T0=T, dN=r.dN, dT=r.dT, dslip=r.dslip, state=state, active=advance)
+        new = dict(
+            N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
+            done=carry["done"] | gross | failed_now | lifted,
+            gross=carry["gross"] | (live & gross),
+            liftoff=carry["liftoff"] | lifted,
+            failed=carry["failed"] | (live & failed_now),
+            gross_dslip=jnp.where(live & gross, r.dslip, carry["gross_dslip"]),
+            line=jnp.where(advance, line, carry["line"]),
+        )
+        return new, out
+
+    end, tr = jax.lax.scan(step, init, None, length=max_tracts)
+    exhausted = ~end["done"]
+    return HalfCycle(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
+                     tr["active"], end["gross_dslip"], end["N"], end["T"], jnp.sum(tr["dv"]),
+                     end["gross"], end["liftoff"], end["failed"] | exhausted)
+
+
+class BaseCycle(NamedTuple):
+    """The periodic Base-Cycle and its inputs (a pytree: jit, vmap and grad see through it).
+
+    forward is the half that starts at state 0 (full slip, left platform having moved down) and
+    runs with dv decreasing; backward returns with dv increasing.
+    """
+
+    shape: DamperShape
+    mu: jnp.ndarray
+    contacts: Contacts
+    load: LoadCase
+    forward: HalfCycle
+    backward: HalfCycle
+    converged: jnp.ndarray
+    liftoff: jnp.ndarray
+    failed: jnp.ndarray
+    half_cycles: jnp.ndarray
+
+
+@partial(jax.jit, static_argnames=("max_tracts", "max_pairs"))
+def _base_cycle(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS):
+    mech = mechanics(shape, mu, contacts, load)
+    start = full_slip_state(shape, mech.mu, START_FRICTION_SIGNS)
+    liftoff0 = (start.min_normal <= 0.0) | ~start.solvable
+    N0 = jnp.where(liftoff0, jnp.ones(3), start.N)  # keep the masked solve finite
+    T0 = START_FRICTION_SIGNS * mech.mu * N0
+
+    def run_pair(carry, k):
+        N, T, conv, stop, fwd_s, bwd_s, nhalf = carry
+        fwd = half_cycle(mech, N, T, -1.0, max_tracts)
+        bwd = half_cycle(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts)
+        bad = fwd.liftoff | bwd.liftoff | fwd.failed | bwd.failed
+        closed = (jnp.max(jnp.abs(bwd.N_end - N)) + jnp.max(jnp.abs(bwd.T_end - T))) <= CLOSE_TOL
+        return (bwd.N_end, bwd.T_end, closed & ~bad, closed | bad, fwd, bwd, 2 * (k + 1))
+
+    def pair(carry, k):
+        # Once the cycle has closed (or failed) the remaining iterations are skipped; under vmap
+        # lax.cond becomes a select and both branches run, which keeps the program static.
+        stop = carry[3]
+        return jax.lax.cond(stop, lambda c, _: c, run_pair, carry, k), None
+
+    dummy = half_cycle(mech, N0, T0, -1.0, max_tracts)
+    init = (N0, T0, jnp.array(False), liftoff0, dummy, dummy, jnp.array(0))
+    (_, _, conv, _, fwd, bwd, nhalf), _ = jax.lax.scan(pair, init, jnp.arange(max_pairs))
+    liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
+    failed = ~liftoff0 & (fwd.failed | bwd.failed)
+    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, conv & ~liftoff, liftoff, failed,
+                     nhalf)
+
+
+def base_cycle(shape: DamperShape, mu, contacts: Contacts = Contacts(),
+               load: LoadCase = LoadCase(), *, max_tracts: int = MAX_TRACTS,
+               max_pairs: int = MAX_PAIRS) -> BaseCycle:
+    """The damper's periodic Base-Cycle by the direct piecewise-linear method (jit-compiled).
+
+    mu: friction coefficient (> 0). contacts: kn, kt in N/mm. load: F_D (N), q* (mm), r sin(beta) (mm).
+    Liftoff, non-convergence and singular states are reported in the result's flags, never as NaN.
+    Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
+    """
+    validate_shape(shape)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
+    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
+    load = LoadCase(*(jnp.asarray(v, float) for v in load))
+    return _base_cycle(shape, jnp.asarray(mu, float), contacts, load, max_tracts=max_tracts,
+                       max_pairs=max_pairs)
+
+
+def _letters():
+    import string
+
+    return ["0"] + list(string.ascii_uppercase[: 26])
+
+
+def transitions_chart(bc: BaseCycle) -> list[dict]:
+    """The paper's Table 2 form: one row per tract with its contacts in stick / slip / back-slide.
+
+    Rows carry the tract name (0-A, A-B, ...), dv_mm, and a state per contact. A constant-force
+    gross-slip stretch that completes the shorter half is a row with every contact in slip
+    ('C-C2' at mid-cycle or 'F-0' at the end, as in the paper).
+    """
+    import numpy as np
+
+    from .geometry import CONTACT_NAMES
+    from .tract import STATE_NAMES
+
+    names = _letters()
+    rows, k = [], 0
+    longest = max(float(bc.forward.span), float(bc.backward.span))
+    for label, half in (("forward", bc.forward), ("backward", bc.backward)):
+        active = np.asarray(half.active)
+        states = np.asarray(half.state)
+        dvs = np.asarray(half.dv)
+        for i in np.nonzero(active)[0]:
+            rows.append(dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(dvs[i]),
+                             **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, states[i])}))
+            k += 1
+        stretch = longest - float(half.span)
+        if stretch > 1e-12 * max(longest, 1e-300):
+            end = names[k]
+            tail = "0" if label == "backward" else f"{end}2"
+            rows.append(dict(half=label, tract=f"{end}-{tail}", dv_mm=stretch, stretch=True,
+                             **{c: "slip" for c in CONTACT_NAMES}))
+            if label == "forward":
+                names[k] = f"{end}2"
+    return rows

@@ -1,0 +1,163 @@
+"""Moment Base-Cycle, closed-form first harmonic (complex stiffness) and the five numbers.
+
+Sign conventions. psi = dv / q* with dv = v_PR - v_PL (MODEL.md). M_P = (F_R1,v - F_L,v)(q*/2 + r sin
+beta), with F the forces the platforms exert on the damper; this is the moment that imposes psi, so
+the stick stiffness k_Re is positive and the loop is traversed with positive work W = oint M dpsi.
+For psi = psi_c + psi_a cos(tau) the first harmonic is M ~ psi_a (k_Re cos tau - k_Im sin tau),
+i.e. the phasor relation M = (k_Re + i k_Im) psi, with k_Im = W / (pi psi_a^2) > 0.
+Units: psi in mrad, M in N mm, k in N mm/mrad.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from .cycle import BaseCycle, HalfCycle
+from .geometry import section_geometry
+
+
+def _vertical_moment_factor(bc: BaseCycle):
+    """Coefficients (per N, per T) of M_P for each contact, in N mm per unit force (units of F_D)."""
+    geo = section_geometry(bc.shape)
+    arm = bc.load.q_star / 2.0 + bc.load.r_sin_beta
+    side = jnp.array([1.0, -1.0, -1.0])  # +F_R1,v - F_L,v
+    fn = -geo.normals[:, 1] * side * arm * bc.load.F_D
+    ft = geo.tangents[:, 1] * side * arm * bc.load.F_D
+    return fn, ft
+
+
+def moment(bc: BaseCycle, N, T):
+    """Platform moment M_P (N mm) for contact forces N, T (units of F_D), last axis = contact."""
+    fn, ft = _vertical_moment_factor(bc)
+    return jnp.sum(N * fn + T * ft, axis=-1)
+
+
+class MomentHalf(NamedTuple):
+    dv: jnp.ndarray  # (nt + 1,) segment lengths in mm of relative travel; last = gross-slip stretch
+    M0: jnp.ndarray  # (nt + 1,) moment at each segment start, N mm
+    dM: jnp.ndarray  # (nt + 1,) moment rate, N mm per mm of travel
+
+
+def moment_half(bc: BaseCycle, half: HalfCycle, total_dv) -> MomentHalf:
+    """Segments of one half of the moment cycle, completed to total_dv by a full-slip stretch."""
+    m0 = moment(bc, half.N0, half.T0)
+    dm = moment(bc, half.dN, half.dT)
+    stretch = jnp.maximum(total_dv - half.span, 0.0)
+    m_end = moment(bc, half.N_end, half.T_end)
+    return MomentHalf(jnp.append(half.dv, stretch), jnp.append(m0, m_end), jnp.append(dm, 0.0))
+
+
+def _unit_circle(x):
+    """tau = arccos(x) and sin(tau) >= 0, with gradients guarded at |x| = 1 (double where)."""
+    inside = jnp.abs(x) < 1.0
+    xs = jnp.where(inside, x, 0.0)
+    tau = jnp.where(inside, jnp.arccos(xs), jnp.where(x > 0, 0.0, jnp.pi))
+    sin = jnp.where(inside, jnp.sqrt(jnp.where(inside, 1.0 - xs * xs, 1.0)), 0.0)
+    return tau, sin
+
+
+def _half_fourier(seg: MomentHalf, a_dv, branch):
+    """Sum over segments of int M cos(tau) dtau and int M sin(tau) dtau, in closed form.
+
+    branch = +1 for the forward half (x = cos tau from 1 to -1, tau in [0, pi]), -1 for backward.
+    """
+    cum = jnp.cumsum(seg.dv) - seg.dv
+    x1 = branch * (1.0 - cum / a_dv)
+    x2 = branch * (1.0 - (cum + seg.dv) / a_dv)
+    x2 = x2.at[-1].set(-branch * 1.0)  # the stretch ends exactly at the far extreme
+    beta = -branch * a_dv * seg.dM  # dM/dx along the segment
+    alpha = seg.M0 - beta * x1
+    t1, s1 = _unit_circle(x1)
+    t2, s2 = _unit_circle(x2)
+    if branch < 0:
+        t1, s1, t2, s2 = 2 * jnp.pi - t1, -s1, 2 * jnp.pi - t2, -s2
+    f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
+    f_sin = alpha * (x1 - x2) + 0.5 * beta * (x1 * x1 - x2 * x2)
+    return jnp.sum(f_cos), jnp.sum(f_sin)
+
+
+def _work(seg: MomentHalf, branch, q_star):
+    """oint M dpsi over a half (N mm): exact trapezoid on linear segments; psi in rad."""
+    m1 = seg.M0 + seg.dM * seg.dv
+    return jnp.sum(0.5 * (seg.M0 + m1) * (-branch) * seg.dv / q_star)
+
+
+def half_spans(bc: BaseCycle):
+    return bc.forward.span, bc.backward.span
+
+
+def stretched_cycle(bc: BaseCycle, psi_a_mrad):
+    """Moment halves of the cycle at amplitude psi_a >= psi_BC (full-slip stretches at both ends)."""
+    total = 2.0 * psi_a_mrad * bc.load.q_star / 1e3
+    return moment_half(bc, bc.forward, total), moment_half(bc, bc.backward, total)
+
+
+def _gross_slip_stiffness(bc: BaseCycle, psi_a_mrad):
+    """(k_Re, k_Im, W) at psi_a >= psi_BC, from the stretched moment cycle."""
+    fwd, bwd = stretched_cycle(bc, psi_a_mrad)
+    a_dv = psi_a_mrad * bc.load.q_star / 1e3
+    c1, s1 = _half_fourier(fwd, a_dv, 1.0)
+    c2, s2 = _half_fourier(bwd, a_dv, -1.0)
+    k_re = (c1 + c2) / (jnp.pi * psi_a_mrad)
+    k_im = -(s1 + s2) / (jnp.pi * psi_a_mrad)
+    work = _work(fwd, 1.0, bc.load.q_star) + _work(bwd, -1.0, bc.load.q_star)
+    return k_re, k_im, work
+
+
+class FiveNumbers(NamedTuple):
+    """The paper's characteristic numbers (psi in mrad, k in N mm/mrad)."""
+
+    psi_fs: jnp.ndarray
+    k_re_fs: jnp.ndarray
+    psi_bc: jnp.ndarray
+    k_re_bc: jnp.ndarray
+    k_im_bc: jnp.ndarray
+
+
+def five_numbers(bc: BaseCycle) -> FiveNumbers:
+    q = bc.load.q_star
+    psi_fs = bc.forward.dv[0] / (2.0 * q) * 1e3
+    k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * q / 1e3
+    psi_bc = base_cycle_amplitude(bc)
+    k_re_bc, k_im_bc, _ = _gross_slip_stiffness(bc, psi_bc)
+    return FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
+
+
+def base_cycle_amplitude(bc: BaseCycle):
+    """psi_BC (mrad): half the larger of the two half-cycle spans, over q*."""
+    return jnp.maximum(bc.forward.span, bc.backward.span) / (2.0 * bc.load.q_star) * 1e3
+
+
+def complex_stiffness(bc: BaseCycle, psi_a_mrad):
+    """(k_Re, k_Im) in N mm/mrad at platform rotation amplitude(s) psi_a >= 0 (mrad).
+
+    psi_a <= psi_fs: full stick (k_Re,fs, 0). psi_fs < psi_a < psi_BC: the paper's linear microslip
+    interpolation. psi_a >= psi_BC: Base-Cycle stretched by full-slip at both ends, exact first
+    harmonic. Accepts an array of amplitudes.
+    """
+    nums = five_numbers(bc)
+
+    def one(psi):
+        big = jnp.maximum(psi, nums.psi_bc)
+        k_re_g, k_im_g, _ = _gross_slip_stiffness(bc, big)
+        width = nums.psi_bc - nums.psi_fs
+        ok = width > 0
+        frac = jnp.clip((psi - nums.psi_fs) / jnp.where(ok, width, 1.0), 0.0, 1.0)
+        k_re_m = nums.k_re_fs + frac * (nums.k_re_bc - nums.k_re_fs)
+        k_im_m = frac * nums.k_im_bc
+        micro = psi < nums.psi_bc
+        return jnp.where(micro, k_re_m, k_re_g), jnp.where(micro, k_im_m, k_im_g)
+
+    psi = jnp.asarray(psi_a_mrad, float)
+    flat = psi.reshape(-1)
+    k_re, k_im = jax.vmap(one)(flat)
+    return k_re.reshape(psi.shape), k_im.reshape(psi.shape)
+
+
+def cycle_work(bc: BaseCycle, psi_a_mrad=None):
+    """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle)."""
+    psi = base_cycle_amplitude(bc) if psi_a_mrad is None else psi_a_mrad
+    return _gross_slip_stiffness(bc, psi)[2]

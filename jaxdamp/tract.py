@@ -1,0 +1,146 @@
+"""The tract solver: one linear solve per tract, closed-form transition events.
+
+Within a tract the contact states are fixed, so the damper's incremental equilibrium is a 3x3 linear
+system and every force changes at a constant rate per unit of relative platform displacement.
+Notation (per contact i, generalised about D): a_i = B_i^T n_i (outward normal), c_i = B_i^T t_i
+(up-flank tangent). With damper DOFs q and platform motion w_i:
+
+    dN_i = kn_i (a_i.q' - n_i.w_i')            (normal spring, N > 0 in compression)
+    stick: dT_i = -kt_i (c_i.q' - t_i.w_i')    (tangential spring)
+    slip:  dT_i = s_i mu dN_i                  (on the limit line T = s_i mu N)
+    sum_i (-dN_i a_i + dT_i c_i) = 0           (equilibrium of the rigid damper; F_D is constant)
+
+Forces are normalised to F_D = 1, so stiffnesses enter as k / F_D (1/mm) and displacements are mm.
+The right platform carries R1 and moves by dv; the left platform (L1, L2) is the reference.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from ._linalg import solve3
+
+STICK, SLIP, BACKSLIDE, OPEN = 0, 1, 2, 3
+STATE_NAMES = ("stick", "slip", "backslide", "open")
+
+# 8 candidate state sets for 3 contacts: bit i set means contact i slips.
+_CANDIDATES = jnp.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
+
+LIMIT_TOL = 1e-10  # force (units of F_D) within which a contact counts as on its friction limit
+RATE_TOL = 1e-9  # relative tolerance on rates (consistency checks, gross-slip detection)
+NO_EVENT = 1e6  # mm: "no event in this tract"; finite so that masked arithmetic never makes NaN
+
+
+class Mechanics(NamedTuple):
+    """Everything a tract needs that does not change during the cycle (pytree of arrays)."""
+
+    a: jnp.ndarray  # (3, 3) generalised normals, rows per contact
+    c: jnp.ndarray  # (3, 3) generalised tangents
+    nw: jnp.ndarray  # (3,) n_i . w_i' per unit dv
+    tw: jnp.ndarray  # (3,) t_i . w_i' per unit dv
+    kn: jnp.ndarray  # (3,) normal stiffness / F_D, 1/mm
+    kt: jnp.ndarray  # (3,) tangential stiffness / F_D, 1/mm
+    mu: jnp.ndarray
+
+
+class TractRates(NamedTuple):
+    dN: jnp.ndarray  # (3,) per unit of travel along the half-cycle's direction
+    dT: jnp.ndarray
+    dslip: jnp.ndarray  # sliding of the damper relative to the platform, along t_i
+    ok: jnp.ndarray  # False where the tract's linear system is singular
+
+
+def tract_rates(mech: Mechanics, slipping, signs, direction) -> TractRates:
+    """Solve one tract's incremental equilibrium for fixed contact states.
+
+    slipping: (3,) bool; signs: (3,) friction direction s_i (T = s_i mu N) of slipping contacts;
+    direction: +1 when dv increases, -1 when it decreases.
+    """
+    m = slipping.astype(float)
+    stick = 1.0 - m
+    smu = signs * mech.mu * m
+    a, c = mech.a, mech.c
+    K = (jnp.einsum("i,ij,ik->jk", mech.kn, a, a)
+         + jnp.einsum("i,ij,ik->jk", stick * mech.kt, c, c)
+         - jnp.einsum("i,ij,ik->jk", smu * mech.kn, c, a))
+    rhs = direction * (jnp.einsum("i,ij->j", mech.kn * mech.nw, a)
+                       + jnp.einsum("i,ij->j", stick * mech.kt * mech.tw, c)
+                       - jnp.einsum("i,ij->j", smu * mech.kn * mech.nw, c))
+    dq, ok = solve3(K, rhs)
+    gn = a @ dq - direction * mech.nw
+    gt = c @ dq - direction * mech.tw
+    dN = mech.kn * gn
+    dT = stick * (-mech.kt * gt) + smu * dN
+    # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
+    dslip = m * (gt + dT / mech.kt)
+    return TractRates(dN, dT, dslip, ok)
+
+
+class TractChoice(NamedTuple):
+    slipping: jnp.ndarray
+    signs: jnp.ndarray
+    rates: TractRates
+    consistent: jnp.ndarray
+
+
+def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
+    """Pick the consistent state set that keeps the most contacts in stick.
+
+    Contacts strictly inside the cone must stick. A contact on its limit may stick (if its stick
+    increment stays inside the cone to first order) or slip (if it then slides in the direction its
+    friction force opposes). Back-slide (Appendix A) is the slip branch chosen when stick would leave
+    the cone because N falls faster than T.
+    """
+    at_limit = jnp.abs(T) >= mech.mu * N - LIMIT_TOL
+    signs = jnp.where(T >= 0.0, 1.0, -1.0)
+    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
+
+    def one(slipping):
+        rates = tract_rates(mech, slipping, signs, direction)
+        cone_rate = signs * rates.dT - mech.mu * rates.dN
+        stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
+        slip_ok = jnp.where(slipping, signs * rates.dslip <= RATE_TOL, True)
+        allowed = ~jnp.any(slipping & ~at_limit)
+        good = allowed & rates.ok & jnp.all(stick_ok) & jnp.all(slip_ok)
+        return rates, good
+
+    rates, good = jax.vmap(one)(_CANDIDATES)
+    score = jnp.where(good, 10 + jnp.sum(~_CANDIDATES, axis=1), 0)
+    best = jnp.argmax(score)
+    pick = lambda x: x[best]  # noqa: E731
+    return TractChoice(_CANDIDATES[best], signs, jax.tree_util.tree_map(pick, rates), good[best])
+
+
+class TractEvent(NamedTuple):
+    length: jnp.ndarray  # mm of travel to the event (NO_EVENT if none)
+    contact: jnp.ndarray  # index of the contact that triggers it
+    side: jnp.ndarray  # +-1: which limit line (cone events)
+    liftoff: jnp.ndarray  # True when the event is a normal force reaching zero
+
+
+def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
+    """Closed-form travel to the next event: a stick contact meeting T + s T' = +-mu (N + s N'),
+    or a normal force reaching zero."""
+    r = choice.rates
+    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
+    tol = RATE_TOL * scale
+    stick = ~choice.slipping
+
+    def cone(side):
+        rate = side * r.dT - mech.mu * r.dN
+        hit = stick & (rate > tol)
+        gap = jnp.maximum(mech.mu * N - side * T, 0.0)
+        return jnp.where(hit, gap / jnp.where(hit, rate, 1.0), NO_EVENT)
+
+    up, down = cone(1.0), cone(-1.0)
+    falls = r.dN < -tol
+    lift = jnp.where(falls, jnp.maximum(N, 0.0) / jnp.where(falls, -r.dN, 1.0), NO_EVENT)
+    cand = jnp.stack([up, down, lift])  # (3 kinds, 3 contacts)
+    flat = jnp.argmin(cand.reshape(-1))
+    kind, contact = flat // 3, flat % 3
+    length = cand.reshape(-1)[flat]
+    # A cone event at N -> 0 is also a liftoff; a later liftoff check catches it.
+    return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2)
