@@ -96,15 +96,21 @@ def stretched_cycle(bc: BaseCycle, psi_a_mrad):
 
 
 def _gross_slip_stiffness(bc: BaseCycle, psi_a_mrad):
-    """(k_Re, k_Im, W) at psi_a >= psi_BC, from the stretched moment cycle."""
-    fwd, bwd = stretched_cycle(bc, psi_a_mrad)
-    a_dv = psi_a_mrad * bc.load.q_star / 1e3
+    """(k_Re, k_Im, W) at psi_a >= psi_BC, from the stretched moment cycle.
+
+    A zero amplitude (a cycle that was never run, e.g. liftoff at cycle start) gives zeros, with
+    the division guarded so that no NaN reaches values or gradients."""
+    valid = psi_a_mrad > 0.0
+    psi = jnp.where(valid, psi_a_mrad, 1.0)
+    fwd, bwd = stretched_cycle(bc, psi)
+    a_dv = psi * bc.load.q_star / 1e3
     c1, s1 = _half_fourier(fwd, a_dv, 1.0)
     c2, s2 = _half_fourier(bwd, a_dv, -1.0)
-    k_re = (c1 + c2) / (jnp.pi * psi_a_mrad)
-    k_im = -(s1 + s2) / (jnp.pi * psi_a_mrad)
+    k_re = (c1 + c2) / (jnp.pi * psi)
+    k_im = -(s1 + s2) / (jnp.pi * psi)
     work = _work(fwd, 1.0, bc.load.q_star) + _work(bwd, -1.0, bc.load.q_star)
-    return k_re, k_im, work
+    zero = jnp.zeros_like(k_re)
+    return jnp.where(valid, k_re, zero), jnp.where(valid, k_im, zero), jnp.where(valid, work, zero)
 
 
 class FiveNumbers(NamedTuple):

@@ -1,0 +1,198 @@
+"""The direct Base-Cycle solver against the paper's tables, its transition charts and physics identities."""
+
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+from jaxdamp.tract import BACKSLIDE, SLIP, STICK
+
+FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
+REF = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)
+
+
+def cycle(name, mu, contacts=REF, load=jd.LoadCase(), **kw):
+    return jd.base_cycle(jd.family_shape(name), mu, contacts, load, **kw)
+
+
+def active_states(half):
+    return np.asarray(half.state)[np.asarray(half.active)]
+
+
+def active_dv(half):
+    return np.asarray(half.dv)[np.asarray(half.active)]
+
+
+# ------------------------------------------------------------------ the paper's tables
+@pytest.mark.parametrize("name", ["60sym", "74R"])
+@pytest.mark.parametrize("row", [0, 1, 2])
+def test_tables_B3_B4_within_2pct(paper, name, row):
+    mu, *ref = paper["table_B"][name][row]
+    bc = cycle(name, mu)
+    assert bool(bc.converged) and not bool(bc.liftoff)
+    ours = np.asarray(jd.five_numbers(bc))
+    dev = ours / np.asarray(ref) - 1.0
+    assert np.all(np.abs(dev) <= 0.02), dict(zip(FIELDS, np.round(100 * dev, 2)))
+
+
+@pytest.mark.parametrize("row", [0, 1, 2])
+def test_table_B5_90R_within_2pct(paper, row):
+    mu, psi_fs, k_re_fs, psi_bc, k_re_bc, _k_im = paper["table_B"]["90R"][row]
+    nums = jd.five_numbers(cycle("90R", mu))
+    for ours, ref in ((nums.psi_bc, psi_bc), (nums.k_re_fs, k_re_fs), (nums.k_re_bc, k_re_bc)):
+        assert abs(float(ours) / ref - 1.0) <= 0.02
+
+
+# ------------------------------------------------------------------ transitions (Tables 2, 5, 7, 8)
+@pytest.mark.parametrize("mu", [0.5, 0.3])
+def test_60sym_transition_order(mu):
+    bc = cycle("60sym", mu)
+    fwd = active_states(bc.forward)
+    # 0-A all stick, then L2 slips (A-B), then L1 joins (B-C), then R1 (C: full slip).
+    assert fwd[0].tolist() == [STICK] * 3
+    assert fwd[1, 2] in (SLIP, BACKSLIDE) and fwd[1, :2].tolist() == [STICK, STICK]
+    assert fwd[2, 0] == STICK and fwd[2, 1] != STICK and fwd[2, 2] != STICK
+    assert len(fwd) == 3
+    assert bool(bc.forward.gross_slip)
+    # Gross slip at C is full slip: the forces equal the mid-cycle statics.
+    st = jd.full_slip_statics(jd.family_shape("60sym"), mu)
+    np.testing.assert_allclose(bc.forward.N_end, st.mid.N, rtol=1e-9)
+    np.testing.assert_allclose(bc.backward.N_end, st.start.N, rtol=1e-9)
+
+
+@pytest.mark.parametrize("mu", [0.7, 0.5])
+def test_74R_backslide_and_C_C2_stretch(mu):
+    bc = cycle("74R", mu)
+    fwd = active_states(bc.forward)
+    assert fwd[0].tolist() == [STICK, BACKSLIDE, STICK]  # L1 back-slides in 0-A (Appendix A)
+    assert float(bc.forward.span) < float(bc.backward.span)  # the forward half needs C-C2
+    rows = jd.transitions_chart(bc)
+    assert any(r.get("stretch") and r["half"] == "forward" for r in rows)
+
+
+def test_74R_C_C2_much_shorter_at_0p5_and_absent_at_0p3():
+    stretch = {}
+    for mu in (0.7, 0.5, 0.3):
+        bc = cycle("74R", mu)
+        stretch[mu] = (float(bc.backward.span) - float(bc.forward.span)) / float(bc.backward.span)
+    assert stretch[0.5] < 0.25 * stretch[0.7]
+    assert abs(stretch[0.3]) < 1e-9
+    assert active_states(cycle("74R", 0.3).forward)[0].tolist() == [STICK] * 3
+
+
+def test_74L_needs_F_0_stretch_where_backward_is_shorter():
+    bc = cycle("74L", 0.5)
+    assert float(bc.backward.span) < float(bc.forward.span)
+    rows = jd.transitions_chart(bc)
+    assert rows[-1]["stretch"] and rows[-1]["tract"].endswith("-0")
+    # C-D: R1 back-slides at the reversal (Table 7)
+    assert active_states(bc.backward)[0].tolist() == [BACKSLIDE, STICK, STICK]
+
+
+def test_74L_at_0p7_lifts_off_as_a_result():
+    bc = cycle("74L", 0.7)
+    assert bool(bc.liftoff) and not bool(bc.converged)
+    nums = np.asarray(jd.five_numbers(bc))
+    assert np.all(np.isfinite(nums))
+
+
+@pytest.mark.parametrize("mu", [0.7, 0.5, 0.3])
+def test_90L_R1_never_slips(mu):
+    bc = cycle("90L", mu)
+    assert bool(bc.converged)
+    for half in (bc.forward, bc.backward):
+        assert np.all(active_states(half)[:, 0] == STICK)
+        assert float(half.gross_dslip[0]) == 0.0
+    energy = jd.contact_energies(bc, 10.0)
+    assert abs(float(energy.contacts[0])) <= 1e-12 * float(energy.moment)
+
+
+@pytest.mark.parametrize("mu", [0.7, 0.5, 0.3])
+def test_90R_only_R1_dissipates(mu):
+    bc = cycle("90R", mu)
+    psi_bc = float(jd.five_numbers(bc).psi_bc)
+    e = jd.contact_energies(bc, 3.0 * psi_bc)
+    w = np.asarray(e.contacts)
+    assert w[0] > 0 and np.all(np.abs(w[1:]) <= 1e-6 * w[0])
+
+
+# ------------------------------------------------------------------ identities
+CASES = [("60sym", 0.7), ("60sym", 0.3), ("74R", 0.7), ("74R", 0.5), ("74L", 0.5), ("90L", 0.5),
+         ("90R", 0.5)]
+
+
+@pytest.mark.parametrize("name,mu", CASES)
+def test_energy_identity(name, mu):
+    bc = cycle(name, mu)
+    nums = jd.five_numbers(bc)
+    for psi in (float(nums.psi_bc), 1.7 * float(nums.psi_bc) + 0.5):
+        e = jd.contact_energies(bc, psi)
+        k_re, k_im = jd.complex_stiffness(bc, psi)
+        total = float(np.sum(e.contacts))
+        scale = max(abs(float(e.moment)), 1e-6 * float(k_re) * psi**2 / 1e3)
+        assert abs(total - float(e.moment)) <= 1e-9 * scale
+        assert abs(np.pi * psi**2 * float(k_im) / 1e3 - float(e.moment)) <= 1e-9 * scale
+
+
+@pytest.mark.parametrize("name,mu", CASES)
+def test_work_shape_factor_identity(name, mu):
+    w = jd.work_shape_factors(cycle(name, mu))
+    assert abs(float(w.w_R1 + w.w_L1 + w.w_L2) - float(w.w_M)) <= 1e-9 * float(w.w_M)
+
+
+@pytest.mark.parametrize("name,mu", [("60sym", 0.5), ("74R", 0.7)])
+def test_full_slip_work_shape_factors_match_statics(name, mu):
+    ours = np.asarray(jd.work_shape_factors(cycle(name, mu)))
+    statics = np.asarray(jd.full_slip_work_shape_factors(jd.family_shape(name), mu))
+    np.testing.assert_allclose(ours, statics, rtol=1e-9)
+
+
+@pytest.mark.parametrize("name,mu", [("60sym", 0.5), ("74R", 0.7), ("74L", 0.3)])
+def test_scaling_laws(name, mu):
+    base = jd.five_numbers(cycle(name, mu))
+    # F_D x 2: forces and displacements double, stiffness unchanged.
+    f = jd.five_numbers(cycle(name, mu, load=jd.LoadCase(F_D=2000.0)))
+    np.testing.assert_allclose([f.psi_fs, f.psi_bc], [2 * base.psi_fs, 2 * base.psi_bc], rtol=1e-9)
+    np.testing.assert_allclose([f.k_re_fs, f.k_re_bc, f.k_im_bc],
+                               [base.k_re_fs, base.k_re_bc, base.k_im_bc], rtol=1e-9)
+    # kn, kt x 3: displacements / 3, stiffness x 3.
+    k = jd.five_numbers(cycle(name, mu, jd.Contacts(3 * jd.REFERENCE_KN, 3 * jd.REFERENCE_KT)))
+    np.testing.assert_allclose([k.psi_fs, k.psi_bc], [base.psi_fs / 3, base.psi_bc / 3], rtol=1e-9)
+    np.testing.assert_allclose([k.k_re_fs, k.k_re_bc, k.k_im_bc],
+                               [3 * base.k_re_fs, 3 * base.k_re_bc, 3 * base.k_im_bc], rtol=1e-9)
+    # q* x 2: psi / 2, M x 2, k x 4.
+    q = jd.five_numbers(cycle(name, mu, load=jd.LoadCase(q_star=200.0)))
+    np.testing.assert_allclose([q.psi_fs, q.psi_bc], [base.psi_fs / 2, base.psi_bc / 2], rtol=1e-9)
+    np.testing.assert_allclose([q.k_re_fs, q.k_re_bc, q.k_im_bc],
+                               [4 * base.k_re_fs, 4 * base.k_re_bc, 4 * base.k_im_bc], rtol=1e-9)
+
+
+def test_complex_stiffness_regimes():
+    bc = cycle("60sym", 0.5)
+    n = jd.five_numbers(bc)
+    psi = np.array([0.0, 0.5 * float(n.psi_fs), float(n.psi_fs), float(n.psi_bc), 20.0])
+    k_re, k_im = map(np.asarray, jd.complex_stiffness(bc, psi))
+    assert np.allclose(k_re[:3], float(n.k_re_fs)) and np.allclose(k_im[:3], 0.0)
+    assert np.isclose(k_re[3], float(n.k_re_bc)) and np.isclose(k_im[3], float(n.k_im_bc))
+    # Far into gross slip the stiffness falls and the moment saturates: k_Re, k_Im -> 0 like 1/psi.
+    assert k_re[4] < k_re[3] and k_im[4] < k_im[3]
+
+
+def test_non_convergence_is_flagged():
+    bc = cycle("90R", 0.7, max_pairs=1)
+    assert not bool(bc.converged) and not bool(bc.liftoff)
+    assert np.all(np.isfinite(np.asarray(jd.five_numbers(bc))))
+
+
+def test_parallel_vertical_flanks_are_flagged_not_nan():
+    bc = jd.base_cycle(jd.DamperShape(90.0, 90.0, 0.1), 0.5, REF)
+    assert not bool(bc.converged)
+    assert np.all(np.isfinite(np.asarray(jd.five_numbers(bc))))
+
+
+def test_bad_contacts_and_load():
+    with pytest.raises(ValueError, match="kn"):
+        jd.base_cycle(jd.family_shape("60sym"), 0.5, jd.Contacts(0.0, 100.0))
+    with pytest.raises(ValueError, match="kt"):
+        jd.base_cycle(jd.family_shape("60sym"), 0.5, jd.Contacts(100.0, -1.0))
+    with pytest.raises(ValueError, match="q_star"):
+        jd.base_cycle(jd.family_shape("60sym"), 0.5, REF, jd.LoadCase(q_star=0.0))
