@@ -63,3 +63,32 @@ def test_help_explains_units(capsys):
         main(["--help"])
     out = capsys.readouterr().out
     assert "N/mm" in out and "mrad" in out and "degrees" in out
+
+
+def test_cycle_json_contract(capsys):
+    code, out, _ = run(capsys, "cycle", "--shape", "74R", "--mu", "0.7", "--kn", "17900", "--kt", "3600",
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    for key in ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "converged", "liftoff",
+                "half_cycles"):
+        assert key in d
+    assert set(d["spans_mm"]) == {"forward", "backward"}
+    assert set(d["energy_Nmm"]) == {"R1", "L1", "L2", "moment"}
+    assert set(d["work_shape_factors"]) == {"w_R1", "w_L1", "w_L2", "w_M"}
+    states = {"stick", "slip", "backslide", "open"}
+    for half in ("forward", "backward"):
+        for t in d["tracts"][half]:
+            assert {t["R1"], t["L1"], t["L2"]} <= states and t["dv_mm"] >= 0
+    # 74R, mu = 0.7: L1 back-slides in 0-A (Table 8) and the forward half needs the C-C2 stretch.
+    assert d["tracts"]["forward"][0]["L1"] == "backslide"
+    assert d["tracts"]["forward"][-1].get("stretch") is True
+    assert d["spans_mm"]["forward"] < d["spans_mm"]["backward"]
+    assert abs(sum(d["energy_Nmm"][c] for c in ("R1", "L1", "L2")) - d["energy_Nmm"]["moment"]) < 1e-9 * d["energy_Nmm"]["moment"]
+    # psi_BC within 2 % of Table B4.1 (3.270 mrad)
+    assert abs(d["psi_bc_mrad"] / 3.270 - 1) < 0.02
+
+
+def test_cycle_liftoff_reported(capsys):
+    code, out, _ = run(capsys, "cycle", "--shape", "74L", "--mu", "0.7", "--json")
+    assert code == 0 and json.loads(out)["liftoff"] is True

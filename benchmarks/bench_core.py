@@ -1,0 +1,144 @@
+"""Core solver benchmark: warm latency of one Base-Cycle + five numbers, and the measured design
+choices behind the solver (closed-form 3x3 solve vs jnp.linalg.solve; plain vmap vs the two-stage
+batch). Every number is a median of repeats of warm (already compiled) calls, and choices are
+reported as ratios against a baseline measured in the same run.
+
+    python benchmarks/bench_core.py [--quick]
+
+Writes benchmarks/results/core_solver.json and core_solver.png.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+jax.config.update("jax_enable_x64", True)
+
+import jaxdamp as jd  # noqa: E402
+from jaxdamp import cycle, tract  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+
+
+def machine() -> dict:
+    cpu = platform.processor()
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
+            "python": platform.python_version(), "jax": jax.__version__,
+            "devices": [str(d) for d in jax.devices()]}
+
+
+def median_time(fn, *args, repeats=7):
+    jax.block_until_ready(fn(*args))
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(fn(*args))
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
+
+
+def designs(n, seed=0):
+    rng = np.random.default_rng(seed)
+    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
+                           np.full(n, 0.8))
+    return shape, rng.uniform(0.1, 0.9, n)
+
+
+def five(bc):
+    return jnp.stack(list(jd.five_numbers(bc)))
+
+
+def linalg_solve3(m, b, rel_tol=1e-12):
+    det = jnp.linalg.det(m)
+    scale = jnp.prod(jnp.linalg.norm(m, axis=-1), axis=-1)
+    ok = jnp.abs(det) > rel_tol * scale
+    safe = jnp.where(ok[..., None, None], m, jnp.eye(3))
+    x = jnp.linalg.solve(safe, b[..., None])[..., 0]
+    return jnp.where(ok[..., None], x, 0.0), ok
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--quick", action="store_true")
+    args = ap.parse_args()
+    n = 2000 if args.quick else 20000
+    contacts = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
+    load = jd.LoadCase(*(jnp.asarray(v, float) for v in jd.LoadCase()))
+    res = {"machine": machine()}
+
+    # 1. single design: compile time and warm latency
+    shape = jd.DamperShape(*(jnp.asarray(v, float) for v in jd.family_shape("60sym")[:4]))
+    single = jax.jit(lambda s, m: five(cycle._base_cycle(s, m, contacts, load)))
+    t = time.perf_counter()
+    jax.block_until_ready(single(shape, 0.5))
+    res["single_compile_s"] = time.perf_counter() - t
+    res["single_warm_latency_ms"] = 1e3 * median_time(single, shape, 0.5, repeats=50)
+
+    # 2. closed-form (Cramer) vs jnp.linalg.solve inside the solver, same batch, same run
+    shapes, mus = designs(n)
+
+    def batched(max_pairs):
+        return jax.jit(jax.vmap(lambda s, m: five(cycle._base_cycle.__wrapped__(
+            s, m, contacts, load, max_tracts=cycle.MAX_TRACTS, max_pairs=max_pairs))))
+
+    cramer = batched(1)
+    t_cramer = median_time(cramer, shapes, mus)
+    original = tract.solve3
+    tract.solve3 = linalg_solve3
+    try:
+        t_linalg = median_time(batched(1), shapes, mus)
+    finally:
+        tract.solve3 = original
+    res["solve3"] = {"cramer_designs_per_s": n / t_cramer, "linalg_designs_per_s": n / t_linalg,
+                     "linalg_time_over_cramer": t_linalg / t_cramer}
+
+    # 3. plain vmap over the full iteration bound vs the two-stage batch
+    t_plain = median_time(batched(cycle.MAX_PAIRS), shapes, mus)
+    two_stage = lambda s, m: jax.vmap(five)(jd.base_cycles(s, m, contacts, load))  # noqa: E731
+    t_two = median_time(two_stage, shapes, mus, repeats=5)
+    res["batch"] = {"size": n, "plain_vmap_designs_per_s": n / t_plain, "two_stage_designs_per_s": n / t_two,
+                    "plain_time_over_two_stage": t_plain / t_two}
+
+    OUT.mkdir(parents=True, exist_ok=True)
+    (OUT / "core_solver.json").write_text(json.dumps(res, indent=2))
+    plot(res)
+    print(json.dumps(res, indent=2))
+
+
+def plot(res):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    labels = ["Cramer\n(1 pair)", "linalg.solve\n(1 pair)", "plain vmap\n(4 pairs)", "two-stage\nbatch"]
+    vals = [res["solve3"]["cramer_designs_per_s"], res["solve3"]["linalg_designs_per_s"],
+            res["batch"]["plain_vmap_designs_per_s"], res["batch"]["two_stage_designs_per_s"]]
+    fig, ax = plt.subplots(figsize=(7, 4))
+    ax.bar(labels, vals, color=["C0", "C1", "C2", "C3"])
+    ax.set_ylabel("Base-Cycles + five numbers per second")
+    ax.set_title(f"jaxdamp core, batch of {res['batch']['size']} random designs\n"
+                 f"{res['machine']['cpu']}, {res['machine']['cores']} cores; single warm latency "
+                 f"{res['single_warm_latency_ms']:.2f} ms", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(OUT / "core_solver.png", dpi=120)
+
+
+if __name__ == "__main__":
+    main()
