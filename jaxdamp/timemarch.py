@@ -1,0 +1,384 @@
+"""An independent, conventional solver: quasi-static time marching with incremental return mapping.
+
+This is what a general-purpose friction-contact code does with the same damper model (rigid 3-DOF
+damper, three Jenkins contacts): prescribe the relative platform motion dv in small steps, and at
+each step solve the damper's nonlinear (piecewise-linear) equilibrium by Newton iterations with a
+per-contact return mapping (trial stick, projection onto the Coulomb cone, open contact when the
+normal force would be negative) and the consistent tangent. It shares no state-choice or event logic
+with the direct method (`tract.py`, `cycle.py`); it reuses only the geometry and the full-slip
+statics that define the cycle start (state 0). It serves as an independent check of the direct
+method and as the conventional baseline in `benchmarks/speed_accuracy.py`.
+
+Formulation (forces normalised to F_D = 1 inside, like the direct solver; lengths in mm). The damper
+displacement q = (u, v, theta) at D, the platform motion dv and the accumulated slips p are all
+measured from state 0, where the forces are the full-slip statics (N_ref, T_ref):
+
+    N_i = max(0, N_ref_i + kn_i (a_i.q - nw_i dv))
+    T_i = T_ref_i - kt_i (c_i.q - tw_i dv - p_i)   projected onto |T_i| <= mu N_i (T_i = 0 if open)
+    R(q) = sum_i (-N_i a_i + T_i c_i) + e_y = 0     (equilibrium of the rigid damper, F_D at D)
+
+The five numbers are then taken the way a time-marching user would take them (see `time_march`).
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._linalg import solve3
+from ._validate import check_range
+from .geometry import DamperShape, validate_shape
+from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
+
+NEWTON_TOL = 1e-12  # equilibrium residual, units of F_D
+GROSS_TOL = 1e-9  # incremental force rate (per mm) below which the damper is in gross slip, x k/F_D
+CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
+MAX_PAIRS = 10
+MAX_NEWTON = 12
+_E_Y = jnp.array([0.0, 1.0, 0.0])
+
+
+class MarchModel(NamedTuple):
+    """Constant data of the time-marching model (a pytree of arrays)."""
+
+    a: jnp.ndarray  # (3, 3) generalised outward normals about D, one row per contact (R1, L1, L2)
+    c: jnp.ndarray  # (3, 3) generalised up-flank tangents
+    nw: jnp.ndarray  # (3,) normal motion of each contact's platform per unit dv
+    tw: jnp.ndarray  # (3,) tangential motion of each contact's platform per unit dv
+    kn: jnp.ndarray  # (3,) kn / F_D, 1/mm
+    kt: jnp.ndarray  # (3,) kt / F_D, 1/mm
+    mu: jnp.ndarray
+    N_ref: jnp.ndarray  # (3,) forces at state 0 (q = 0, dv = 0, p = 0)
+    T_ref: jnp.ndarray
+    fn: jnp.ndarray  # (3,) platform moment (N mm) per unit normal force (units of F_D)
+    ft: jnp.ndarray  # (3,) platform moment (N mm) per unit tangential force
+    q_star: jnp.ndarray
+    F_D: jnp.ndarray
+
+
+def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
+    """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip."""
+    a, c, geo = contact_columns(shape)
+    # The right platform (R1) moves radially by dv; the left one (L1, L2) is the reference.
+    w = jnp.array([1.0, 0.0, 0.0])
+    kn, kt = contacts.per_contact()
+    F_D = jnp.asarray(load.F_D, float)
+    mu = jnp.asarray(mu, float)
+    start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
+    lift0 = (start.min_normal <= 0.0) | ~start.solvable
+    N_ref = jnp.where(lift0, jnp.ones(3), start.N)  # keep the masked computation finite
+    T_ref = START_FRICTION_SIGNS * mu * N_ref
+    # M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta) with F the forces on the damper.
+    arm = jnp.asarray(load.q_star, float) / 2.0 + jnp.asarray(load.r_sin_beta, float)
+    side = jnp.array([1.0, -1.0, -1.0])
+    fn = -geo.normals[:, 1] * side * arm * F_D
+    ft = geo.tangents[:, 1] * side * arm * F_D
+    model = MarchModel(a, c, geo.normals[:, 1] * w, geo.tangents[:, 1] * w, kn / F_D, kt / F_D, mu,
+                       N_ref, T_ref, fn, ft, jnp.asarray(load.q_star, float), F_D)
+    return model, lift0
+
+
+class Response(NamedTuple):
+    """Return-mapped contact response at a trial damper position."""
+
+    N: jnp.ndarray
+    T: jnp.ndarray
+    p: jnp.ndarray  # updated slips
+    closed: jnp.ndarray
+    slip: jnp.ndarray
+    sign: jnp.ndarray
+    R: jnp.ndarray  # equilibrium residual
+    J: jnp.ndarray  # consistent tangent dR/dq
+
+
+def respond(m: MarchModel, q, dv, p_old) -> Response:
+    """Return mapping of the three contacts for damper position q and platform motion dv."""
+    gn = m.a @ q - m.nw * dv
+    gt = m.c @ q - m.tw * dv
+    N_tr = m.N_ref + m.kn * gn
+    closed = N_tr > 0.0
+    N = jnp.where(closed, N_tr, 0.0)
+    T_tr = m.T_ref - m.kt * (gt - p_old)
+    sign = jnp.where(T_tr >= 0.0, 1.0, -1.0)
+    slip = closed & (jnp.abs(T_tr) > m.mu * N)
+    T = jnp.where(closed, jnp.where(slip, sign * m.mu * N, T_tr), 0.0)
+    p = gt - (m.T_ref - T) / m.kt
+    R = -m.a.T @ N + m.c.T @ T + _E_Y
+    dN = jnp.where(closed, m.kn, 0.0)[:, None] * m.a
+    dT = jnp.where((closed & slip)[:, None], (sign * m.mu * m.kn)[:, None] * m.a,
+                   jnp.where(closed, -m.kt, 0.0)[:, None] * m.c)
+    J = -m.a.T @ dN + m.c.T @ dT
+    return Response(N, T, p, closed, slip, sign, R, J)
+
+
+def force_rates(m: MarchModel, r: Response):
+    """Consistent incremental rates (dN/ddv, dT/ddv, dq/ddv) at a converged state, and solvability."""
+    dN_dv = jnp.where(r.closed, -m.kn * m.nw, 0.0)
+    dT_dv = jnp.where(r.closed, jnp.where(r.slip, r.sign * m.mu * dN_dv, m.kt * m.tw), 0.0)
+    dR_dv = -m.a.T @ dN_dv + m.c.T @ dT_dv
+    dq, ok = solve3(r.J, -dR_dv)
+    dN = jnp.where(r.closed, m.kn, 0.0) * (m.a @ dq) + dN_dv
+    dT = jnp.where(r.closed, jnp.where(r.slip, r.sign * m.mu * m.kn * (m.a @ dq),
+                                       -m.kt * (m.c @ dq)), 0.0) + dT_dv
+    return dN, dT, dq, ok
+
+
+class MarchState(NamedTuple):
+    q: jnp.ndarray  # (3,) damper displacement from state 0
+    dv: jnp.ndarray  # relative platform displacement from state 0, mm
+    p: jnp.ndarray  # (3,) accumulated slips
+    N: jnp.ndarray
+    T: jnp.ndarray
+    vel: jnp.ndarray  # (3,) consistent tangent dq/ddv at this state (the next step's predictor)
+
+
+class Sample(NamedTuple):
+    """What a step records (arrays with a leading step axis after `march`)."""
+
+    dv: jnp.ndarray
+    N: jnp.ndarray
+    T: jnp.ndarray
+    p: jnp.ndarray
+    M: jnp.ndarray  # platform moment, N mm
+    code: jnp.ndarray  # per contact: 0 stick, 1 slip up (+), 2 slip down (-), 3 open
+    gross: jnp.ndarray  # incremental stiffness ~ 0 at the end of the step (gross slip)
+    converged: jnp.ndarray  # Newton reached the tolerance
+    iters: jnp.ndarray
+
+
+def initial_state(m: MarchModel) -> MarchState:
+    z = jnp.zeros(3)
+    return MarchState(z, jnp.zeros(()), z, m.N_ref, m.T_ref, z)
+
+
+def moment_of(m: MarchModel, N, T):
+    return jnp.sum(N * m.fn + T * m.ft, axis=-1)
+
+
+def step(m: MarchModel, s: MarchState, dv_new, max_newton: int = MAX_NEWTON):
+    """One load step: Newton on R(q) = 0 with return mapping, from the tangent predictor."""
+    q0 = s.q + s.vel * (dv_new - s.dv)
+
+    def cond(c):
+        q, it, res = c
+        return (it < max_newton) & (res > NEWTON_TOL)
+
+    def body(c):
+        q, it, _ = c
+        r = respond(m, q, dv_new, s.p)
+        dq, _ = solve3(r.J, -r.R)
+        q = q + dq
+        res = jnp.max(jnp.abs(respond(m, q, dv_new, s.p).R))
+        return q, it + 1, res
+
+    res0 = jnp.max(jnp.abs(respond(m, q0, dv_new, s.p).R))
+    q, iters, res = jax.lax.while_loop(cond, body, (q0, jnp.array(0), res0))
+    r = respond(m, q, dv_new, s.p)
+    dN, dT, vel, ok = force_rates(m, r)
+    scale = jnp.max(jnp.maximum(m.kn, m.kt))
+    gross = ok & (jnp.max(jnp.abs(jnp.concatenate([dN, dT]))) <= GROSS_TOL * scale)
+    code = jnp.where(r.closed, jnp.where(r.slip, jnp.where(r.sign > 0, 1, 2), 0), 3)
+    new = MarchState(q, jnp.asarray(dv_new, float), r.p, r.N, r.T, vel)
+    sample = Sample(new.dv, r.N, r.T, r.p, moment_of(m, r.N, r.T), code, gross, res <= NEWTON_TOL,
+                    iters)
+    return new, sample
+
+
+def march(m: MarchModel, s: MarchState, dv_path, max_newton: int = MAX_NEWTON):
+    """March along the prescribed platform motions dv_path (n,), returning the end state and samples."""
+    return jax.lax.scan(lambda c, dv: step(m, c, dv, max_newton), s, dv_path)
+
+
+class HalfMarch(NamedTuple):
+    """One half-cycle marched at a uniform step h; samples include the start (index 0)."""
+
+    samples: Sample  # leading axis n_steps + 1
+    gross_step: jnp.ndarray  # first step index ending in gross slip (n_steps + 1 if never)
+
+
+def march_half(m: MarchModel, s: MarchState, direction, h, n_steps: int, max_newton: int = MAX_NEWTON):
+    path = s.dv + direction * h * jnp.arange(1, n_steps + 1, dtype=float)
+    end, smp = march(m, s, path, max_newton)
+    first = Sample(s.dv, s.N, s.T, s.p, moment_of(m, s.N, s.T), jnp.zeros(3, int), jnp.array(False),
+                   jnp.array(True), jnp.array(0))
+    smp = jax.tree_util.tree_map(lambda x0, xs: jnp.concatenate([x0[None], xs]), first, smp)
+    idx = jnp.arange(n_steps + 1)
+    gross_step = jnp.min(jnp.where(smp.gross & (idx > 0), idx, n_steps + 1))
+    return end, HalfMarch(smp, gross_step)
+
+
+class TimeMarchResult(NamedTuple):
+    """The five numbers as a time-marching user obtains them, plus energies and status flags.
+
+    psi in mrad, k in N mm/mrad, energy in N mm per cycle, spans in mm.
+    """
+
+    psi_fs: jnp.ndarray
+    k_re_fs: jnp.ndarray
+    psi_bc: jnp.ndarray
+    k_re_bc: jnp.ndarray
+    k_im_bc: jnp.ndarray
+    k_im_energy: jnp.ndarray  # k_Im from sum of T d(slip) over the contacts: W / (pi psi_BC^2)
+    work_contacts: jnp.ndarray  # (3,) energy dissipated at R1, L1, L2 per cycle
+    work_moment: jnp.ndarray  # oint M dpsi of the sampled loop
+    span_forward: jnp.ndarray
+    span_backward: jnp.ndarray
+    N_C: jnp.ndarray  # (3,) forces (units of F_D) at the end of the forward half (gross slip, point C)
+    T_C: jnp.ndarray
+    N_F: jnp.ndarray  # (3,) forces at the end of the backward half (point F)
+    T_F: jnp.ndarray
+    converged: jnp.ndarray  # the cycle's end state repeated within max_pairs
+    liftoff: jnp.ndarray  # a contact opened (N = 0) or the start statics has N <= 0
+    failed: jnp.ndarray  # Newton did not converge, or gross slip was not reached in n_steps
+    half_cycles: jnp.ndarray
+    newton_failures: jnp.ndarray  # steps whose Newton iterations did not reach the tolerance
+
+
+def loop_harmonics(M_fwd, M_bwd, K, psi_a_mrad):
+    """First harmonic of a moment loop sampled at uniform psi steps (quadrature of the samples).
+
+    M_fwd, M_bwd: samples at x = cos(tau) = 1 - 2k/K (forward) and -1 + 2k/K (backward), k = 0..K;
+    samples beyond K are ignored. The samples are joined linearly and the Fourier integrals of that
+    interpolant are taken exactly (product integration). Returns (k_Re, k_Im, work in N mm) with
+    M ~ psi_a (k_Re cos tau - k_Im sin tau).
+    """
+    n = M_fwd.shape[0]
+    k = jnp.arange(n, dtype=float)
+    use = (k[1:] <= K)
+
+    def half(M, branch):
+        x = branch * jnp.clip(1.0 - 2.0 * k / K, -1.0, 1.0)
+        x1, x2, m1, m2 = x[:-1], x[1:], M[:-1], M[1:]
+        dx = x2 - x1
+        beta = jnp.where(use, (m2 - m1) / jnp.where(use, dx, 1.0), 0.0)
+        alpha = m1 - beta * x1
+        t1, t2 = jnp.arccos(jnp.clip(x1, -1, 1)), jnp.arccos(jnp.clip(x2, -1, 1))
+        if branch < 0:  # tau in [pi, 2 pi]
+            t1, t2 = 2 * jnp.pi - t1, 2 * jnp.pi - t2
+        s1, s2 = jnp.sin(t1), jnp.sin(t2)
+        f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
+        f_sin = 0.5 * (m1 + m2) * (x1 - x2)  # int M sin(tau) dtau = -int M dx
+        return jnp.sum(jnp.where(use, f_cos, 0.0)), jnp.sum(jnp.where(use, f_sin, 0.0))
+
+    c1, s1 = half(M_fwd, 1.0)
+    c2, s2 = half(M_bwd, -1.0)
+    k_re = (c1 + c2) / (jnp.pi * psi_a_mrad)
+    k_im = -(s1 + s2) / (jnp.pi * psi_a_mrad)
+    work = jnp.pi * psi_a_mrad ** 2 * k_im * 1e-3  # N mm (psi in mrad)
+    return k_re, k_im, work
+
+
+def _dissipated(smp: Sample, K, F_D):
+    """sum over steps 1..K of -(T_k-1 + T_k)/2 (p_k - p_k-1), per contact, N mm."""
+    k = jnp.arange(1, smp.T.shape[0])
+    use = (k <= K)[:, None]
+    w = -0.5 * (smp.T[1:] + smp.T[:-1]) * (smp.p[1:] - smp.p[:-1])
+    return F_D * jnp.sum(jnp.where(use, w, 0.0), axis=0)
+
+
+@partial(jax.jit, static_argnames=("n_steps", "max_pairs", "max_newton"))
+def _time_march(shape, mu, contacts, load, h, n_steps: int, max_pairs: int = MAX_PAIRS,
+                max_newton: int = MAX_NEWTON) -> TimeMarchResult:
+    m, lift0 = march_model(shape, mu, contacts, load)
+    h = jnp.asarray(h, float)
+    s0 = initial_state(m)
+
+    def pair(s):
+        s1, fwd = march_half(m, s, -1.0, h, n_steps, max_newton)
+        s2, bwd = march_half(m, s1, 1.0, h, n_steps, max_newton)
+        return s2, fwd, bwd
+
+    def bad_half(hm):
+        smp = hm.samples
+        lift = jnp.any(smp.code == 3)
+        fail = ~jnp.all(smp.converged) | (hm.gross_step > n_steps)
+        return lift, fail
+
+    def cond(c):
+        return (c["k"] < max_pairs) & ~c["stop"]
+
+    def body(c):
+        s2, fwd, bwd = pair(c["s"])
+        lf, ff = bad_half(fwd)
+        lb, fb = bad_half(bwd)
+        closed = (jnp.max(jnp.abs(s2.N - c["s"].N)) + jnp.max(jnp.abs(s2.T - c["s"].T))) <= CLOSE_TOL
+        bad = lf | lb | ff | fb
+        return dict(s=s2, fwd=fwd, bwd=bwd, k=c["k"] + 1, stop=closed | bad, closed=closed & ~bad,
+                    lift=lf | lb, fail=ff | fb)
+
+    _, fwd0, bwd0 = jax.eval_shape(pair, s0)
+    zeros = lambda t: jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), t)  # noqa: E731
+    init = dict(s=s0, fwd=zeros(fwd0), bwd=zeros(bwd0), k=jnp.array(0), stop=lift0,
+                closed=jnp.array(False), lift=jnp.array(False), fail=jnp.array(False))
+    out = jax.lax.while_loop(cond, body, init)
+    fwd, bwd = out["fwd"], out["bwd"]
+    liftoff = lift0 | out["lift"]
+
+    # psi_BC: the longer half-span, from the first step that ends in gross slip.
+    K = jnp.maximum(fwd.gross_step, bwd.gross_step)
+    Kf = jnp.maximum(K, 1).astype(float)
+    span_f, span_b = fwd.gross_step * h, bwd.gross_step * h
+    psi_bc = Kf * h / (2.0 * m.q_star) * 1e3
+    k_re_bc, k_im_bc, work_m = loop_harmonics(fwd.samples.M, bwd.samples.M, Kf, psi_bc)
+    work_c = _dissipated(fwd.samples, K, m.F_D) + _dissipated(bwd.samples, K, m.F_D)
+    k_im_energy = jnp.sum(work_c) * 1e3 / (jnp.pi * psi_bc ** 2)
+
+    # psi_fs: the first tract ends in the first step whose contact states differ from those of step 1;
+    # take the middle of that step. k_Re,fs: the slope of the first step.
+    code = fwd.samples.code
+    idx = jnp.arange(code.shape[0])
+    changed = jnp.any(code != code[1], axis=1) & (idx > 1)
+    j = jnp.min(jnp.where(changed | (idx == fwd.gross_step), idx, n_steps + 1))
+    psi_fs = (j - 0.5) * h / (2.0 * m.q_star) * 1e3
+    M = fwd.samples.M
+    k_re_fs = (M[1] - M[0]) / (-h) * m.q_star / 1e3
+
+    newton_fail = jnp.where(out["k"] > 0, jnp.sum(~fwd.samples.converged)
+                            + jnp.sum(~bwd.samples.converged), 0)
+    failed = ~liftoff & out["fail"]
+    return TimeMarchResult(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, k_im_energy, work_c, work_m,
+                           span_f, span_b, fwd.samples.N[-1], fwd.samples.T[-1], bwd.samples.N[-1],
+                           bwd.samples.T[-1], out["closed"] & ~liftoff, liftoff, failed, 2 * out["k"],
+                           newton_fail)
+
+
+def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
+               *, h, n_steps: int, max_pairs: int = MAX_PAIRS,
+               max_newton: int = MAX_NEWTON) -> TimeMarchResult:
+    """The five numbers by quasi-static time marching at a fixed step h (mm of relative platform
+    motion), n_steps steps per half-cycle.
+
+    Procedure (what a time-marching user does): start at the full-slip statics (state 0); march the
+    forward half (dv decreasing) for n_steps steps; a half reaches gross slip at the first step whose
+    consistent incremental stiffness is ~0. Reverse, march back; repeat pairs of halves until the end
+    state repeats (at most max_pairs). Then psi_BC = (longer half-span)/(2 q*) with a span measured
+    in whole steps; k_Re,BC and k_Im,BC from the first harmonic of the sampled moment loop at
+    amplitude psi_BC; psi_fs from the first step where the contact states change (middle of that
+    step); k_Re,fs from the first step's slope. n_steps * h must exceed the longer half-span, or the
+    result is flagged `failed`. Liftoff, Newton failures and non-closure are flags, never NaN.
+    """
+    validate_shape(shape)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    check_range("h", h, 0.0, np.inf, lo_open=True, unit="mm")
+    if not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
+        raise ValueError(f"n_steps must be an integer in [2, inf); got {n_steps!r}")
+    if not isinstance(max_pairs, (int, np.integer)) or max_pairs < 1:
+        raise ValueError(f"max_pairs must be an integer in [1, inf); got {max_pairs!r}")
+    if not isinstance(max_newton, (int, np.integer)) or max_newton < 1:
+        raise ValueError(f"max_newton must be an integer in [1, inf); got {max_newton!r}")
+    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
+    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
+    load = LoadCase(*(jnp.asarray(v, float) for v in load))
+    return _time_march(shape, jnp.asarray(mu, float), contacts, load, jnp.asarray(h, float),
+                       n_steps=int(n_steps), max_pairs=int(max_pairs), max_newton=int(max_newton))
+
+
+__all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "respond",
+           "loop_harmonics", "MarchModel", "MarchState", "Sample", "initial_state"]
