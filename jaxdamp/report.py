@@ -1,0 +1,300 @@
+"""The study report as Markdown and HTML, built from the study summary (plain string building).
+
+A report is a list of blocks (headings, paragraphs, tables, figures, lists); `Doc.markdown()` and
+`Doc.html()` render the same blocks. Inline markup in text: **bold** and `code` only.
+"""
+
+from __future__ import annotations
+
+import html
+import re
+
+from .scoring import MARK_SYMBOLS
+
+FIVE = (("psi_fs_mrad", "ψ_fs (mrad)", 3), ("k_re_fs", "k_Re,fs (N mm/mrad)", 0),
+        ("psi_bc_mrad", "ψ_BC (mrad)", 3), ("k_re_bc", "k_Re,BC (N mm/mrad)", 0),
+        ("k_im_bc", "k_Im,BC (N mm/mrad)", 0))
+WORK = (("w_R1", "w_R1"), ("w_L1", "w_L1"), ("w_L2", "w_L2"), ("w_M", "w_M"))
+
+
+class Doc:
+    def __init__(self, title: str):
+        self.title = title
+        self.blocks: list[tuple] = []
+
+    def h(self, level: int, text: str):
+        self.blocks.append(("h", level, text))
+
+    def p(self, text: str):
+        self.blocks.append(("p", text))
+
+    def items(self, lines):
+        self.blocks.append(("ul", list(lines)))
+
+    def table(self, header, rows, caption: str | None = None):
+        self.blocks.append(("table", [str(h) for h in header], [[str(c) for c in r] for r in rows], caption))
+
+    def figure(self, path: str, caption: str):
+        self.blocks.append(("img", path, caption))
+
+    # ---------------------------------------------------------------- markdown
+    def markdown(self) -> str:
+        out = [f"# {self.title}", ""]
+        for b in self.blocks:
+            kind = b[0]
+            if kind == "h":
+                out += ["#" * (b[1] + 1) + " " + b[2], ""]
+            elif kind == "p":
+                out += [b[1], ""]
+            elif kind == "ul":
+                out += [f"- {line}" for line in b[1]] + [""]
+            elif kind == "table":
+                _, header, rows, caption = b
+                if caption:
+                    out += [f"*{caption}*", ""]
+                out.append("| " + " | ".join(_md_cell(h) for h in header) + " |")
+                out.append("|" + "|".join("---" for _ in header) + "|")
+                out += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in rows]
+                out.append("")
+            elif kind == "img":
+                out += [f"![{b[2]}]({b[1]})", "", f"*{b[2]}*", ""]
+        return "\n".join(out)
+
+    # ---------------------------------------------------------------- html
+    def html(self) -> str:
+        body = [f"<h1>{_inline(self.title)}</h1>"]
+        for b in self.blocks:
+            kind = b[0]
+            if kind == "h":
+                n = min(b[1] + 1, 6)
+                body.append(f"<h{n}>{_inline(b[2])}</h{n}>")
+            elif kind == "p":
+                body.append(f"<p>{_inline(b[1])}</p>")
+            elif kind == "ul":
+                body.append("<ul>" + "".join(f"<li>{_inline(x)}</li>" for x in b[1]) + "</ul>")
+            elif kind == "table":
+                _, header, rows, caption = b
+                cap = f"<caption>{_inline(caption)}</caption>" if caption else ""
+                head = "".join(f"<th>{_inline(h)}</th>" for h in header)
+                trs = "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r) + "</tr>" for r in rows)
+                body.append(f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{trs}</tbody></table>")
+            elif kind == "img":
+                src = html.escape(b[1], quote=True)
+                body.append(f'<figure><img src="{src}" alt="{html.escape(b[2], quote=True)}">'
+                            f"<figcaption>{_inline(b[2])}</figcaption></figure>")
+        style = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;line-height:1.45;padding:0 1em}"
+                 "table{border-collapse:collapse;margin:1em 0;font-size:0.92em}"
+                 "td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+                 "th{background:#eee}caption{font-style:italic;margin-bottom:4px;text-align:left}"
+                 "img{max-width:100%;border:1px solid #ddd}figcaption{font-style:italic;color:#444}"
+                 "code{background:#f4f4f4;padding:0 3px}")
+        return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
+                f"<title>{html.escape(self.title)}</title><style>{style}</style></head>\n<body>\n"
+                + "\n".join(body) + "\n</body></html>\n")
+
+
+def _md_cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
+
+
+def _inline(text: str) -> str:
+    t = html.escape(text)
+    t = re.sub(r"\*\*(.+?)\*\*", r"<b>\1</b>", t)
+    t = re.sub(r"`(.+?)`", r"<code>\1</code>", t)
+    return t
+
+
+# ---------------------------------------------------------------- content
+def fmt(v, digits=3):
+    if v is None:
+        return "—"
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if abs(v) < 0.5 * 10.0 ** -digits:
+        v = 0.0  # no "-0"
+    return f"{v:,.{digits}f}" if abs(v) >= 1000 and digits == 0 else f"{v:.{digits}f}"
+
+
+def _pct(v):
+    return "—" if v is None else f"{v:+.2f} %"
+
+
+def _verdict(holds):
+    return {True: "**holds**", False: "**does not hold**", None: "not checked"}[holds]
+
+
+def build_report(summary: dict) -> Doc:
+    """The study report from the summary dict that `jaxdamp.study.run_study` writes."""
+    meta, res = summary["meta"], summary["results"]
+    c, load = summary["contacts"], summary["load"]
+    doc = Doc("jaxdamp study: the 60sym family of underplatform dampers")
+    doc.p(f"Shapes {', '.join(meta['shapes'])}; friction coefficients μ = {', '.join(meta['mus'])}. "
+          f"Contacts (shared by R1, L1, L2): kn = {c['kn']:g} N/mm, kt = {c['kt']:g} N/mm. "
+          f"Reference case: F_D = {load['F_D']:g} N, q* = {load['q_star']:g} mm, "
+          f"r sin β = {load['r_sin_beta']:g} mm. Units: ψ in mrad, k in N mm/mrad, energy in N mm per cycle.")
+    doc.p(f"Computed by jaxdamp {meta['version']} (JAX {meta['jax']}, float64) in "
+          f"{meta['runtime_s']:.1f} s on this machine, jit compilation included. Method: the direct "
+          "piecewise-linear Base-Cycle of M. M. Gola, \"On comparing behavior and performance of "
+          "Underplatform Dampers according to shape\" (doi:10.25518/2684-6500.239).")
+    _flags(doc, summary)
+    _paper_tables(doc, summary)
+    _five_numbers(doc, res)
+    _scores(doc, summary)
+    _findings(doc, summary)
+    _work(doc, res, summary.get("energies", {}))
+    _statics(doc, summary.get("statics", {}))
+    _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}))
+    _figures(doc, summary.get("figures", []))
+    return doc
+
+
+def _flags(doc, summary):
+    res = summary["results"]
+    lift = [f"{s} at μ = {m}" for s, per in res.items() for m, e in per.items() if e["liftoff"]]
+    nconv = [f"{s} at μ = {m}" for s, per in res.items() for m, e in per.items()
+             if not e["liftoff"] and not e["converged"]]
+    doc.h(1, "Flags")
+    lines = []
+    if lift:
+        lines.append("**LIFTOFF** (a normal force reaches zero; not a valid damper design, no cycle, "
+                     "numbers left empty, cycle figures skipped): " + "; ".join(lift) + ".")
+    else:
+        lines.append("No liftoff.")
+    lines.append("Not converged: " + ("; ".join(nconv) if nconv else "none") + ".")
+    if any(s == "74L" and m == "0.7" for s, per in res.items() for m, e in per.items() if e["liftoff"]):
+        lines.append("74L at μ = 0.7: with the paper's geometry (b_R/h_R = 0.16, centroid as centre of "
+                     "mass) the left resultant falls just outside L1–L2 in full slip, so a left pad lifts "
+                     "off. The paper draws a cycle here; its real 74L may differ slightly (e.g. in the "
+                     "centre of mass). We report the liftoff instead of hiding it.")
+    doc.items(lines)
+
+
+def _paper_tables(doc, summary):
+    comp = summary["paper_comparison"]
+    doc.h(1, "Our numbers next to the paper's (Appendix B tables)")
+    crit = comp["criterion"]
+    doc.p(f"Deviation = (ours − paper) / paper. Criterion: Tables {' and '.join(crit['tables'])} within "
+          f"{crit['tol_pct']:g} % → largest |deviation| {crit['max_abs_dev_pct']:.2f} %: "
+          f"{'**met**' if crit['holds'] else '**not met**'}.")
+    for t in comp["tables"]:
+        rows = []
+        for r in t["rows"]:
+            for key, label, digits in FIVE:
+                rows.append([r["mu"], label, fmt(r["paper"][key], digits), fmt(r["ours"][key], digits),
+                             _pct(r["dev_pct"][key])])
+        doc.table(["μ", "quantity", "paper", "ours", "deviation"], rows,
+                  caption=f"Table {t['table']}: {t['shape']}")
+        if t.get("note"):
+            doc.p(t["note"])
+
+
+def _five_numbers(doc, res):
+    doc.h(1, "The five numbers of every shape")
+    rows = []
+    for s, per in res.items():
+        for m, e in per.items():
+            if e["liftoff"]:
+                rows.append([s, m] + ["LIFTOFF"] * len(FIVE) + ["no"])
+            else:
+                rows.append([s, m] + [fmt(e[k], d) for k, _, d in FIVE] + [fmt(e["converged"])])
+    doc.table(["shape", "μ"] + [label for _, label, _ in FIVE] + ["converged"], rows)
+
+
+def _scores(doc, summary):
+    sc = summary["scores"]
+    shapes = list(summary["results"])
+    doc.h(1, "Table 11: scores")
+    doc.p("Scored from our numbers with the paper's rules (§10.1), for μ = "
+          f"{' and '.join(sc['mus'])}: k_Re,init best if highest, ψ_BC best if lowest, k_Re,BC best if "
+          "highest, w_M best if highest; ψ_fs and k_Im,BC not evaluated. "
+          f"{MARK_SYMBOLS['best']} best, {MARK_SYMBOLS['second']} second best, {MARK_SYMBOLS['worst']} worst.")
+    rows = []
+    for mu in sc["mus"]:
+        for key, label, _ in sc["indicators"]:
+            vals, marks = sc["values"][mu][key], sc["marks"][mu][key]
+            cells = []
+            for s in shapes:
+                if s not in vals:
+                    cells.append("LIFTOFF" if summary["results"][s].get(mu, {}).get("liftoff") else "—")
+                    continue
+                d = 3 if "psi" in key or key == "w_M" else 0
+                cells.append(f"{fmt(vals[s], d)} {MARK_SYMBOLS[marks.get(s, '')]}".strip())
+            rows.append([mu, label] + cells)
+    rows.append(["", f"best {MARK_SYMBOLS['best']} count"] + [str(sc["best_count"][s]) for s in shapes])
+    rows.append(["", f"worst {MARK_SYMBOLS['worst']} count"] + [str(sc["worst_count"][s]) for s in shapes])
+    doc.table(["μ", "indicator"] + shapes, rows)
+    if sc["excluded"]:
+        doc.p("Not ranked: " + "; ".join(f"{s} at μ = {m} ({why})" for s, m, why in sc["excluded"]) + ".")
+
+
+def _findings(doc, summary):
+    doc.h(1, "The paper's qualitative findings, checked with our numbers")
+    doc.items([f"{f['claim']}: {_verdict(f['holds'])}. {f['evidence']}." for f in summary["findings"]])
+    notes = summary.get("notes", [])
+    if notes:
+        doc.items(notes)
+
+
+def _work(doc, res, energies):
+    doc.h(1, "Work shape factors and dissipated energy")
+    doc.p("Work shape factors (Appendix C): W_i = F_D · Δψ · q*/2 · w_i for a full-slip stretch Δψ "
+          "traversed forward and back; w_M = w_R1 + w_L1 + w_L2. Shares in % of w_M. Energies: "
+          "dissipated per Base-Cycle (N mm), ∮M dψ for the platform moment.")
+    rows = []
+    for s, per in res.items():
+        for m, e in per.items():
+            if e["liftoff"]:
+                rows.append([s, m] + ["LIFTOFF"] * 8)
+                continue
+            wm = e["w_M"] if e["w_M"] else float("nan")
+            en = energies.get(s, {}).get(m, {})
+            rows.append([s, m] + [f"{fmt(e[k], 4)} ({fmt(100 * e[k] / wm, 1)} %)" for k in ("w_R1", "w_L1", "w_L2")]
+                        + [fmt(e["w_M"], 4)] + [fmt(en.get(k), 1) for k in ("R1", "L1", "L2", "M")])
+    doc.table(["shape", "μ", "w_R1", "w_L1", "w_L2", "w_M", "W_R1 (N mm)", "W_L1", "W_L2", "∮M dψ"], rows)
+
+
+def _statics(doc, statics):
+    if not statics:
+        return
+    doc.h(1, "Full-slip statics: left resultant distances (Tables 1, 4, 6, 8, 9)")
+    doc.p("Distance of the left resultant from the nearest left pad, % of L1–L2: from L1 at cycle start, "
+          "from L2 at mid-cycle; negative means outside L1–L2 (liftoff). Paper's Table 1 (60sym) in brackets.")
+    rows = []
+    for s, per in statics.items():
+        for m, d in per.items():
+            ref = d.get("paper")
+            p1 = f" ({ref['dist_L1']:.1f})" if ref else ""
+            p2 = f" ({ref['dist_L2']:.1f})" if ref else ""
+            rows.append([s, m, f"{d['dist_L1']:.1f}{p1}", f"{d['dist_L2']:.1f}{p2}",
+                         "LIFTOFF" if d["liftoff"] else "no"])
+    doc.table(["shape", "μ", "from L1, cycle start (%)", "from L2, mid-cycle (%)", "liftoff"], rows)
+
+
+def _transitions(doc, trans, paper):
+    if not trans:
+        return
+    doc.h(1, "Transitions charts (Tables 2, 5, 7, 8, 10)")
+    doc.p("Contacts in slip per tract ('bs' = back-slide, Appendix A; '—' = all stick); 'full slip' marks the "
+          "constant-force stretch that completes the shorter half (C-C2 at mid-cycle, F-0 at the end). "
+          "Tract lengths in µm of relative platform displacement. The paper's chart, where its text "
+          "gives one, is in the last column.")
+    for s, per in trans.items():
+        rows = []
+        for m, tracts in per.items():
+            ours = "LIFTOFF" if tracts is None else "; ".join(
+                f"{t['tract']}: {t['slip']} ({t['dv_um']:.1f})" for t in tracts)
+            rows.append([m, ours, paper.get(s, {}).get(m, "—")])
+        doc.table(["μ", "ours: tract: slipping (µm)", "paper"], rows, caption=f"{s}")
+
+
+def _figures(doc, figures):
+    if not figures:
+        return
+    doc.h(1, "Figures")
+    section = None
+    for f in figures:
+        if f.get("section") != section:
+            section = f.get("section")
+            if section:
+                doc.h(2, section)
+        doc.figure(f["file"], f["caption"])

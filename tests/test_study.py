@@ -1,0 +1,234 @@
+"""`jaxdamp study`: study.json contract, paper tables, Table 11 scores, figures, report, CLI."""
+
+import json
+import struct
+
+import pytest
+
+from jaxdamp.cli import main
+from jaxdamp.params import REFERENCE_KN, REFERENCE_KT
+from jaxdamp.scoring import qualitative_findings, rank_indicator, score_table
+from jaxdamp.study import CONTRACT_KEYS, DEFAULT_SHAPES, run_study
+
+MU_KEYS = ["0.7", "0.5", "0.3"]
+TABLE_B_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
+
+
+@pytest.fixture(scope="module")
+def full(tmp_path_factory):
+    """The default study (whole family, three mu), numbers and report only."""
+    out = tmp_path_factory.mktemp("study_full")
+    run_study(out, progress=False, figures=False)
+    return out, json.loads((out / "study.json").read_text())
+
+
+@pytest.fixture(scope="module")
+def with_figures(tmp_path_factory):
+    """A reduced study with figures: 60sym and 74L (which lifts off at mu = 0.7)."""
+    out = tmp_path_factory.mktemp("study_figs")
+    run_study(out, shapes=("60sym", "74L"), mus=(0.7, 0.3), progress=False)
+    return out, json.loads((out / "study.json").read_text())
+
+
+# ---------------------------------------------------------------- study.json contract
+def test_study_json_contract(full):
+    _, s = full
+    assert list(s["results"]) == list(DEFAULT_SHAPES)
+    assert s["contacts"] == {"kn": REFERENCE_KN, "kt": REFERENCE_KT}
+    for shape, per_mu in s["results"].items():
+        assert list(per_mu) == MU_KEYS, shape
+        for mu, e in per_mu.items():
+            assert set(CONTRACT_KEYS) | {"liftoff", "converged"} <= set(e), (shape, mu)
+            assert isinstance(e["liftoff"], bool) and isinstance(e["converged"], bool)
+            for k in CONTRACT_KEYS:
+                assert (e[k] is None) == e["liftoff"], (shape, mu, k)
+                if not e["liftoff"]:
+                    assert isinstance(e[k], float)
+
+
+def test_74L_lifts_off_at_mu_07_and_is_shown_as_such(full):
+    out, s = full
+    e = s["results"]["74L"]["0.7"]
+    assert e["liftoff"] and not e["converged"]
+    assert all(e[k] is None for k in CONTRACT_KEYS)
+    others = [(sh, m) for sh, per in s["results"].items() for m, x in per.items() if x["liftoff"]]
+    assert others == [("74L", "0.7")]
+    report = (out / "report.md").read_text()
+    assert "**LIFTOFF**" in report and "74L at μ = 0.7" in report
+    assert "| 74L | 0.7 | LIFTOFF |" in report
+
+
+def test_every_valid_case_converges(full):
+    _, s = full
+    assert all(e["converged"] for per in s["results"].values() for e in per.values() if not e["liftoff"])
+
+
+# ---------------------------------------------------------------- the paper's tables
+@pytest.mark.parametrize("shape", ["60sym", "74R"])
+def test_tables_B3_B4_within_2_percent_and_in_report(full, paper, shape):
+    """Tables B3.1 (60sym) and B4.1 (74R), every number, within 2 % of the paper."""
+    out, s = full
+    report = (out / "report.md").read_text()
+    worst = 0.0
+    for row in paper["table_B"][shape]:
+        mu = f"{row[0]:g}"
+        ours = s["results"][shape][mu]
+        for key, ref in zip(TABLE_B_KEYS, row[1:]):
+            dev = 100.0 * (ours[key] - ref) / ref
+            worst = max(worst, abs(dev))
+            assert f"{dev:+.2f} %" in report, (shape, mu, key)
+    assert worst <= 2.0, f"{shape}: largest deviation from the paper {worst:.2f} %"
+
+
+def test_report_states_the_2_percent_criterion_truthfully(full, paper):
+    out, s = full
+    worst = max(abs(100.0 * (s["results"][sh][f"{row[0]:g}"][k] - ref) / ref)
+                for sh in ("60sym", "74R") for row in paper["table_B"][sh]
+                for k, ref in zip(TABLE_B_KEYS, row[1:]))
+    crit = s["paper_comparison"]["criterion"]
+    assert crit["max_abs_dev_pct"] == pytest.approx(worst, rel=1e-12)
+    assert crit["holds"] == (worst <= 2.0)
+    verdict = "**met**" if worst <= 2.0 else "**not met**"
+    assert f"largest |deviation| {worst:.2f} %: {verdict}" in (out / "report.md").read_text()
+
+
+def test_table_1_resultant_distances(full, paper):
+    """60sym's left-resultant distances (Table 1) from the study's statics."""
+    _, s = full
+    for row in paper["table_1_60sym_resultant_distance"]["rows"]:
+        d = s["statics"]["60sym"][f"{row['mu']:g}"]
+        assert d["dist_L1"] == pytest.approx(row["dist_L1"], abs=0.06)
+        assert d["dist_L2"] == pytest.approx(row["dist_L2"], abs=0.06)
+
+
+def test_paper_qualitative_findings_hold(full):
+    """§10.1: 90L most best scores, 74L most worst, 90R lowest w_M, 60sym's 50 % R1 share."""
+    out, s = full
+    sc = s["scores"]
+    assert max(sc["best_count"], key=sc["best_count"].get) == "90L"
+    assert sorted(sc["best_count"].values())[-1] > sorted(sc["best_count"].values())[-2]
+    assert max(sc["worst_count"], key=sc["worst_count"].get) == "74L"
+    assert sorted(sc["worst_count"].values())[-1] > sorted(sc["worst_count"].values())[-2]
+    for mu in MU_KEYS:
+        valid = {k: per[mu]["w_M"] for k, per in s["results"].items() if not per[mu]["liftoff"]}
+        assert min(valid, key=valid.get) == "90R", mu
+        e = s["results"]["60sym"][mu]
+        assert e["w_R1"] / e["w_M"] == pytest.approx(0.5, abs=1e-3)
+        assert e["w_L1"] / (e["w_L1"] + e["w_L2"]) == pytest.approx(2 / 3, abs=0.03)
+    assert all(f["holds"] for f in s["findings"]), [f["claim"] for f in s["findings"] if not f["holds"]]
+    assert (out / "report.md").read_text().count("**holds**") == len(s["findings"])
+
+
+def test_tables_written(full):
+    out, s = full
+    for name in ("five_numbers.csv", "work_shape_factors.csv", "scores.csv", "transitions.csv",
+                 "paper_comparison.csv"):
+        lines = (out / "tables" / name).read_text().splitlines()
+        assert len(lines) > 5, name
+    trans = s["transitions"]["60sym"]["0.7"]
+    assert [t["tract"] for t in trans][:3] == ["0-A", "A-B", "B-C"]
+    # Table 2: 0-A all stick, A-B L2 slips, B-C L1 and L2 slip.
+    assert [t["slip"] for t in trans][:3] == ["—", "L2", "L1 L2"]
+
+
+# ---------------------------------------------------------------- Table 11 scoring logic
+def _entry(**kw):
+    e = {"k_re_fs": 1.0, "psi_bc_mrad": 1.0, "k_re_bc": 1.0, "w_M": 1.0, "liftoff": False}
+    e.update(kw)
+    return e
+
+
+def test_score_table_hand_made_example():
+    """Four shapes, one mu; known marks including a tie and a liftoff."""
+    results = {
+        "A": {"0.5": _entry(k_re_fs=30.0, psi_bc_mrad=2.0, k_re_bc=20.0, w_M=3.0)},
+        "B": {"0.5": _entry(k_re_fs=20.0, psi_bc_mrad=1.0, k_re_bc=25.0, w_M=2.0)},
+        "C": {"0.5": _entry(k_re_fs=10.0, psi_bc_mrad=3.0, k_re_bc=10.0, w_M=2.0)},
+        "D": {"0.5": _entry(k_re_fs=99.0, psi_bc_mrad=0.1, k_re_bc=99.0, w_M=9.0, liftoff=True)},
+    }
+    sc = score_table(results, mus=("0.5",))
+    m = sc["marks"]["0.5"]
+    assert m["k_re_fs"] == {"A": "best", "B": "second", "C": "worst"}
+    assert m["psi_bc_mrad"] == {"A": "second", "B": "best", "C": "worst"}
+    assert m["k_re_bc"] == {"A": "second", "B": "best", "C": "worst"}
+    assert m["w_M"] == {"A": "best", "B": "worst", "C": "worst"}  # B and C tie: two levels only
+    assert sc["best_count"] == {"A": 2, "B": 2, "C": 0, "D": 0}
+    assert sc["worst_count"] == {"A": 0, "B": 1, "C": 4, "D": 0}
+    assert sc["excluded"] == [["D", "0.5", "liftoff"]]
+    assert "D" not in sc["values"]["0.5"]["w_M"]
+
+
+def test_rank_indicator_directions_and_ties():
+    assert rank_indicator({"a": 1.0, "b": 2.0, "c": 3.0, "d": 4.0}, "min") == {
+        "a": "best", "b": "second", "c": "", "d": "worst"}
+    assert rank_indicator({"a": 1.0, "b": 1.0 + 1e-9, "c": 0.5}, "max") == {
+        "a": "best", "b": "best", "c": "worst"}
+    assert rank_indicator({"a": 1.0}, "max") == {"a": "best"}
+    with pytest.raises(ValueError, match="better"):
+        rank_indicator({"a": 1.0}, "highest")
+
+
+def test_findings_report_a_finding_that_does_not_hold():
+    """With 74R made the clear worst, '74L most worst' must be reported as not holding."""
+    results = {s: {"0.5": _entry(k_re_fs=10.0 + i, psi_bc_mrad=5.0 - i, k_re_bc=10.0 + i, w_M=1.0 + i)}
+               for i, s in enumerate(["74R", "74L", "60sym", "90R", "90L"])}
+    results["90R"]["0.5"]["w_M"] = 0.1
+    for e in (results["60sym"]["0.5"],):
+        e.update(w_R1=0.5 * e["w_M"], w_L1=e["w_M"] / 3, w_L2=e["w_M"] / 6)
+    sc = score_table(results, mus=("0.5",))
+    found = {f["claim"].split(" (")[0].split(":")[0]: f["holds"] for f in qualitative_findings(results, sc)}
+    assert found["74L collects the most worst scores"] is False
+    assert found["90L collects the most best scores"] is True
+    assert found["90R has the lowest w_M of the family"] is True
+
+
+# ---------------------------------------------------------------- figures and report
+def _png_size(path):
+    data = path.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    width, height = struct.unpack(">II", data[16:24])
+    return len(data), width, height
+
+
+def test_figures_exist_and_are_real_pngs(with_figures):
+    out, s = with_figures
+    files = [f["file"] for f in s["figures"]]
+    for kind in ("section", "tracks", "moment", "stretched", "stiffness"):
+        for shape in ("60sym", "74L"):
+            assert f"figures/{kind}_{shape}.png" in files
+    assert {"figures/energy.png", "figures/family.png", "figures/key_figure.png"} <= set(files)
+    for f in files:
+        nbytes, w, h = _png_size(out / f)
+        assert nbytes > 30_000 and w >= 700 and h >= 450, (f, nbytes, w, h)
+
+
+def test_report_html_and_markdown_reference_every_figure(with_figures):
+    out, s = with_figures
+    md = (out / "report.md").read_text()
+    html = (out / "report.html").read_text()
+    assert html.startswith("<!DOCTYPE html>") and html.rstrip().endswith("</html>")
+    assert html.count("<table>") == sum(line.startswith("|---") for line in md.splitlines()) > 5
+    for f in s["figures"]:
+        assert f"]({f['file']})" in md
+        assert f'src="{f["file"]}"' in html
+    assert "60sym" in md and "Table B3.1" in md
+
+
+# ---------------------------------------------------------------- CLI
+def test_cli_study_subset(tmp_path, capsys):
+    assert main(["study", "--out", str(tmp_path), "--shapes", "60sym", "--mu", "0.5",
+                 "--no-progress", "--no-figures"]) == 0
+    s = json.loads((tmp_path / "study.json").read_text())
+    assert list(s["results"]) == ["60sym"] and list(s["results"]["60sym"]) == ["0.5"]
+    assert (tmp_path / "report.html").exists()
+    assert "study.json" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--shapes", "61sym"], "unknown shape"),
+    (["--mu", "0.5,abc"], "--mu must be"),
+    (["--mu", "-0.5"], "mu must be in"),
+])
+def test_cli_study_errors(tmp_path, capsys, argv, message):
+    assert main(["study", "--out", str(tmp_path), "--no-progress", "--no-figures", *argv]) == 2
+    assert message in capsys.readouterr().err
