@@ -4,6 +4,8 @@ Float64 matters here: call `jaxdamp.enable_x64()` (or set JAX_ENABLE_X64=1) befo
 Importing the library does not change JAX's global configuration.
 """
 
+from .calibration import (CalibrationResult, CalibrationTargets, calibrate, comparison_table,
+                          paper_targets)
 from .cycle import BaseCycle, HalfCycle, base_cycle, base_cycles, transitions_chart
 from .energy import CycleEnergy, WorkShapeFactors, contact_energies, work_shape_factors
 from .geometry import (CONTACT_NAMES, FAMILY, DamperShape, SectionGeometry, family_shape,
