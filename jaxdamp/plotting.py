@@ -81,6 +81,8 @@ def _legend_below(ax, ncol=2, fontsize=8):
 
 
 def _liftoff_panel(ax, text):
+    ax.set_xticks([])
+    ax.set_yticks([])
     ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, fontsize=12,
             color="firebrick", bbox=dict(boxstyle="round", fc="mistyrose", ec="firebrick"))
 
@@ -173,7 +175,7 @@ def _draw_section(ax, shape, mu, end, scale):
         ax.plot([D[0], X[0]], [D[1], X[1]], color="k", ls=":", lw=1.0)
         ax.plot([X[0]], [X[1]], "x", color="k", ms=8, mew=2, label="intersection (on $F_D$ line)")
     what = "cycle start (point 0)" if end == "start" else "mid-cycle"
-    title = f"{_shape_name(shape)}, μ = {mu:g}: {what}, full-slip statics"
+    title = f"{_shape_name(shape)}, μ = {mu:g}\n{what}, full-slip statics"
     if d["liftoff"]:
         lifted = ", ".join(c for c, v in zip(CONTACT_NAMES, d["N"]) if v <= 0.0)
         title += f"\nLIFTOFF: resultant outside L1–L2, N ≤ 0 at {lifted}"
@@ -192,7 +194,7 @@ def plot_section(shape, mu, ax=None, end="both", force_scale=0.35):
     if any(e not in ("start", "mid") for e in ends):
         raise ValueError(f"end must be 'start', 'mid' or 'both'; got {end!r}")
     created = ax is None
-    fig, axes = _axes_row(ax, len(ends), size=(6.0, 6.4))
+    fig, axes = _axes_row(ax, len(ends), size=(6.0, 6.3))
     lims = []
     for a, e in zip(axes, ends):
         d = _draw_section(a, shape, float(mu), e, force_scale)
@@ -207,7 +209,7 @@ def plot_section(shape, mu, ax=None, end="both", force_scale=0.35):
         _legend_below(a)
     allp = np.concatenate(lims)
     lo, hi = allp.min(0) - 0.45, allp.max(0) + 0.45
-    lo[1], hi[1] = min(lo[1], -0.2), max(hi[1], 1.45)
+    lo[1], hi[1] = min(allp[:, 1].min() - 0.2, -0.2), max(hi[1], 1.45)
     for a in axes:
         a.set_xlim(lo[0], hi[0])
         a.set_ylim(lo[1], min(hi[1], 4.0))
@@ -215,12 +217,16 @@ def plot_section(shape, mu, ax=None, end="both", force_scale=0.35):
 
 
 # ---------------------------------------------------------------- Fig. 10b: equilibrium tracks
-def _merge_labels(points, labels, tol=1e-9):
-    """Merge labels of coincident consecutive points ('A≡B'); returns (points, labels)."""
+def _merge_labels(points, labels, tol=1e-9, near=0.0):
+    """Merge labels of coincident consecutive points ('A≡B') and of points closer than `near`
+    ('D,E', so that labels do not overprint); returns (points, labels)."""
     out_p, out_l = [points[0]], [labels[0]]
     for p, lab in zip(points[1:], labels[1:]):
-        if np.linalg.norm(p - out_p[-1]) <= tol:
+        gap = np.linalg.norm(p - out_p[-1])
+        if gap <= tol:
             out_l[-1] = f"{out_l[-1]}≡{lab}"
+        elif gap <= near:
+            out_l[-1] = f"{out_l[-1]},{lab}"
         else:
             out_p.append(p)
             out_l.append(lab)
@@ -292,11 +298,11 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
         if show_secondary:
             ax.plot(sec[:, 0], sec[:, 1], "--", color="tab:red", lw=1.0,
                     label="secondary loop (tail of $F_{L1}$)")
-        pts, labs = _merge_labels(list(track), labels)
+        span = np.ptp(track, axis=0).max() + 1e-12
+        pts, labs = _merge_labels(list(track), labels, near=0.03 * span)
         if len(pts) > 1 and np.linalg.norm(pts[-1] - pts[0]) < 1e-9:
             pts, labs = pts[:-1], labs[:-1]
             labs[0] = labs[0] if "≡" in labs[0] else f"{labels[-1]}≡0"
-        span = np.ptp(track, axis=0).max() + 1e-12
         centre = track.mean(0)
         for p, lab in zip(pts, labs):
             d = p - centre
@@ -328,12 +334,14 @@ def _label_vertices(ax, psi, M, labels, color):
     span_x = np.ptp(psi) + 1e-12
     span_y = np.ptp(M) + 1e-12
     cx, cy = psi.mean(), M.mean()
-    seen = {}
-    for x, y, lab in zip(psi, M, labels):
-        key = (round(x / span_x, 6), round(y / span_y, 6))
-        if key in seen:  # the closing vertex repeats point 0
-            continue
-        seen[key] = lab
+    pts = np.column_stack([psi / span_x, M / span_y])
+    merged, labs = _merge_labels(list(pts), list(labels), near=0.025)
+    if len(merged) > 1 and np.linalg.norm(merged[-1] - merged[0]) < 1e-9:
+        # The closing vertex repeats point 0 ("F≡0" when the last tract ends exactly there).
+        labs[0] = labs[-1] if "≡" in labs[-1] else labs[0]
+        merged, labs = merged[:-1], labs[:-1]
+    for (x, y), lab in zip(merged, labs):
+        x, y = x * span_x, y * span_y
         dx, dy = (x - cx) / span_x, (y - cy) / span_y
         r = np.hypot(dx, dy) + 1e-12
         ax.annotate(lab, (x, y), xytext=(10 * dx / r, 10 * dy / r), textcoords="offset points",

@@ -232,3 +232,12 @@ def test_cli_study_subset(tmp_path, capsys):
 def test_cli_study_errors(tmp_path, capsys, argv, message):
     assert main(["study", "--out", str(tmp_path), "--no-progress", "--no-figures", *argv]) == 2
     assert message in capsys.readouterr().err
+
+
+def test_cli_section(tmp_path, capsys):
+    out = tmp_path / "s.png"
+    assert main(["section", "--shape", "74R", "--mu", "0.7", "--out", str(out)]) == 0
+    nbytes, w, h = _png_size(out)
+    assert nbytes > 20_000 and w > h
+    assert main(["section", "--shape", "74R", "--mu", "0.7", "--out", str(tmp_path / "s.txt")]) == 2
+    assert "--out must end" in capsys.readouterr().err
