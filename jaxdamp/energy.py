@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import jax
 import jax.numpy as jnp
 
 from .cycle import BaseCycle, HalfCycle
@@ -25,6 +26,7 @@ class CycleEnergy(NamedTuple):
     moment: jnp.ndarray  # oint M dpsi, N mm per cycle
 
 
+@jax.jit
 def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     """Energy dissipated per cycle (N mm) at each contact and by the platform moment, at amplitude
     psi_a >= psi_BC (default: the Base-Cycle)."""
@@ -46,6 +48,7 @@ class WorkShapeFactors(NamedTuple):
     w_M: jnp.ndarray
 
 
+@jax.jit
 def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
     """Work shape factors from the cycle's own gross-slip states (equal to the full-slip statics
     values when gross slip is full slip; they differ for frozen mechanisms such as 90L)."""

@@ -123,6 +123,7 @@ class FiveNumbers(NamedTuple):
     k_im_bc: jnp.ndarray
 
 
+@jax.jit
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
     q = bc.load.q_star
     psi_fs = bc.forward.dv[0] / (2.0 * q) * 1e3
@@ -137,6 +138,7 @@ def base_cycle_amplitude(bc: BaseCycle):
     return jnp.maximum(bc.forward.span, bc.backward.span) / (2.0 * bc.load.q_star) * 1e3
 
 
+@jax.jit
 def complex_stiffness(bc: BaseCycle, psi_a_mrad):
     """(k_Re, k_Im) in N mm/mrad at platform rotation amplitude(s) psi_a >= 0 (mrad).
 
@@ -163,6 +165,7 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad):
     return k_re.reshape(psi.shape), k_im.reshape(psi.shape)
 
 
+@jax.jit
 def cycle_work(bc: BaseCycle, psi_a_mrad=None):
     """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle)."""
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else psi_a_mrad

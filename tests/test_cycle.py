@@ -128,7 +128,13 @@ def test_energy_identity(name, mu):
         e = jd.contact_energies(bc, psi)
         k_re, k_im = jd.complex_stiffness(bc, psi)
         total = float(np.sum(e.contacts))
-        scale = max(abs(float(e.moment)), 1e-6 * float(k_re) * psi**2 / 1e3)
+        elastic = float(k_re) * psi**2 / 1e3  # N mm: the size of the terms the loop integral sums
+        if abs(float(e.moment)) < 1e-9 * elastic:
+            # A loop without dissipation (90R at its Base-Cycle shakes down): every side vanishes.
+            assert max(abs(total), abs(float(e.moment))) <= 1e-12 * elastic
+            assert abs(np.pi * psi**2 * float(k_im) / 1e3) <= 1e-12 * elastic
+            continue
+        scale = abs(float(e.moment))
         assert abs(total - float(e.moment)) <= 1e-9 * scale
         assert abs(np.pi * psi**2 * float(k_im) / 1e3 - float(e.moment)) <= 1e-9 * scale
 
