@@ -7,7 +7,8 @@ the direct method and the conventional ones at typical settings:
     direct            jd.base_cycle + five numbers
     time marching     jaxdamp.timemarch, N = 2000 steps per half-cycle, 10 pairs of halves
     HBM-AFT           jaxdamp.hbm at psi_BC, Nt = 256 samples per period, 3 periods
-    tanh-regularised  jaxdamp.regularized at psi_BC, eps = 1e-3, Nt = 256, 3 periods
+    tanh-regularised  jaxdamp.regularized at psi_BC, eps = 1e-3, Nt = 256, 8 periods (its creep
+                      transient needs more than 3)
 (the "coarse" rows use N = 20 or 50 and Nt = 16 instead).
 
 Truth. Liftoff is established by the full-slip statics (a normal force <= 0 at a full-slip end) or
@@ -27,6 +28,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import platform
 import time
 from pathlib import Path
 
@@ -264,7 +267,7 @@ def evaluate(cases=None, progress=print) -> dict:
         # HBM-AFT and the regularised law at psi_BC (3 mrad where the truth is liftoff)
         psi = jnp.asarray(3.0 if truth_lift else truth["psi_bc"])
         for label, fn, setting in (("HBM-AFT", _HBM[nt], f"Nt={nt}, 3 periods"),
-                                   ("tanh-regularised", _REG[nt], f"eps=1e-3, Nt={nt}")):
+                                   ("tanh-regularised", _REG[nt], f"eps=1e-3, Nt={nt}, 8 periods")):
             t, r = _timed(fn, shape, mu, contacts, psi)
             flag = bool(~r.converged)
             errs = {} if truth_lift else rel_errors(truth, (r.k_re, r.k_im), ("k_re_bc", "k_im_bc"))
@@ -291,7 +294,8 @@ class _Compiled(dict):
 
 _TM = _Compiled(lambda n: jax.jit(lambda s, m, c, h: _time_march(s, m, c, LOAD, h, n_steps=int(n * 1.02) + 4)))
 _HBM = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: _hbm_aft(s, m, c, LOAD, a, n_time=nt)))
-_REG = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: _regularized_aft(s, m, c, LOAD, a, 1e-3, n_time=nt)))
+_REG = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: _regularized_aft(s, m, c, LOAD, a, 1e-3, n_time=nt,
+                                                                         n_periods=8)))
 
 
 def markdown(res) -> str:
@@ -331,8 +335,9 @@ def plot(res, path):
     ax.set_xlim(0, len(METHODS))
     ax.set_ylim(len(rows), 0)
     ax.set_xticks(np.arange(len(METHODS)) + 0.5)
-    ax.set_xticklabels(["direct", "time marching\nN=2000 (coarse rows 20/50)", "HBM-AFT\nNt=256, 3 periods",
-                        "tanh-regularised\neps=1e-3, Nt=256"], fontsize=8)
+    ax.set_xticklabels(["direct", "time marching\nN=2000 (coarse rows: 20, 50)",
+                        "HBM-AFT\nNt=256 (coarse: 16), 3 periods",
+                        "tanh-regularised\neps=1e-3, Nt=256 (coarse: 16), 8 periods"], fontsize=8)
     ax.set_yticks(np.arange(len(rows)) + 0.5)
     ax.set_yticklabels([f"{r['case']['shape']} mu={r['case']['mu']:.4g}: {r['case']['what']}" for r in rows],
                        fontsize=7)
@@ -344,6 +349,16 @@ def plot(res, path):
     plt.close(fig)
 
 
+def _cpu() -> str:
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor()
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(description="hard cases x methods stability map")
     ap.add_argument("--out", type=Path, default=OUT)
@@ -351,6 +366,8 @@ def main(argv=None):
     t0 = time.perf_counter()
     res = evaluate()
     res["wall_time_s"] = time.perf_counter() - t0
+    res["machine"] = dict(platform=platform.platform(), cpu=_cpu(), cpu_count=os.cpu_count(),
+                          jax=jax.__version__, load_average=list(os.getloadavg()))
     args.out.mkdir(parents=True, exist_ok=True)
 
     def clean(x):

@@ -19,12 +19,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._linalg import solve3
 from ._validate import check_range
 from .geometry import DamperShape, validate_shape
 from .hbm import PERIODIC_TOL, HBMResult, first_harmonic
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of
+from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of, newton
 
 LOCAL_ITERS = 80  # bound on the safeguarded Newton iterations of the per-contact slip equation
 MAX_NEWTON_REG = 20
@@ -108,19 +107,11 @@ def _regularized_aft(shape, mu, contacts, load, psi_a_mrad, eps, n_time: int, n_
     def step(carry, dv_new):
         q, dv, p = carry
 
-        def cond(c):
-            _, it, res = c
-            return (it < max_newton) & (res > NEWTON_TOL)
-
-        def body(c):
-            qq, it, _ = c
+        def residual(qq):
             r = respond_tanh(m, qq, dv_new, p, c_reg)
-            dq, _ = solve3(r.J, -r.R)
-            qq = qq + dq
-            return qq, it + 1, jnp.max(jnp.abs(respond_tanh(m, qq, dv_new, p, c_reg).R))
+            return r.R, r.J
 
-        res0 = jnp.max(jnp.abs(respond_tanh(m, q, dv_new, p, c_reg).R))
-        q, _, res = jax.lax.while_loop(cond, body, (q, jnp.array(0), res0))
+        q, res, _ = newton(residual, q, max_newton)
         r = respond_tanh(m, q, dv_new, p, c_reg)
         out = (moment_of(m, r.N, r.T), res <= NEWTON_TOL, jnp.min(r.N))
         return (q, dv_new, r.p), out

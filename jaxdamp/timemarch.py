@@ -40,6 +40,7 @@ GROSS_TOL = 1e-9  # incremental force rate (per mm) below which the damper is in
 CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
 MAX_PAIRS = 10
 MAX_NEWTON = 12
+MIN_ALPHA = 1.0 / 64.0  # smallest line-search step fraction
 _E_Y = jnp.array([0.0, 1.0, 0.0])
 
 
@@ -160,24 +161,49 @@ def moment_of(m: MarchModel, N, T):
     return jnp.sum(N * m.fn + T * m.ft, axis=-1)
 
 
+def newton(residual, q0, max_newton: int = MAX_NEWTON):
+    """Newton iterations on residual(q) -> (R, J) from q0, with a backtracking line search (halving
+    the step while the largest residual does not decrease, down to MIN_ALPHA) so that an iterate
+    does not jump into a region where a contact opens and the tangent is singular.
+
+    Returns (q, max |R|, iterations)."""
+    R0, J0 = residual(q0)
+
+    def cond(c):
+        _, R, _, it = c
+        return (it < max_newton) & (jnp.max(jnp.abs(R)) > NEWTON_TOL)
+
+    def body(c):
+        q, R, J, it = c
+        dq, _ = solve3(J, -R)
+        r0 = jnp.max(jnp.abs(R))
+
+        def ls_cond(t):
+            alpha, Rn, _ = t
+            return (alpha > MIN_ALPHA) & (jnp.max(jnp.abs(Rn)) > (1.0 - 1e-4 * alpha) * r0)
+
+        def ls_body(t):
+            alpha = 0.5 * t[0]
+            Rn, Jn = residual(q + alpha * dq)
+            return alpha, Rn, Jn
+
+        R1, J1 = residual(q + dq)
+        alpha, Rn, Jn = jax.lax.while_loop(ls_cond, ls_body, (jnp.asarray(1.0), R1, J1))
+        return q + alpha * dq, Rn, Jn, it + 1
+
+    q, R, _, iters = jax.lax.while_loop(cond, body, (q0, R0, J0, jnp.array(0)))
+    return q, jnp.max(jnp.abs(R)), iters
+
+
 def step(m: MarchModel, s: MarchState, dv_new, max_newton: int = MAX_NEWTON):
     """One load step: Newton on R(q) = 0 with return mapping, from the tangent predictor."""
     q0 = s.q + s.vel * (dv_new - s.dv)
 
-    def cond(c):
-        q, it, res = c
-        return (it < max_newton) & (res > NEWTON_TOL)
-
-    def body(c):
-        q, it, _ = c
+    def residual(q):
         r = respond(m, q, dv_new, s.p)
-        dq, _ = solve3(r.J, -r.R)
-        q = q + dq
-        res = jnp.max(jnp.abs(respond(m, q, dv_new, s.p).R))
-        return q, it + 1, res
+        return r.R, r.J
 
-    res0 = jnp.max(jnp.abs(respond(m, q0, dv_new, s.p).R))
-    q, iters, res = jax.lax.while_loop(cond, body, (q0, jnp.array(0), res0))
+    q, res, iters = newton(residual, q0, max_newton)
     r = respond(m, q, dv_new, s.p)
     dN, dT, vel, ok = force_rates(m, r)
     scale = jnp.max(jnp.maximum(m.kn, m.kt))
@@ -380,5 +406,5 @@ def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: Lo
                        n_steps=int(n_steps), max_pairs=int(max_pairs), max_newton=int(max_newton))
 
 
-__all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "respond",
+__all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "newton", "respond",
            "loop_harmonics", "MarchModel", "MarchState", "Sample", "initial_state"]

@@ -1,0 +1,152 @@
+"""Write notebooks/04_speed_vs_accuracy.ipynb (outputs stripped).
+
+Run from the repository root: python scripts/make_notebook_04.py
+"""
+
+from pathlib import Path
+
+import nbformat
+from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+
+ROOT = Path(__file__).resolve().parent.parent
+
+CELLS = [
+    new_markdown_cell("""\
+# 4 · Speed and accuracy: the direct method against the conventional ones
+
+The direct method computes a Base-Cycle from one 3×3 linear solve per tract and closed-form
+stick/slip events. The conventional ways to get the same numbers for the same damper are
+
+* **time marching** with incremental return mapping (`jaxdamp.timemarch`): small steps of the
+  platform motion, Newton iterations with per-contact return mapping at every step;
+* **HBM-AFT** (`jaxdamp.hbm`), as friction-damper codes do it: for a prescribed amplitude, march a
+  few periods of harmonic motion at Nt samples per period and take the first harmonic by FFT;
+* a **tanh-regularised** friction law (`jaxdamp.regularized`), evaluated the HBM-AFT way.
+
+This notebook reads the committed results of `benchmarks/speed_accuracy.py` and
+`benchmarks/stability_map.py`, then reruns a small timing on this machine."""),
+    new_code_cell("""\
+import json, time
+from pathlib import Path
+import numpy as np
+import jax, jax.numpy as jnp
+import jaxdamp as jd
+from IPython.display import Image, display
+
+jd.enable_x64()
+RESULTS = Path("..") / "benchmarks" / "results"
+bench = json.loads((RESULTS / "speed_accuracy.json").read_text())
+smap = json.loads((RESULTS / "stability_map.json").read_text())
+m = bench["machine"]
+print("measured on:", (m.get("lscpu") or {}).get("Model name"), f"{m['cpu_count']} cores,", m["platform"])
+print("load average at start / end of the run:", bench["load_average_start"][:1], bench["load_average_end"][:1])
+print(json.dumps(bench["summary"]["targets_met"], indent=1))"""),
+    new_markdown_cell("""\
+## 1. Error versus wall time
+
+Each point is a warm (already compiled) call, median of repeats. The direct method is exact (closed
+form), so it sits at the bottom of each panel. The dotted line is the 1e-4 target on k_Im; a
+method's "time to 1e-4" is interpolated where its error falls below the line for good."""),
+    new_code_cell("""\
+display(Image(filename=str(RESULTS / "speed_accuracy.png")))"""),
+    new_code_cell("""\
+print(f"{'case':10} {'direct (ms)':>12} {'time marching':>16} {'HBM-AFT':>12} {'tanh-reg.':>12}   speedups at 1e-4 on k_Im")
+for key, case in bench["cases"].items():
+    t = case["time_to_target_s"]
+    fmt = lambda v: "not reached" if v is None else f"{v * 1e3:.2f} ms"
+    sp = case["speedup"]
+    fmtx = lambda v: "n/r" if v is None else f"{v:.0f}x"
+    print(f"{key:10} {case['direct_single_s'] * 1e3:12.3f} {fmt(t['time_marching']):>16} {fmt(t['hbm_aft']):>12} "
+          f"{fmt(t['regularized']):>12}   TM {fmtx(sp['time_marching'])}, HBM {fmtx(sp['hbm_aft'])}, "
+          f"reg {fmtx(sp['regularized'])}")
+b = bench["direct_batch"]
+print(f"\\nbatched direct method: {b['designs_per_s']:.0f} Base-Cycles + five numbers per second ({b['size']} designs)")"""),
+    new_markdown_cell("""\
+## 2. The same comparison, live and small
+
+60sym at μ = 0.5 on this machine: the direct method, the time marcher at two steps and HBM-AFT at
+two sample counts (HBM is given the exact ψ_BC: it cannot find it by itself). The first call of each
+function compiles it; the timings below are warm."""),
+    new_code_cell("""\
+from jaxdamp.cycle import _base_cycle
+from jaxdamp.timemarch import _time_march
+from jaxdamp.hbm import _hbm_aft
+
+contacts = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
+load = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
+shape = jd.DamperShape(*(jnp.asarray(v, float) for v in jd.family_shape("60sym")[:4]))
+mu = jnp.asarray(0.5)
+
+def warm(fn, *args, repeats=3):
+    jax.block_until_ready(fn(*args))
+    ts = []
+    for _ in range(repeats):
+        t = time.perf_counter(); out = jax.block_until_ready(fn(*args)); ts.append(time.perf_counter() - t)
+    return float(np.median(ts)), out
+
+direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(_base_cycle(s, m, contacts, load)))))
+t_d, five = warm(direct, shape, mu, repeats=20)
+psi_fs, k_re_fs, psi_bc, k_re, k_im = map(float, five)
+bc = jd.base_cycle(jd.family_shape("60sym"), 0.5, contacts, load)
+span = max(float(bc.forward.span), float(bc.backward.span))
+print(f"direct: {t_d * 1e3:.3f} ms   psi_BC = {psi_bc:.5f} mrad, k_Re = {k_re:.1f}, k_Im = {k_im:.2f} N mm/mrad")
+
+for N in (500, 2000):
+    # n_steps is static: a little more than N, so that the march stops soon after gross slip.
+    tm = jax.jit(lambda s, m, h, N=N: _time_march(s, m, contacts, load, h, n_steps=int(1.02 * N) + 4))
+    t, r = warm(tm, shape, mu, jnp.asarray(span / (N + 0.5)))
+    print(f"time marching N = {N:5d}: {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
+          f"errors: psi_BC {abs(float(r.psi_bc) / psi_bc - 1):.1e}, k_Re {abs(float(r.k_re_bc) / k_re - 1):.1e}, "
+          f"k_Im {abs(float(r.k_im_bc) / k_im - 1):.1e}")
+for nt in (32, 128):
+    hb = jax.jit(lambda s, m, a, nt=nt: _hbm_aft(s, m, contacts, load, a, n_time=nt))
+    t, r = warm(hb, shape, mu, jnp.asarray(psi_bc))
+    print(f"HBM-AFT Nt = {nt:4d}:      {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
+          f"errors: k_Re {abs(float(r.k_re) / k_re - 1):.1e}, k_Im {abs(float(r.k_im) / k_im - 1):.1e}")"""),
+    new_markdown_cell("""\
+## 3. Stability map
+
+Hard cases × methods. *exact*: error ≤ 1e-6; *slow*: right to within 1e-2 but only as accurate as
+the method's step/sample/ε knob, so accuracy costs time; *wrong*: error > 1e-2 without a flag, or
+liftoff not reported; *flagged*: the method reports liftoff, failure or a non-periodic/non-closed
+cycle. The direct method's numbers are checked on every row against the independent time marcher
+with error bounds that do not depend on the direct method (`tests/test_stability_map.py`)."""),
+    new_code_cell("""\
+display(Image(filename=str(RESULTS / "stability_map.png")))"""),
+    new_code_cell("""\
+for row in smap["rows"]:
+    c = row["case"]
+    cells = "  ".join(f"{m}: {row['cells'][m]['outcome']:8}" for m in smap["methods"])
+    print(f"{c['shape']:6} mu={c['mu']:<7.4g} kt/kn={c['kt_over_kn']:<5g} {cells}")
+print()
+print("direct checks:", sum(r["direct_check"]["ok"] for r in smap["rows"]), "of", len(smap["rows"]), "rows right or flagged")"""),
+    new_markdown_cell("""\
+## 4. Reading
+
+* Against **time marching** the direct method gains two to three orders of magnitude at 1e-4 on
+  k_Im, because the marcher's error falls only linearly with the step (ψ_BC is resolved to one step,
+  and k_Im at the Base-Cycle is very sensitive to the amplitude on vertical flanks, 90L), and
+  frozen-mechanism cycles (90R) need many pairs of halves to close.
+* Against **HBM-AFT at a given amplitude** the gain is small: the FFT of a piecewise-linear loop
+  converges fast, and at ψ_BC HBM-AFT needs only tens to hundreds of samples. HBM-AFT, however, has
+  to be told the amplitude: it gives neither ψ_BC nor ψ_fs, and 90R needs more periods than the
+  usual 2–3 to settle.
+* The **tanh-regularised** law is biased by about ε (relative) on k_Im and needs extra periods to
+  settle its creep; it does not reach 1e-4 at the ε values tried.
+* The direct method is not the right tool outside its model: dynamics (inertia of the damper),
+  non-parallel platform motion, several harmonics, contact models that are not piecewise linear
+  (Hertzian normal stiffness, varying μ), or a damper in a full blade-disk HBM model — there the
+  conventional methods apply, and the direct method's five numbers are a fast, exact check."""),
+]
+
+
+def main():
+    nb = new_notebook(cells=CELLS, metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
+                                                            "language": "python"}})
+    out = ROOT / "notebooks" / "04_speed_vs_accuracy.ipynb"
+    nbformat.write(nb, out)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
