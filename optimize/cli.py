@@ -1,0 +1,158 @@
+"""`jaxdamp optimize`: shape optimisation under the no-liftoff constraint."""
+
+from __future__ import annotations
+
+import json
+
+from jaxdamp.cli import CliError, add_contact_args, emit
+
+from .design import VARIABLES
+
+
+def _floats(text: str, name: str) -> tuple:
+    try:
+        vals = tuple(float(v) for v in text.split(",") if v.strip())
+    except ValueError:
+        raise CliError(f"{name} must be comma-separated numbers; got {text!r}") from None
+    if not vals:
+        raise CliError(f"{name} must list at least one number")
+    return vals
+
+
+def _assignments(text: str | None, name: str) -> dict:
+    out = {}
+    for item in (text or "").split(","):
+        if not item.strip():
+            continue
+        key, eq, val = item.partition("=")
+        key = key.strip()
+        if not eq:
+            raise CliError(f"{name} entries must be NAME=VALUE; got {item!r}")
+        try:
+            out[key] = float(val)
+        except ValueError:
+            raise CliError(f"{name}: {key} needs a number; got {val!r}") from None
+    return out
+
+
+def run(args) -> dict:
+    """Run the optimisation described by parsed arguments; return the JSON payload."""
+    from .design import design_space
+    from .problem import make_problem
+    from .solver import SolverConfig, optimize
+
+    fixed = _assignments(args.fix, "--fix")
+    for key in fixed:
+        if key not in VARIABLES:
+            raise CliError(f"--fix names must be among {', '.join(VARIABLES)}; got {key!r}")
+    free = [v for v in VARIABLES if v not in fixed and (v != "bl2_over_hl" or args.free_bl2)]
+    if not free:
+        raise CliError("every design variable is fixed: nothing to optimise")
+    fixed_all = {k: v for k, v in fixed.items()}
+    space = design_space(free, fixed=fixed_all)
+    problem = make_problem(space, _floats(args.mu_set, "--mu-set"), args.kn, args.kt,
+                           margin_pct=args.margin, min_vertex_deg=args.min_vertex_angle)
+    weights = _assignments(args.weights, "--weights") or None
+    config = SolverConfig(method=args.method, rounds=args.rounds)
+    res = optimize(args.objective, problem, config=config, weights=weights)
+    payload = {**res.shape, "objective_name": res.objective_name, "objective": res.objective,
+               "units": res.units, "baseline": res.baseline, "feasible": res.feasible,
+               "min_margin_pct": res.min_margin_pct, "margin_pct": problem.margin_pct,
+               "min_vertex_deg": problem.min_vertex_deg,
+               "mu_set": list(problem.mus), "kn": problem.kn, "kt": problem.kt,
+               "evaluations": res.evaluations, "free": list(space.free), "reason": res.reason,
+               "active_constraints": res.active, "method": config.method,
+               "starts": [{"name": s.name, "best_objective": s.best_objective,
+                           "evaluations": s.evaluations, "pruned": s.pruned} for s in res.starts],
+               "history": res.history}
+    if args.plot:
+        from .grid import grid_search
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from .plot import plot_paths
+
+        grid = grid_search(res.objective_name, problem, points=args.grid_points, weights=weights)
+        ax = plot_paths(res, grid)
+        ax.figure.savefig(args.plot, dpi=120, bbox_inches="tight")
+        plt.close(ax.figure)
+        payload["grid"] = {"best_objective": grid.best_value, "evaluations": grid.evaluations,
+                           "best": None if grid.best_x is None else
+                           dict(zip(space.free, map(float, grid.best_x)))}
+        payload["plot"] = args.plot
+    return payload
+
+
+def _text(p: dict) -> str:
+    shape = ", ".join(f"{k} = {p[k]:.4f}" for k in VARIABLES)
+    head = "OPTIMUM" if p["feasible"] else "INFEASIBLE (no design returned as optimum)"
+    lines = [f"{head}: {p['objective_name']} = {p['objective']:.6g} {p['units']} at {shape}",
+             f"  baseline {p['baseline']['shape']}: {p['baseline']['objective']:.6g} {p['units']}",
+             f"  mu set {', '.join(f'{m:g}' for m in p['mu_set'])}; required margin "
+             f"{p['margin_pct']:g} % of L1-L2; achieved "
+             + ("n/a" if p["min_margin_pct"] is None else f"{p['min_margin_pct']:.2f} %"),
+             f"  evaluations: {p['evaluations']} (one = one design over the mu set, values and "
+             f"gradients; method {p['method']})"]
+    if p["reason"]:
+        lines.append(f"  reason: {p['reason']}")
+    if p["feasible"]:
+        if p["active_constraints"]:
+            lines.append("  active constraints:")
+            lines += [f"    {a['constraint']}: {a['value']:.3f} {a['unit']}"
+                      for a in p["active_constraints"]]
+        else:
+            lines.append("  active constraints: none (interior optimum)")
+    for s in p["starts"]:
+        best = "no feasible design" if s["best_objective"] is None else f"{s['best_objective']:.6g}"
+        lines.append(f"  start {s['name']:6}: {best}  ({s['evaluations']} evaluations"
+                     + (", pruned)" if s["pruned"] else ")"))
+    if "grid" in p:
+        g = p["grid"]
+        lines.append(f"  grid search: best {g['best_objective']} with {g['evaluations']} "
+                     f"evaluations; plot written to {p['plot']}")
+    return "\n".join(lines)
+
+
+def cmd_optimize(args):
+    payload = run(args)
+    emit(args, json.loads(json.dumps(payload, allow_nan=False, default=float)), _text(payload))
+
+
+def register_cli(sub):
+    from .objectives import DEFAULT_OBJECTIVE
+    from .problem import DEFAULT_MIN_VERTEX_DEG
+
+    p = sub.add_parser(
+        "optimize", help="shape optimisation under the no-liftoff constraint (optax)",
+        description="Optimise theta_L, theta_R, b_R/h_R (optionally 2b_L/h_L) within theta in "
+                    "[35, 90] deg, b_R/h_R in [-0.3, 0.4], 2b_L/h_L in [0.5, 0.9], keeping every normal "
+                    "force positive and the left resultant inside L1-L2 with a margin, at both "
+                    "full-slip ends and throughout the Base-Cycle, at every mu of the set. "
+                    "Objectives NAME[:AGG]: NAME in k_im_bc (max), psi_bc (min), w_m (max), "
+                    "combined; AGG in worst (default), mean, mu=X.")
+    p.add_argument("--objective", default=DEFAULT_OBJECTIVE,
+                   help=f"objective NAME[:AGG] (default {DEFAULT_OBJECTIVE}: worst case of k_Im,BC over the mu set)")
+    p.add_argument("--mu-set", default="0.3,0.5,0.7",
+                   help="comma-separated friction coefficients, each in (0, 5] (default 0.3,0.5,0.7)")
+    p.add_argument("--margin", type=float, default=5.0,
+                   help="required distance of the left resultant from both pads, %% of L1-L2, in [0, 50) (default 5)")
+    add_contact_args(p)
+    p.add_argument("--min-vertex-angle", type=float, default=DEFAULT_MIN_VERTEX_DEG,
+                   help="minimum vertex angle 180 - theta_L - theta_R, deg, in [0, 180) (default "
+                        f"{DEFAULT_MIN_VERTEX_DEG:g}; w_M diverges as the wedge closes; 0 disables)")
+    p.add_argument("--free-bl2", action="store_true", help="make 2b_L/h_L a design variable too")
+    p.add_argument("--fix", default=None,
+                   help="fix variables, e.g. theta_l=45,theta_r=45 (names: " + ", ".join(VARIABLES) + ")")
+    p.add_argument("--weights", default=None,
+                   help="combined-objective weights, e.g. k_im_bc=1,psi_bc=0.5,w_m=0 (default 1 each)")
+    p.add_argument("--method", choices=("lbfgs", "adam"), default="lbfgs",
+                   help="inner optax method (default lbfgs, projected, Armijo backtracking)")
+    p.add_argument("--rounds", type=int, default=60, help="evaluation rounds per start (default 60)")
+    p.add_argument("--plot", default=None, metavar="PNG",
+                   help="also run the grid search and save the path plot over its heatmap")
+    p.add_argument("--grid-points", type=int, default=15,
+                   help="grid points per axis for --plot (default 15, then refined)")
+    p.add_argument("--json", action="store_true", help="machine-readable output")
+    p.set_defaults(func=cmd_optimize)
