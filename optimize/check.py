@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import jax
 import numpy as np
 
 from .constraints import KINDS, LOCATIONS, constraint_label, describe_violation, margins
@@ -41,15 +42,13 @@ def check_design(problem: Problem, x) -> DesignCheck:
     for mu in problem.mus:
         st = jd.full_slip_statics(shape, mu)
         bc = jd.base_cycle(shape, mu, contacts, load)
-        mg = margins(st, bc, problem.margin_pct, problem.min_normal)
+        mg, k_im, psi, w_m = _derived(st, bc, problem.margin_pct, problem.min_normal)
         gs.append(np.asarray(mg.g))
         ds.append(np.asarray(mg.dist_pct))
         ns.append(np.asarray(mg.min_normal))
         flags.append({"mu": mu, "liftoff": bool(bc.liftoff), "converged": bool(bc.converged),
                       "failed": bool(bc.failed), "statics_liftoff": bool(st.liftoff)})
-        nums = jd.five_numbers(bc)
-        w_m = jd.full_slip_work_shape_factors(shape, mu)[3]
-        metrics.append([float(nums.k_im_bc), float(nums.psi_bc), float(w_m)])
+        metrics.append([float(k_im), float(psi), float(w_m)])
     g, dist, normals = np.array(gs), np.array(ds), np.array(ns)
     ok_flags = all(not f["liftoff"] and f["converged"] and not f["failed"]
                    and not f["statics_liftoff"] for f in flags)
@@ -59,6 +58,17 @@ def check_design(problem: Problem, x) -> DesignCheck:
     return DesignCheck(bool(np.all(g >= 0.0) and ok_flags and ok_vertex), np.array(metrics),
                        dmin if np.isfinite(dmin) else None, float(np.min(normals)), g, dist,
                        normals, flags, float(vertex))
+
+
+@jax.jit
+def _derived(st, bc, margin_pct, min_normal):
+    """Margins and metrics from the statics and Base-Cycle (jitted: op-by-op is slow)."""
+    from jaxdamp.harmonics import five_numbers
+    from jaxdamp.statics import full_slip_work_shape_factors
+
+    nums = five_numbers(bc)
+    w_m = full_slip_work_shape_factors(bc.shape, bc.mu)[3]
+    return margins(st, bc, margin_pct, min_normal), nums.k_im_bc, nums.psi_bc, w_m
 
 
 def active_constraints(problem: Problem, check: DesignCheck, tol_pct=0.5, tol_normal=0.005,

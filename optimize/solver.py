@@ -87,6 +87,7 @@ class OptimizationResult(NamedTuple):
     reason: str | None  # why infeasible; None when feasible
     evaluations: int  # all design evaluations, including the baseline and the final re-check
     history: list  # the winning start, one dict per accepted iterate
+    histories: dict  # start name -> its history
     starts: list  # StartSummary per start
     paths: dict  # start name -> (n, d) accepted iterates (physical)
     problem: Problem
@@ -187,10 +188,6 @@ def _select(mask, new, old):
     return jax.tree_util.tree_map(pick, new, old)
 
 
-def _take(tree, keep):
-    return jax.tree_util.tree_map(lambda a: a[keep], tree)
-
-
 def optimize(objective: str | Objective = DEFAULT_OBJECTIVE, problem: Problem | None = None,
              starts=None, config: SolverConfig = SolverConfig(), weights=None) -> OptimizationResult:
     """Optimise the damper shape under the no-liftoff constraint over the problem's mu set.
@@ -249,7 +246,8 @@ def optimize(objective: str | Objective = DEFAULT_OBJECTIVE, problem: Problem | 
         objective_name=obj.name, units=obj.units,
         baseline={"shape": "60sym", "objective": scorer.baseline_value},
         min_margin_pct=check.min_margin_pct, active=active, reason=reason,
-        evaluations=track.total, history=track.history[winner], starts=summaries,
+        evaluations=track.total, history=track.history[winner], histories=track.history,
+        starts=summaries,
         paths={n: np.asarray(p) for n, p in track.paths.items()}, problem=problem, check=check)
 
 
@@ -289,11 +287,12 @@ def _run_lbfgs(problem, scorer, z0, track, config):
     psi_BC jumps); otherwise the start has converged for the present multipliers.
     """
     init, update = _lbfgs(config.memory)
-    alive = np.arange(len(z0))
+    ids = np.arange(len(z0))
+    alive = ids
     ev, pt = _evaluate(problem, scorer, z0)
-    x, feas, viol = track.seen(alive, z0, ev, pt.s, pt.dg)
+    x, feas, viol = track.seen(ids, z0, ev, pt.s, pt.dg)
     al = al_init(len(z0), pt.g.shape[1], config.al)
-    track.accepted(alive, x, ev, feas, viol, al)
+    track.accepted(ids, x, ev, feas, viol, al)
     f, gf = (np.array(a) for a in al_value_and_grad(-pt.s, -pt.ds, pt.g, pt.dg, al))
     lb = init(jnp.asarray(pt.z))
     B = len(z0)
@@ -303,6 +302,7 @@ def _run_lbfgs(problem, scorer, z0, track, config):
     steepest = np.zeros(B, bool)  # the current direction came from an empty memory
     face = np.zeros(B, bool)  # search restricted to the current face of the box
     done = np.zeros(B, bool)
+    pruned = np.zeros(B, bool)  # stopped by the screening (arrays keep their size: no recompiles)
     for rnd in range(config.rounds):
         if need_dir.any():
             first = np.asarray(lb.count) == 0
@@ -323,16 +323,16 @@ def _run_lbfgs(problem, scorer, z0, track, config):
         trial = np.asarray(project(pt.z - frac[:, None] * direction))
         step = trial - pt.z
         done |= np.linalg.norm(step, axis=-1) < config.tol
-        running = ~done
+        running = ~done & ~pruned
         if running.any():
             idx = np.nonzero(running)[0]
             ev_t, pt_t = _evaluate(problem, scorer, trial[idx])
-            x_t, feas_t, viol_t = track.seen(alive[idx], trial[idx], ev_t, pt_t.s, pt_t.dg)
+            x_t, feas_t, viol_t = track.seen(ids[idx], trial[idx], ev_t, pt_t.s, pt_t.dg)
             sub = ALState(*(a[idx] for a in al))
             f_t, gf_t = (np.asarray(a) for a in al_value_and_grad(-pt_t.s, -pt_t.ds, pt_t.g,
                                                                   pt_t.dg, sub))
             ok = f_t <= f[idx] + config.armijo * np.sum(gf[idx] * step[idx], -1)
-            track.accepted(alive[idx], x_t, ev_t, feas_t, viol_t, sub, mask=ok)
+            track.accepted(ids[idx], x_t, ev_t, feas_t, viol_t, sub, mask=ok)
             acc = idx[ok]
             pt = _Point(*(np.array(a) for a in pt))
             for field in range(len(pt)):
@@ -354,7 +354,7 @@ def _run_lbfgs(problem, scorer, z0, track, config):
                 need_dir |= reset
         # Multiplier update every al_every rounds, and at once when every start has converged
         # for the present multipliers (the run ends only if the update changes nothing).
-        if (rnd + 1) % config.al_every == 0 or done.all():
+        if (rnd + 1) % config.al_every == 0 or (done | pruned).all():
             new = al_update(al, pt.g, config.al)
             changed = np.asarray(jnp.any(new.lam != al.lam, -1) | (new.rho != al.rho))
             al = new
@@ -365,14 +365,9 @@ def _run_lbfgs(problem, scorer, z0, track, config):
                 done &= ~changed
                 face &= ~changed
         if rnd + 1 == config.screen_rounds and len(alive) > config.keep:
-            keep = _prune(track, alive, config)
-            alive, al, lb = alive[keep], _take(al, keep), _take(lb, keep)
-            pt = _Point(*(a[keep] for a in pt))
-            f, gf, direction = f[keep], gf[keep], direction[keep]
-            frac, need_dir, done = frac[keep], need_dir[keep], done[keep]
-            steepest, face = steepest[keep], face[keep]
-            B = len(keep)
-        if done.all():
+            alive = alive[_prune(track, alive, config)]
+            pruned = ~np.isin(ids, alive)
+        if (done | pruned).all():
             break
     return alive
 
@@ -384,23 +379,27 @@ def _run_adam(problem, scorer, z0, track, config):
     opt = optax.adam(schedule)
     init, update = jax.jit(jax.vmap(opt.init)), jax.jit(jax.vmap(opt.update))
     alive = np.arange(len(z0))
-    z = jnp.asarray(z0)
-    state = init(z)
+    z = np.asarray(z0, float)
+    state = init(jnp.asarray(z))
     al = None
     for rnd in range(config.rounds):
-        ev, pt = _evaluate(problem, scorer, np.asarray(z))
+        ev, pt = _evaluate(problem, scorer, z[alive])
         if al is None:
             al = al_init(len(z0), pt.g.shape[1], config.al)
+        sub = ALState(*(a[alive] for a in al))
         x, feas, viol = track.seen(alive, pt.z, ev, pt.s, pt.dg)
-        track.accepted(alive, x, ev, feas, viol, al)
-        _, grad = al_value_and_grad(-pt.s, -pt.ds, pt.g, pt.dg, al)
-        updates, state = update(grad, state, z)
-        z = project(optax.apply_updates(z, updates))
+        track.accepted(alive, x, ev, feas, viol, sub)
+        grad = np.zeros_like(z)
+        grad[alive] = np.asarray(al_value_and_grad(-pt.s, -pt.ds, pt.g, pt.dg, sub)[1])
+        updates, state = update(jnp.asarray(grad), state, jnp.asarray(z))
+        moved = np.asarray(project(optax.apply_updates(jnp.asarray(z), updates)))
+        z[alive] = moved[alive]  # pruned starts stay put (arrays keep their size)
         if (rnd + 1) % config.al_every == 0:
-            al = al_update(al, pt.g, config.al)
+            g = np.zeros((len(z0), pt.g.shape[1]))
+            g[alive] = pt.g
+            al = al_update(al, jnp.asarray(g), config.al)
         if rnd + 1 == config.screen_rounds and len(alive) > config.keep:
-            keep = _prune(track, alive, config)
-            alive, al, z, state = alive[keep], _take(al, keep), z[keep], _take(state, keep)
+            alive = alive[_prune(track, alive, config)]
     return alive
 
 

@@ -33,10 +33,10 @@ def test_outer_loop_converges_to_the_kkt_point_and_multiplier():
     cfg = ALConfig(rho0=1.0, rho_growth=2.0)
     state = al_init(1, 1, cfg)
     x = np.array([[0.0, 0.0]])
-    for _ in range(30):
-        for _ in range(200):  # inner minimisation by gradient descent (the AL is smooth)
+    for _ in range(25):
+        for _ in range(40):  # inner minimisation by gradient descent (the AL is smooth)
             _, grad = al_value_and_grad(*_problem(x), state)
-            x = x - 0.1 / (1 + float(state.rho[0])) * np.asarray(grad)
+            x = x - 0.5 / (1 + float(state.rho[0])) * np.asarray(grad)
         state = al_update(state, _problem(x)[2], cfg)
     np.testing.assert_allclose(x[0], [1.0, 0.0], atol=1e-6)
     assert float(state.lam[0, 0]) == pytest.approx(2.0, abs=1e-5)
