@@ -122,7 +122,8 @@ def violations(problem: Problem, check: DesignCheck) -> list[str]:
 
 def _short(problem: Problem, idx) -> str:
     i, j, k = idx
-    what = "normal forces > 0" if KINDS[k] == "normal" else f"left resultant inside, clear of {KINDS[k]}"
+    what = ("normal forces > 0" if KINDS[k] == "normal"
+            else f"left resultant inside, clear of {KINDS[k]}")
     return f"mu={problem.mus[i]:g} {LOCATIONS[j]}: {what}"
 
 

@@ -49,7 +49,7 @@ class Margins(NamedTuple):
     """Constraint values at one friction coefficient; first axis over LOCATIONS."""
 
     g: jnp.ndarray  # (3 locations, 3 kinds), units of F_D, feasible where >= 0
-    dist_pct: jnp.ndarray  # (3, 2) smallest distance of the left resultant from L1 / from L2, % L1-L2
+    dist_pct: jnp.ndarray  # (3, 2) smallest resultant distance from L1 / from L2, % of L1-L2
     min_normal: jnp.ndarray  # (3,) smallest normal force / F_D
 
 
