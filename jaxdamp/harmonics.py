@@ -125,12 +125,15 @@ class FiveNumbers(NamedTuple):
 
 @jax.jit
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
+    """psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC; all zero where the damper lifts off."""
     q = bc.load.q_star
     psi_fs = bc.forward.dv[0] / (2.0 * q) * 1e3
     k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * q / 1e3
     psi_bc = base_cycle_amplitude(bc)
     k_re_bc, k_im_bc, _ = _gross_slip_stiffness(bc, psi_bc)
-    return FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
+    nums = FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
+    # A cycle that lifted off stopped part-way: its numbers would look valid but mean nothing.
+    return FiveNumbers(*(jnp.where(bc.liftoff, 0.0, v) for v in nums))
 
 
 def base_cycle_amplitude(bc: BaseCycle):

@@ -73,6 +73,7 @@ def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
     return _statics(shape, mu)
 
 
+@jax.jit
 def full_slip_work_shape_factors(shape: DamperShape, mu) -> jnp.ndarray:
     """Work shape factors (w_R1, w_L1, w_L2, w_M) from the full-slip forces (Appendix C, C.11-C.14).
 
