@@ -131,8 +131,12 @@ def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
 
     def cone(side):
         rate = side * r.dT - mech.mu * r.dN
-        hit = stick & (rate > tol)
         gap = jnp.maximum(mech.mu * N - side * T, 0.0)
+        # A contact already on this limit line was accepted as stick by `choose_states`, which
+        # checked that it moves inside the cone; its rate here can differ from that check in the
+        # last bits (another compiled program), and must not fire a zero-length event.
+        on_line = side * T >= mech.mu * N - LIMIT_TOL
+        hit = stick & (rate > tol) & ~on_line
         return jnp.where(hit, gap / jnp.where(hit, rate, 1.0), NO_EVENT)
 
     up, down = cone(1.0), cone(-1.0)

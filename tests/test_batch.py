@@ -142,8 +142,6 @@ def test_evaluate_designs_equals_python_loop():
         assert_leaf_close(f, getattr(out, f), ref[f])
 
 
-@pytest.mark.xfail(reason="core harmonics: sqrt(1 - x^2) at a breakpoint within rounding of x = +-1 "
-                          "makes k_Re,BC differ by ~1e-7 between compiled programs (reported)")
 def test_k_re_bc_matches_loop():
     out = B.evaluate_designs(thousand(), chunk_size=256)
     ref = loop_summary(loop_cycles())

@@ -239,10 +239,7 @@ def test_at_a_switch_gradients_are_finite_and_bracketed(mode, side):
     assert np.all(ad <= np.maximum(left, right) + tol), (ad, left, right)
 
 
-@pytest.mark.xfail(reason="core (reported to the lead): exactly at a switch the reverse-mode "
-                          "program's primal repeats zero-length all-stick tracts until max_tracts "
-                          "and flags the cycle failed; whether it happens depends on rounding")
-def test_reverse_mode_primal_at_a_switch_reproducer():
+def test_reverse_mode_converges_exactly_at_a_switch():
     # 74R with kn, kt = 17900, 3600 N/mm: mu found by bisection at the switch where L1's back-slide in
     # 0-A appears. The jit-compiled forward program converges here; check the reverse-mode one.
     shape, mu = jd.family_shape("74R"), 0.4811807371361943
