@@ -15,7 +15,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
 import subprocess
 import sys
 import time
@@ -28,30 +27,13 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
+from machine_info import machine  # noqa: E402
 from jaxdamp import batch as B  # noqa: E402
 from jaxdamp import gradients as G  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 TARGET_DESIGNS_PER_S = 100_000
 TARGET_GRADIENT_RATIO = 4.0
-
-
-def machine() -> dict:
-    cpu = platform.processor()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        load = os.getloadavg()[0]
-    except OSError:
-        load = None
-    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
-            "python": platform.python_version(), "jax": jax.__version__,
-            "devices": [str(d) for d in jax.devices()], "load_average_1min_at_start": load}
 
 
 def median_time(fn, *args, repeats=7):
