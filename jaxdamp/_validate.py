@@ -37,3 +37,10 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
 
 def check_positive(name, value, unit=""):
     check_range(name, value, 0.0, np.inf, lo_open=True, hi_open=False, unit=unit)
+
+
+def check_int(name, value, lo):
+    """An integer count >= lo (static arguments such as step or iteration counts)."""
+    if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
+        raise ValueError(f"{name} must be an integer in [{lo}, inf); got {value!r}")
+    return int(value)

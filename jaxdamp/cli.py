@@ -50,6 +50,12 @@ def add_contact_args(p, required=False):
                    help=f"tangential contact stiffness, N/mm (default {REFERENCE_KT:g})")
 
 
+def add_load_args(p) -> None:
+    p.add_argument("--fd", type=float, default=1000.0, help="centrifugal force F_D, N (default 1000)")
+    p.add_argument("--q", type=float, default=100.0, help="virtual blade pitch q*, mm (default 100)")
+    p.add_argument("--r-sin-beta", type=float, default=0.0, help="r sin(beta), mm (default 0)")
+
+
 def emit(args, payload: dict, text: str) -> None:
     print(json.dumps(payload, indent=2) if args.json else text)
 
@@ -176,9 +182,7 @@ def build_parser() -> argparse.ArgumentParser:
     add_shape_args(p)
     p.add_argument("--mu", type=float, required=True, help="friction coefficient, > 0")
     add_contact_args(p)
-    p.add_argument("--fd", type=float, default=1000.0, help="centrifugal force F_D, N (default 1000)")
-    p.add_argument("--q", type=float, default=100.0, help="virtual blade pitch q*, mm (default 100)")
-    p.add_argument("--r-sin-beta", type=float, default=0.0, help="r sin(beta), mm (default 0)")
+    add_load_args(p)
     p.add_argument("--json", action="store_true")
     p.set_defaults(func=cmd_cycle)
 

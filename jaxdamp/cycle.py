@@ -12,8 +12,8 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
-from .geometry import DamperShape, validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .geometry import DamperShape
+from .params import Contacts, LoadCase, prepare_inputs
 from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     next_event)
@@ -191,14 +191,8 @@ def base_cycle(shape: DamperShape, mu, contacts: Contacts = Contacts(),
     Liftoff, non-convergence and singular states are reported in the result's flags, never as NaN.
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
-    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    return _base_cycle(shape, jnp.asarray(mu, float), contacts, load, max_tracts=max_tracts,
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    return _base_cycle(shape, mu, contacts, load, max_tracts=max_tracts,
                        max_pairs=max_pairs)
 
 

@@ -262,16 +262,14 @@ def cmd_grad(args):
 
 
 def register_cli(sub) -> None:
-    from .cli import add_contact_args, add_shape_args
+    from .cli import add_contact_args, add_load_args, add_shape_args
 
     p = sub.add_parser("grad", help="derivatives of psi_BC, k_Re,BC, k_Im,BC, psi_fs, k_Re,fs "
                                     "w.r.t. the angles, b_R/h_R, 2b_L/h_L, mu, kn, kt (AD)")
     add_shape_args(p)
     p.add_argument("--mu", type=float, required=True, help="friction coefficient, > 0")
     add_contact_args(p)
-    p.add_argument("--fd", type=float, default=1000.0, help="centrifugal force F_D, N (default 1000)")
-    p.add_argument("--q", type=float, default=100.0, help="virtual blade pitch q*, mm (default 100)")
-    p.add_argument("--r-sin-beta", type=float, default=0.0, help="r sin(beta), mm (default 0)")
+    add_load_args(p)
     p.add_argument("--psi-a", type=float, default=None,
                    help="also differentiate k_Im at this amplitude, mrad")
     p.add_argument("--mode", choices=MODES, default="fwd",

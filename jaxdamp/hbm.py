@@ -21,9 +21,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_range
-from .geometry import DamperShape, validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from ._validate import check_int, check_range
+from .geometry import DamperShape
+from .params import Contacts, LoadCase, prepare_inputs
 from .timemarch import MAX_NEWTON, initial_state, march, march_model
 
 PERIODIC_TOL = 1e-9  # change of the moment between the last two periods, relative to max |M|
@@ -72,19 +72,11 @@ def hbm_aft(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     """k_Re, k_Im (N mm/mrad) at platform rotation amplitude psi_a (mrad) by HBM-AFT: march
     n_periods periods of psi_a cos(tau) at n_time samples per period, first harmonic of the last
     period by FFT. Non-periodicity, Newton failures and liftoff are flags."""
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
-    for name, val, lo in (("n_time", n_time, 4), ("n_periods", n_periods, 1), ("max_newton", max_newton, 1)):
-        if not isinstance(val, (int, np.integer)) or val < lo:
-            raise ValueError(f"{name} must be an integer in [{lo}, inf); got {val!r}")
-    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
-    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    return _hbm_aft(shape, jnp.asarray(mu, float), contacts, load, jnp.asarray(psi_a_mrad, float),
-                    n_time=int(n_time), n_periods=int(n_periods), max_newton=int(max_newton))
+    return _hbm_aft(shape, mu, contacts, load, jnp.asarray(psi_a_mrad, float),
+                    n_time=check_int("n_time", n_time, 4), n_periods=check_int("n_periods", n_periods, 1),
+                    max_newton=check_int("max_newton", max_newton, 1))
 
 
 __all__ = ["hbm_aft", "HBMResult", "first_harmonic"]

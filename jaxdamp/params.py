@@ -55,3 +55,18 @@ def validate_load(load: LoadCase) -> LoadCase:
     check_positive("q_star", load.q_star, unit="mm")
     check_range("r_sin_beta", load.r_sin_beta, -1e9, 1e9, unit="mm")
     return load
+
+
+def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
+    """Validate a solver's inputs (ValueError naming the parameter and its range) and convert them
+    to float arrays, so that every entry point compiles the same program."""
+    from .geometry import DamperShape, validate_shape
+
+    validate_shape(shape)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
+    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
+    load = LoadCase(*(jnp.asarray(v, float) for v in load))
+    return shape, jnp.asarray(mu, float), contacts, load

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import os
 import sys
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 
 import matplotlib
 
@@ -193,7 +193,6 @@ def plot_section(shape, mu, ax=None, end="both", force_scale=0.35):
     ends = ("start", "mid") if end == "both" else (end,)
     if any(e not in ("start", "mid") for e in ends):
         raise ValueError(f"end must be 'start', 'mid' or 'both'; got {end!r}")
-    created = ax is None
     fig, axes = _axes_row(ax, len(ends), size=(6.0, 6.3))
     lims = []
     for a, e in zip(axes, ends):

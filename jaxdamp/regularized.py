@@ -19,10 +19,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_range
-from .geometry import DamperShape, validate_shape
+from ._validate import check_int, check_range
+from .geometry import DamperShape
 from .hbm import PERIODIC_TOL, HBMResult, first_harmonic
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .params import Contacts, LoadCase, prepare_inputs
 from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of, newton
 
 LOCAL_ITERS = 80  # bound on the safeguarded Newton iterations of the per-contact slip equation
@@ -135,21 +135,13 @@ def regularized_aft(shape: DamperShape, mu, psi_a_mrad, eps, contacts: Contacts 
                     max_newton: int = MAX_NEWTON_REG) -> HBMResult:
     """k_Re, k_Im (N mm/mrad) at amplitude psi_a (mrad) with the tanh-regularised slider of
     relative width eps (> 0, dimensionless; eps -> 0 recovers Coulomb), by HBM-AFT."""
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
     check_range("eps", eps, 0.0, np.inf, lo_open=True)
-    for name, val, lo in (("n_time", n_time, 4), ("n_periods", n_periods, 1), ("max_newton", max_newton, 1)):
-        if not isinstance(val, (int, np.integer)) or val < lo:
-            raise ValueError(f"{name} must be an integer in [{lo}, inf); got {val!r}")
-    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
-    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    return _regularized_aft(shape, jnp.asarray(mu, float), contacts, load,
+    return _regularized_aft(shape, mu, contacts, load,
                             jnp.asarray(psi_a_mrad, float), jnp.asarray(eps, float),
-                            n_time=int(n_time), n_periods=int(n_periods), max_newton=int(max_newton))
+                            n_time=check_int("n_time", n_time, 4), n_periods=check_int("n_periods", n_periods, 1),
+                            max_newton=check_int("max_newton", max_newton, 1))
 
 
 __all__ = ["regularized_aft"]

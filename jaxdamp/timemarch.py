@@ -30,9 +30,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._linalg import solve3
-from ._validate import check_range
-from .geometry import DamperShape, validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from ._validate import check_int, check_range
+from .geometry import DamperShape
+from .params import Contacts, LoadCase, prepare_inputs
 from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
 
 NEWTON_TOL = 1e-12  # equilibrium residual, units of F_D
@@ -388,22 +388,11 @@ def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: Lo
     step); k_Re,fs from the first step's slope. n_steps * h must exceed the longer half-span, or the
     result is flagged `failed`. Liftoff, Newton failures and non-closure are flags, never NaN.
     """
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("h", h, 0.0, np.inf, lo_open=True, unit="mm")
-    if not isinstance(n_steps, (int, np.integer)) or n_steps < 2:
-        raise ValueError(f"n_steps must be an integer in [2, inf); got {n_steps!r}")
-    if not isinstance(max_pairs, (int, np.integer)) or max_pairs < 1:
-        raise ValueError(f"max_pairs must be an integer in [1, inf); got {max_pairs!r}")
-    if not isinstance(max_newton, (int, np.integer)) or max_newton < 1:
-        raise ValueError(f"max_newton must be an integer in [1, inf); got {max_newton!r}")
-    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
-    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    return _time_march(shape, jnp.asarray(mu, float), contacts, load, jnp.asarray(h, float),
-                       n_steps=int(n_steps), max_pairs=int(max_pairs), max_newton=int(max_newton))
+    return _time_march(shape, mu, contacts, load, jnp.asarray(h, float),
+                       n_steps=check_int("n_steps", n_steps, 2), max_pairs=check_int("max_pairs", max_pairs, 1),
+                       max_newton=check_int("max_newton", max_newton, 1))
 
 
 __all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "newton", "respond",

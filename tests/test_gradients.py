@@ -8,7 +8,6 @@ theorem for homogeneous functions). Every AD program is compiled once (module-le
 from functools import lru_cache
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 import pytest
 
