@@ -27,23 +27,13 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from machine_info import machine  # noqa: E402
+from bench_common import machine, median_time  # noqa: E402
 from jaxdamp import batch as B  # noqa: E402
 from jaxdamp import gradients as G  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 TARGET_DESIGNS_PER_S = 100_000
 TARGET_GRADIENT_RATIO = 4.0
-
-
-def median_time(fn, *args, repeats=7):
-    jax.block_until_ready(fn(*args))
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
 
 
 def compile_time(jitted, *args):

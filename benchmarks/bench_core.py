@@ -22,20 +22,10 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from machine_info import machine  # noqa: E402
+from bench_common import machine, median_time  # noqa: E402
 from jaxdamp import cycle, tract  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
-
-
-def median_time(fn, *args, repeats=7):
-    jax.block_until_ready(fn(*args))
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
 
 
 def designs(n, seed=0):

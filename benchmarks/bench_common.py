@@ -1,12 +1,14 @@
-"""What machine a benchmark ran on, recorded in every results JSON."""
+"""Shared by the benchmarks: the machine a run is recorded on, and warm median timing."""
 
 from __future__ import annotations
 
 import os
 import platform
+import time
 from pathlib import Path
 
 import jax
+import numpy as np
 
 
 def machine() -> dict:
@@ -25,3 +27,14 @@ def machine() -> dict:
     return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "jax": jax.__version__,
             "devices": [str(d) for d in jax.devices()], "load_average_1min_at_start": load}
+
+
+def median_time(fn, *args, repeats=7):
+    """Median wall time (s) of warm calls: one call first so compilation is not timed."""
+    jax.block_until_ready(fn(*args))
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        jax.block_until_ready(fn(*args))
+        times.append(time.perf_counter() - t)
+    return float(np.median(times))
