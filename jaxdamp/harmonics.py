@@ -89,10 +89,6 @@ def _work(seg: MomentHalf, branch, q_star):
     return jnp.sum(0.5 * (seg.M0 + m1) * (-branch) * seg.dv / q_star)
 
 
-def half_spans(bc: BaseCycle):
-    return bc.forward.span, bc.backward.span
-
-
 def stretched_cycle(bc: BaseCycle, psi_a_mrad):
     """Moment halves of the cycle at amplitude psi_a >= psi_BC (full-slip stretches at both ends)."""
     total = 2.0 * psi_a_mrad * bc.load.q_star / 1e3

@@ -42,11 +42,6 @@ _moment_half = jax.jit(moment_half)
 STIFFNESS_SLOTS = 8  # amplitudes per call of stiffness_at (padded: one compile)
 
 
-@jax.jit
-def _stiffness_at(bc, psi):
-    return complex_stiffness(bc, psi)
-
-
 def stiffness_at(bc, psi_a_mrad):
     """(k_Re, k_Im) numpy arrays at a few amplitudes (mrad), jit-compiled once for any count <= 8."""
     psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
@@ -54,7 +49,7 @@ def stiffness_at(bc, psi_a_mrad):
     for i in range(0, len(psi), STIFFNESS_SLOTS):
         chunk = psi[i:i + STIFFNESS_SLOTS]
         padded = np.pad(chunk, (0, STIFFNESS_SLOTS - len(chunk)), constant_values=1.0)
-        k_re, k_im = jax.device_get(_stiffness_at(bc, jnp.asarray(padded)))
+        k_re, k_im = jax.device_get(complex_stiffness(bc, jnp.asarray(padded)))
         out_re.append(np.asarray(k_re)[: len(chunk)])
         out_im.append(np.asarray(k_im)[: len(chunk)])
     return np.concatenate(out_re), np.concatenate(out_im)

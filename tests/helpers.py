@@ -1,16 +1,6 @@
-"""Shared test helpers (equinox style): pytree comparison and finite-difference JVPs."""
+"""Shared test helpers: finite-difference JVPs for gradient checks."""
 
-import jax
 import numpy as np
-
-
-def tree_allclose(a, b, rtol=1e-12, atol=0.0):
-    """True when two pytrees have the same structure and all leaves agree."""
-    la, ta = jax.tree_util.tree_flatten(a)
-    lb, tb = jax.tree_util.tree_flatten(b)
-    if ta != tb:
-        return False
-    return all(np.allclose(np.asarray(x), np.asarray(y), rtol=rtol, atol=atol) for x, y in zip(la, lb))
 
 
 def fd_jvp(f, x, v, h=1e-6):

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
+from helpers import fd_jvp
 from jaxdamp import gradients as G
 
 FIVE = jd.FiveNumbers._fields
@@ -76,10 +77,11 @@ def central_differences(key):
     smooth = np.zeros(len(P), bool)
     s0 = signature(x)
     for j in range(len(P)):
-        e = np.zeros(len(P))
-        e[j] = 1e-6 * sc[j]
-        fd[:, j] = (values(x + e, psi_a) - values(x - e, psi_a)) / (2 * e[j])
-        smooth[j] = same_sequence(signature(x + e), s0) and same_sequence(signature(x - e), s0)
+        unit = np.eye(len(P))[j]
+        h = 1e-6 * sc[j]
+        fd[:, j] = fd_jvp(lambda z: values(z, psi_a), x, unit, h=h)
+        smooth[j] = (same_sequence(signature(x + h * unit), s0)
+                     and same_sequence(signature(x - h * unit), s0))
     return fd, smooth
 
 
