@@ -16,7 +16,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
-                    next_event)
+                    make_mechanics, next_event)
 
 MAX_TRACTS = 6  # per half-cycle; the paper's cases need at most 4, random designs at most 5
 MAX_PAIRS = 4  # forward+backward iterations: 1 usually; frozen mechanisms need 3 with Aitken
@@ -50,7 +50,7 @@ def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mec
     nw = geo.normals[:, 1] * w
     tw = geo.tangents[:, 1] * w
     kn, kt = contacts.per_contact()
-    return Mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, jnp.asarray(mu, float))
+    return make_mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, mu)
 
 
 def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS) -> HalfCycle:

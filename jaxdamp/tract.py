@@ -35,7 +35,14 @@ NO_EVENT = 1e6  # mm: "no event in this tract"; finite so that masked arithmetic
 
 
 class Mechanics(NamedTuple):
-    """Everything a tract needs that does not change during the cycle (pytree of arrays)."""
+    """Everything a tract needs that does not change during the cycle (pytree of arrays).
+
+    Besides the contact data it holds the all-stick system reduced once per design: every state set
+    differs from all-stick by one rank-one term per slipping contact, c_i u_i^T with
+    u_i = kt_i c_i + s_i mu kn_i a_i, so a tract's 3x3 solve reduces (Woodbury) to a solve in the
+    slipping contacts only, with the design constants below. This replaces building and solving a
+    3x3 stiffness for each of the 8 candidate state sets of every tract (benchmarks/bench_core.py).
+    """
 
     a: jnp.ndarray  # (3, 3) generalised normals, rows per contact
     c: jnp.ndarray  # (3, 3) generalised tangents
@@ -44,6 +51,22 @@ class Mechanics(NamedTuple):
     kn: jnp.ndarray  # (3,) normal stiffness / F_D, 1/mm
     kt: jnp.ndarray  # (3,) tangential stiffness / F_D, 1/mm
     mu: jnp.ndarray
+    P: jnp.ndarray  # (3, 3) c_i . z_j with K0 z_j = c_j (K0: all-stick stiffness), mm per unit F_D
+    Q: jnp.ndarray  # (3, 3) a_i . z_j
+    gn0: jnp.ndarray  # (3,) normal gap rate of the all-stick tract, per unit of increasing dv
+    gt0: jnp.ndarray  # (3,) tangential gap rate of the all-stick tract
+    stick_ok: jnp.ndarray  # False where the all-stick stiffness K0 is singular
+
+
+def make_mechanics(a, c, nw, tw, kn, kt, mu) -> Mechanics:
+    """Mechanics of one design: contact data plus its all-stick reduction (one 3x3 solve)."""
+    K0 = jnp.einsum("i,ij,ik->jk", kn, a, a) + jnp.einsum("i,ij,ik->jk", kt, c, c)
+    r0 = jnp.einsum("i,ij->j", kn * nw, a) + jnp.einsum("i,ij->j", kt * tw, c)
+    # One solve with four right-hand sides: the three tangents and the all-stick load.
+    cols, ok = jax.vmap(solve3, in_axes=(None, 0))(K0, jnp.concatenate([c, r0[None]]))
+    Z, x0 = cols[:3].T, cols[3]
+    return Mechanics(a, c, nw, tw, kn, kt, jnp.asarray(mu, float), c @ Z, a @ Z, a @ x0 - nw,
+                     c @ x0 - tw, ok[0])
 
 
 class TractRates(NamedTuple):
@@ -58,25 +81,24 @@ def tract_rates(mech: Mechanics, slipping, signs, direction) -> TractRates:
 
     slipping: (3,) bool; signs: (3,) friction direction s_i (T = s_i mu N) of slipping contacts;
     direction: +1 when dv increases, -1 when it decreases.
+
+    With the slipping set S, K_S = K0 - C_S U_S^T, so dq = dq0 + Z_S y_S with
+    (I - W_SS) y_S = g_S, W_ij = u_i . z_j and g_i = u_i . dq0 - (rhs change)_i; rows of stick
+    contacts are the identity, so one 3x3 solve covers every S and y vanishes off S.
     """
     m = slipping.astype(float)
     stick = 1.0 - m
-    smu = signs * mech.mu * m
-    a, c = mech.a, mech.c
-    K = (jnp.einsum("i,ij,ik->jk", mech.kn, a, a)
-         + jnp.einsum("i,ij,ik->jk", stick * mech.kt, c, c)
-         - jnp.einsum("i,ij,ik->jk", smu * mech.kn, c, a))
-    rhs = direction * (jnp.einsum("i,ij->j", mech.kn * mech.nw, a)
-                       + jnp.einsum("i,ij->j", stick * mech.kt * mech.tw, c)
-                       - jnp.einsum("i,ij->j", smu * mech.kn * mech.nw, c))
-    dq, ok = solve3(K, rhs)
-    gn = a @ dq - direction * mech.nw
-    gt = c @ dq - direction * mech.tw
+    smu_kn = signs * mech.mu * mech.kn
+    W = mech.kt[:, None] * mech.P + smu_kn[:, None] * mech.Q
+    g = direction * (mech.kt * mech.gt0 + smu_kn * mech.gn0)
+    y, ok = solve3(jnp.eye(3) - m[:, None] * m[None, :] * W, m * g)
+    gn = direction * mech.gn0 + mech.Q @ y
+    gt = direction * mech.gt0 + mech.P @ y
     dN = mech.kn * gn
-    dT = stick * (-mech.kt * gt) + smu * dN
+    dT = stick * (-mech.kt * gt) + m * signs * mech.mu * dN
     # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
     dslip = m * (gt + dT / mech.kt)
-    return TractRates(dN, dT, dslip, ok)
+    return TractRates(dN, dT, dslip, ok & mech.stick_ok)
 
 
 class TractChoice(NamedTuple):
