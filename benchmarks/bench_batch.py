@@ -27,7 +27,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import machine, median_time  # noqa: E402
+from bench_common import interleaved_ms, machine, median_time  # noqa: E402
 from jaxdamp import batch as B  # noqa: E402
 from jaxdamp import gradients as G  # noqa: E402
 
@@ -70,19 +70,6 @@ def plain_vmap_throughput(sizes) -> dict:
         d = jax.tree_util.tree_map(jnp.asarray, B._take(big, np.arange(n)))
         out[str(n)] = n / median_time(f, *d, repeats=3)
     return out
-
-
-def interleaved_ms(programs: dict, *args, repeats=60) -> dict:
-    """Warm medians (ms), timing the programs round-robin so that machine load hits all alike."""
-    for f in programs.values():
-        jax.block_until_ready(f(*args))
-    times = {k: [] for k in programs}
-    for _ in range(repeats):
-        for k, f in programs.items():
-            t = time.perf_counter()
-            jax.block_until_ready(f(*args))
-            times[k].append(time.perf_counter() - t)
-    return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
 
 
 def gradient_costs() -> dict:

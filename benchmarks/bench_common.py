@@ -38,3 +38,16 @@ def median_time(fn, *args, repeats=7):
         jax.block_until_ready(fn(*args))
         times.append(time.perf_counter() - t)
     return float(np.median(times))
+
+
+def interleaved_ms(programs: dict, *args, repeats=60) -> dict:
+    """Warm medians (ms), timing the programs round-robin so that machine load hits all alike."""
+    for f in programs.values():
+        jax.block_until_ready(f(*args))
+    times = {k: [] for k in programs}
+    for _ in range(repeats):
+        for k, f in programs.items():
+            t = time.perf_counter()
+            jax.block_until_ready(f(*args))
+            times[k].append(time.perf_counter() - t)
+    return {k: 1e3 * float(np.median(v)) for k, v in times.items()}

@@ -1,6 +1,6 @@
 """Core solver benchmark: warm latency of one Base-Cycle + five numbers, and the measured design
-choices behind the solver (closed-form 3x3 solve vs jnp.linalg.solve; plain vmap vs the two-stage
-batch). Every number is a median of repeats of warm (already compiled) calls, and choices are
+choices behind the solver (the reduced tract solve vs building and solving each candidate state
+set's 3x3 stiffness, by Cramer's rule or jnp.linalg.solve; plain vmap vs the two-stage batch). Every number is a median of repeats of warm (already compiled) calls, and choices are
 reported as ratios against a baseline measured in the same run.
 
     python benchmarks/bench_core.py [--quick]
@@ -22,7 +22,8 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import machine, median_time  # noqa: E402
+from bench_common import interleaved_ms, machine, median_time  # noqa: E402
+from jaxdamp._linalg import solve3  # noqa: E402
 from jaxdamp import cycle, tract  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -65,23 +66,35 @@ def main():
     res["single_compile_s"] = time.perf_counter() - t
     res["single_warm_latency_ms"] = 1e3 * median_time(single, shape, 0.5, repeats=50)
 
-    # 2. closed-form (Cramer) vs jnp.linalg.solve inside the solver, same batch, same run
+    # 2. the tract solve inside the solver, same batch, same run, timed round-robin:
+    #    reduced (all-stick system reduced once per design, closed form per slipping set) vs
+    #    building and solving K_S for each of the 8 candidate sets (Cramer or jnp.linalg.solve).
     shapes, mus = designs(n)
 
     def batched(max_pairs):
         return jax.jit(jax.vmap(lambda s, m: five(cycle._base_cycle.__wrapped__(
             s, m, contacts, load, max_tracts=cycle.MAX_TRACTS, max_pairs=max_pairs))))
 
-    cramer = batched(1)
-    t_cramer = median_time(cramer, shapes, mus)
-    original = tract.solve3
-    tract.solve3 = linalg_solve3
-    try:
-        t_linalg = median_time(batched(1), shapes, mus)
-    finally:
-        tract.solve3 = original
-    res["solve3"] = {"cramer_designs_per_s": n / t_cramer, "linalg_designs_per_s": n / t_linalg,
-                     "linalg_time_over_cramer": t_linalg / t_cramer}
+    def plain(solve):
+        return lambda mech, signs, direction: jax.vmap(
+            lambda slipping: tract.plain_tract_rates(mech, slipping, signs, direction, solve))(
+                tract._CANDIDATES)
+
+    variants = {"reduced": tract.candidate_rates, "plain_cramer": plain(solve3),
+                "plain_linalg": plain(linalg_solve3)}
+    programs = {}
+    for name, candidate_rates in variants.items():
+        original = tract.candidate_rates
+        tract.candidate_rates = candidate_rates  # traced into this program only
+        try:
+            programs[name] = batched(1)
+            jax.block_until_ready(programs[name](shapes, mus))
+        finally:
+            tract.candidate_rates = original
+    ms = interleaved_ms(programs, shapes, mus, repeats=9)
+    res["tract_solve"] = {f"{k}_designs_per_s": n / (1e-3 * v) for k, v in ms.items()}
+    res["tract_solve"].update({f"{k}_time_over_reduced": v / ms["reduced"] for k, v in ms.items()
+                               if k != "reduced"})
 
     # 3. plain vmap over the full iteration bound vs the two-stage batch
     t_plain = median_time(batched(cycle.MAX_PAIRS), shapes, mus)
@@ -102,11 +115,14 @@ def plot(res):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    labels = ["Cramer\n(1 pair)", "linalg.solve\n(1 pair)", "plain vmap\n(4 pairs)", "two-stage\nbatch"]
-    vals = [res["solve3"]["cramer_designs_per_s"], res["solve3"]["linalg_designs_per_s"],
-            res["batch"]["plain_vmap_designs_per_s"], res["batch"]["two_stage_designs_per_s"]]
-    fig, ax = plt.subplots(figsize=(7, 4))
-    ax.bar(labels, vals, color=["C0", "C1", "C2", "C3"])
+    labels = ["reduced\n(1 pair)", "K_S + Cramer\n(1 pair)", "K_S + linalg\n(1 pair)",
+              "plain vmap\n(4 pairs)", "two-stage\nbatch"]
+    t = res["tract_solve"]
+    vals = [t["reduced_designs_per_s"], t["plain_cramer_designs_per_s"],
+            t["plain_linalg_designs_per_s"], res["batch"]["plain_vmap_designs_per_s"],
+            res["batch"]["two_stage_designs_per_s"]]
+    fig, ax = plt.subplots(figsize=(8, 4))
+    ax.bar(labels, vals, color=["C0", "C1", "C2", "C4", "C3"])
     ax.set_ylabel("Base-Cycles + five numbers per second")
     ax.set_title(f"jaxdamp core, batch of {res['batch']['size']} random designs\n"
                  f"{res['machine']['cpu']}, {res['machine']['cores']} cores; single warm latency "

@@ -22,17 +22,15 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
     if not is_concrete(value):
         return
     arr = np.asarray(value, dtype=float)
-    left = "(" if lo_open else "["
-    right = ")" if hi_open else "]"
-    suffix = f" {unit}" if unit else ""
-    rng = f"{left}{lo:g}, {hi:g}{right}{suffix}"
-    if not np.all(np.isfinite(arr)):
+    finite = np.isfinite(arr)
+    bad = ~finite | ((arr <= lo) if lo_open else (arr < lo)) | ((arr >= hi) if hi_open else (arr > hi))
+    if not bad.any():
+        return
+    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+    if not finite.all():
         raise ValueError(f"{name} must be a finite number in {rng}; got {value!r}")
-    bad_lo = arr <= lo if lo_open else arr < lo
-    bad_hi = arr >= hi if hi_open else arr > hi
-    if np.any(bad_lo | bad_hi):
-        shown = arr if arr.ndim == 0 else arr[bad_lo | bad_hi][0]
-        raise ValueError(f"{name} must be in {rng}; got {float(shown):g}")
+    shown = arr if arr.ndim == 0 else arr[bad][0]
+    raise ValueError(f"{name} must be in {rng}; got {float(shown):g}")
 
 
 def check_positive(name, value, unit=""):

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ._validate import check_positive, check_range
 
@@ -66,7 +68,15 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
     validate_mu(mu)
     validate_contacts(contacts)
     validate_load(load)
-    shape = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
-    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    return shape, jnp.asarray(mu, float), contacts, load
+    shape = DamperShape(*(None if v is None else _float_array(v) for v in shape))
+    contacts = Contacts(_float_array(contacts.kn), _float_array(contacts.kt))
+    load = LoadCase(*(_float_array(v) for v in load))
+    return shape, _float_array(mu), contacts, load
+
+
+def _float_array(v):
+    """Concrete host values stay numpy arrays (jit takes them without a per-leaf device dispatch,
+    which dominated a single call's Python overhead); JAX arrays and tracers stay JAX's."""
+    if isinstance(v, jax.Array):
+        return v if v.dtype == jnp.result_type(float) else jnp.asarray(v, float)
+    return np.asarray(v, dtype=float)

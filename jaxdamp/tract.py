@@ -76,6 +76,25 @@ class TractRates(NamedTuple):
     ok: jnp.ndarray  # False where the tract's linear system is singular
 
 
+def _rates(mech: Mechanics, m, signs, y, ok, direction) -> TractRates:
+    """Rates of a tract from its slipping mask m (float, (..., 3)) and slip solution y."""
+    gn = direction * mech.gn0 + y @ mech.Q.T
+    gt = direction * mech.gt0 + y @ mech.P.T
+    dN = mech.kn * gn
+    dT = (1.0 - m) * (-mech.kt * gt) + m * signs * mech.mu * dN
+    # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
+    dslip = m * (gt + dT / mech.kt)
+    return TractRates(dN, dT, dslip, ok & mech.stick_ok)
+
+
+def _slip_system(mech: Mechanics, signs, direction):
+    """A = I - W and g of the reduced system A_SS y_S = g_S (see `tract_rates`)."""
+    smu_kn = signs * mech.mu * mech.kn
+    W = mech.kt[:, None] * mech.P + smu_kn[:, None] * mech.Q
+    g = direction * (mech.kt * mech.gt0 + smu_kn * mech.gn0)
+    return jnp.eye(3) - W, g
+
+
 def tract_rates(mech: Mechanics, slipping, signs, direction) -> TractRates:
     """Solve one tract's incremental equilibrium for fixed contact states.
 
@@ -87,18 +106,71 @@ def tract_rates(mech: Mechanics, slipping, signs, direction) -> TractRates:
     contacts are the identity, so one 3x3 solve covers every S and y vanishes off S.
     """
     m = slipping.astype(float)
+    A, g = _slip_system(mech, signs, direction)
+    y, ok = solve3(jnp.eye(3) + m[:, None] * m[None, :] * (A - jnp.eye(3)), m * g)
+    return _rates(mech, m, signs, y, ok, direction)
+
+
+def plain_tract_rates(mech: Mechanics, slipping, signs, direction, solve=solve3) -> TractRates:
+    """`tract_rates` without the reduction: K_S and its load built contact by contact (the module
+    docstring's equations) and solved by `solve(K, rhs) -> (x, ok)`. The reference that the reduced
+    solve is tested against (tests/test_tract.py) and benchmarked against (benchmarks/bench_core.py).
+    """
+    m = slipping.astype(float)
     stick = 1.0 - m
-    smu_kn = signs * mech.mu * mech.kn
-    W = mech.kt[:, None] * mech.P + smu_kn[:, None] * mech.Q
-    g = direction * (mech.kt * mech.gt0 + smu_kn * mech.gn0)
-    y, ok = solve3(jnp.eye(3) - m[:, None] * m[None, :] * W, m * g)
-    gn = direction * mech.gn0 + mech.Q @ y
-    gt = direction * mech.gt0 + mech.P @ y
+    smu = signs * mech.mu * m
+    a, c = mech.a, mech.c
+    K = (jnp.einsum("i,ij,ik->jk", mech.kn, a, a)
+         + jnp.einsum("i,ij,ik->jk", stick * mech.kt, c, c)
+         - jnp.einsum("i,ij,ik->jk", smu * mech.kn, c, a))
+    rhs = direction * (jnp.einsum("i,ij->j", mech.kn * mech.nw, a)
+                       + jnp.einsum("i,ij->j", stick * mech.kt * mech.tw, c)
+                       - jnp.einsum("i,ij->j", smu * mech.kn * mech.nw, c))
+    dq, ok = solve(K, rhs)
+    gn = a @ dq - direction * mech.nw
+    gt = c @ dq - direction * mech.tw
     dN = mech.kn * gn
-    dT = stick * (-mech.kt * gt) + m * signs * mech.mu * dN
-    # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
-    dslip = m * (gt + dT / mech.kt)
-    return TractRates(dN, dT, dslip, ok & mech.stick_ok)
+    dT = stick * (-mech.kt * gt) + smu * dN
+    return TractRates(dN, dT, m * (gt + dT / mech.kt), ok)
+
+
+_PAIRS = ((0, 1), (0, 2), (1, 2))
+
+
+def _slip_solutions(A, g, rel_tol=1e-12):
+    """y (8, 3) and ok (8,) for every candidate set (`_CANDIDATES` order): A_SS y_S = g_S, y = 0 off
+    S, in closed form per set size. ok follows `solve3`'s test |det| > rel_tol * prod(row norms),
+    squared so that no square root is taken."""
+    tol2 = rel_tol * rel_tol
+
+    def div(num, det, ok):
+        return jnp.where(ok, num / jnp.where(ok, det, 1.0), 0.0)
+
+    d = jnp.diagonal(A)
+    ok1 = d * d > tol2 * d * d
+    y1 = div(g, d, ok1)
+    pair = {}
+    for i, j in _PAIRS:
+        a, b, c, e = A[i, i], A[i, j], A[j, i], A[j, j]
+        det = a * e - b * c
+        ok = det * det > tol2 * (a * a + b * b) * (c * c + e * e)
+        pair[i, j] = (div(e * g[i] - b * g[j], det, ok), div(a * g[j] - c * g[i], det, ok), ok)
+    y3, ok3 = solve3(A, g, rel_tol)
+    z = jnp.zeros_like(d[0])
+    (p01i, p01j, o01), (p02i, p02j, o02), (p12i, p12j, o12) = (pair[p] for p in _PAIRS)
+    y = jnp.stack([
+        jnp.stack([z, z, z]), jnp.stack([y1[0], z, z]), jnp.stack([z, y1[1], z]),
+        jnp.stack([p01i, p01j, z]), jnp.stack([z, z, y1[2]]), jnp.stack([p02i, z, p02j]),
+        jnp.stack([z, p12i, p12j]), y3])
+    ok = jnp.stack([jnp.array(True), ok1[0], ok1[1], o01, ok1[2], o02, o12, ok3])
+    return y, ok
+
+
+def candidate_rates(mech: Mechanics, signs, direction) -> TractRates:
+    """`tract_rates` of all 8 candidate state sets at once (leading axis in `_CANDIDATES` order)."""
+    A, g = _slip_system(mech, signs, direction)
+    y, ok = _slip_solutions(A, g)
+    return _rates(mech, _CANDIDATES.astype(float), signs, y, ok, direction)
 
 
 class TractChoice(NamedTuple):
@@ -120,16 +192,13 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     signs = jnp.where(T >= 0.0, 1.0, -1.0)
     scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
 
-    def one(slipping):
-        rates = tract_rates(mech, slipping, signs, direction)
-        cone_rate = signs * rates.dT - mech.mu * rates.dN
-        stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
-        slip_ok = jnp.where(slipping, signs * rates.dslip <= RATE_TOL, True)
-        allowed = ~jnp.any(slipping & ~at_limit)
-        good = allowed & rates.ok & jnp.all(stick_ok) & jnp.all(slip_ok)
-        return rates, good
-
-    rates, good = jax.vmap(one)(_CANDIDATES)
+    slipping = _CANDIDATES
+    rates = candidate_rates(mech, signs, direction)
+    cone_rate = signs * rates.dT - mech.mu * rates.dN
+    stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
+    slip_ok = jnp.where(slipping, signs * rates.dslip <= RATE_TOL, True)
+    allowed = ~jnp.any(slipping & ~at_limit, axis=1)
+    good = allowed & rates.ok & jnp.all(stick_ok, axis=1) & jnp.all(slip_ok, axis=1)
     score = jnp.where(good, 10 + jnp.sum(~_CANDIDATES, axis=1), 0)
     best = jnp.argmax(score)
     pick = lambda x: x[best]  # noqa: E731
