@@ -61,6 +61,20 @@ def throughput(sizes, repeats=5) -> dict:
     return out
 
 
+def chunk_sweep(chunks=(256, 512, 1024, 2048), n=40_000, repeats=3) -> dict:
+    """evaluate_designs designs/s per chunk size (designs per device per call), best of repeats."""
+    d = random_designs(n)
+    for c in chunks:
+        B.evaluate_designs(d, chunk_size=c)
+    best = {c: np.inf for c in chunks}
+    for _ in range(repeats):
+        for c in chunks:  # round-robin, so that machine load hits every size alike
+            t = time.perf_counter()
+            B.evaluate_designs(d, chunk_size=c)
+            best[c] = min(best[c], time.perf_counter() - t)
+    return {str(c): n / t for c, t in best.items()}
+
+
 def plain_vmap_throughput(sizes) -> dict:
     """Baseline: jax.jit(jax.vmap(jaxdamp.base_cycle)) + five numbers on the whole batch at once."""
     f = jax.jit(jax.vmap(lambda s, m, c, lo: jnp.stack(list(jd.five_numbers(jd.base_cycle(s, m, c, lo))))))
@@ -120,13 +134,16 @@ import json, sys
 sys.path.insert(0, {here!r})
 import bench_batch as bb
 import jax
-print(json.dumps({{"devices": len(jax.devices()), "designs_per_s": bb.throughput({sizes})}}))
+print(json.dumps({{"devices": len(jax.devices()), "designs_per_s": bb.throughput({sizes}),
+                  "chunk_sweep": bb.chunk_sweep() if {chunks} else None}}))
 """
 
 
-def two_device_throughput(sizes) -> dict:
+def two_device_throughput(sizes, chunks=True) -> dict:
+    """throughput(sizes) (and chunk_sweep() if chunks) on 2 host devices, in a fresh process with
+    JAX's default dispatch."""
     env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu")
-    code = TWO_DEVICES.format(here=str(Path(__file__).parent), sizes=list(sizes))
+    code = TWO_DEVICES.format(here=str(Path(__file__).parent), sizes=list(sizes), chunks=chunks)
     proc = subprocess.run([sys.executable, "-c", code], env=env, capture_output=True, text=True)
     if proc.returncode:
         raise RuntimeError(proc.stderr[-3000:])
@@ -147,6 +164,8 @@ def main():
         [n for n in sizes if n <= 10_000])
     two = two_device_throughput(sizes)
     res["throughput_designs_per_s"]["evaluate_designs_2_host_devices"] = two["designs_per_s"]
+    res["chunk_sweep_designs_per_s"] = {"1_device": chunk_sweep(), "2_host_devices": two["chunk_sweep"],
+                                        "default_chunk": B.DEFAULT_CHUNK}
     one = res["throughput_designs_per_s"]["evaluate_designs_1_device"]
     best = max(max(one.values()), max(two["designs_per_s"].values()))
     ratios = res["gradients"]["ratio_to_forward"]

@@ -27,7 +27,8 @@ from .params import Contacts, LoadCase, validate_contacts, validate_load, valida
 from .statics import _design_br
 
 AXIS = "designs"
-DEFAULT_CHUNK = 256  # designs per device per compiled call: the fastest measured (bench_batch.py)
+DEFAULT_CHUNK = 1024  # designs per device per compiled call: the fastest measured on 2 host
+# devices, within noise of the best on one (benchmarks/results/batch.json, "chunk_sweep")
 MIN_BATCH = 16  # smallest compiled batch: small batches are padded up to it
 
 

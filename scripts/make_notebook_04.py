@@ -123,12 +123,12 @@ print("direct checks:", sum(r["direct_check"]["ok"] for r in smap["rows"]), "of"
     new_markdown_cell("""\
 ## 4. Reading
 
-* Against **time marching** the direct method gains about 60× to 1300× at 1e-4 on k_Im, depending
+* Against **time marching** the direct method gains about 190× to 2500× at 1e-4 on k_Im, depending
   on the case and the run (the issue's 1000× is not reached in the worst case, 74R), because the
   marcher's error falls only linearly with the step (ψ_BC is resolved to one step, and k_Im at the
   Base-Cycle is very sensitive to the amplitude on vertical flanks, 90L), and frozen-mechanism
   cycles (90R) need many pairs of halves to close.
-* Against **HBM-AFT at a given amplitude** the gain is small (0.7× to 44×): the FFT of a
+* Against **HBM-AFT at a given amplitude** the gain is small (3× to 64×): the FFT of a
   piecewise-linear loop converges fast, and at ψ_BC HBM-AFT needs only tens to hundreds of samples.
   HBM-AFT, however, has to be told the amplitude: it gives neither ψ_BC nor ψ_fs, and 90R needs more
   periods than the usual 2–3 to settle.
