@@ -87,6 +87,19 @@ def _liftoff_panel(ax, text):
             color="firebrick", bbox=dict(boxstyle="round", fc="mistyrose", ec="firebrick"))
 
 
+def _cycle_panel(ax, bc, title_suffix, xlabel, ylabel) -> bool:
+    """Title ("shape, μ" + suffix) and axis labels of a panel showing one cycle; a cycle that lifted
+    off gets the labelled empty panel instead, and True is returned."""
+    mu = float(bc.mu)
+    ax.set_title(f"{_shape_name(bc.shape)}, μ = {mu:g}{title_suffix}")
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if bool(bc.liftoff):
+        _liftoff_panel(ax, f"μ = {mu:g}: LIFTOFF\nno Base-Cycle")
+        return True
+    return False
+
+
 def _shape_name(shape):
     from .geometry import paper_tables
 
@@ -263,14 +276,10 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
     fig, axes = _axes_row(axes, len(cycles), size=(5.2, 6.0))
     fig._jaxdamp_shared_legend = created and len(cycles) > 1
     for k, (ax, bc) in enumerate(zip(axes, cycles)):
-        mu = float(bc.mu)
-        name = _shape_name(bc.shape)
-        ax.set_title(f"{name}, μ = {mu:g}")
-        ax.set_xlabel("circumferential force component (units of $F_D$)")
-        ax.set_ylabel("radial force component (units of $F_D$)")
-        if bool(bc.liftoff):
-            _liftoff_panel(ax, f"μ = {mu:g}: LIFTOFF\nno Base-Cycle")
+        if _cycle_panel(ax, bc, "", "circumferential force component (units of $F_D$)",
+                        "radial force component (units of $F_D$)"):
             continue
+        mu = float(bc.mu)
         geo = section_geometry(bc.shape)
         n, t = _np(geo.normals), _np(geo.tangents)
         track, sec, labels = force_track(bc)
@@ -412,12 +421,8 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
     from .summary import moment_polyline, sample_cycle, stiffness_at
 
     fig, (ax,) = _axes_row(ax, 1, size=(7.5, 6.6))
-    mu = float(bc.mu)
-    ax.set_title(f"{_shape_name(bc.shape)}, μ = {mu:g}: stretched cycles and first harmonics")
-    ax.set_xlabel("platform rotation ψ_P − ψ_c (mrad)")
-    ax.set_ylabel("platform moment M_P (N mm)")
-    if bool(bc.liftoff):
-        _liftoff_panel(ax, f"μ = {mu:g}: LIFTOFF\nno Base-Cycle")
+    if _cycle_panel(ax, bc, ": stretched cycles and first harmonics",
+                    "platform rotation ψ_P − ψ_c (mrad)", "platform moment M_P (N mm)"):
         return fig
     amps = default_amplitudes(bc) if psi_a_mrad is None else [float(a) for a in np.atleast_1d(psi_a_mrad)]
     k_re, k_im = stiffness_at(bc, amps)
