@@ -1,0 +1,61 @@
+"""One status code for every result (in the style of optimistix's `RESULTS`).
+
+Inside jit/vmap a status is an int32 array; `RESULTS.promote(status, condition, code)` raises it to
+`code` where `condition` holds and it is still ok, so the first problem found is the one reported.
+Outside JAX, `RESULTS.name(s)` and `RESULTS.message(s)` say what a code means. Booleans such as
+`converged` or `liftoff` are derived from it.
+"""
+
+from __future__ import annotations
+
+import enum
+
+import jax.numpy as jnp
+import numpy as np
+
+
+class RESULTS(enum.IntEnum):
+    """Outcome of a computation; `ok` and `shakedown` carry valid numbers, the others do not."""
+
+    ok = 0
+    liftoff = 1
+    not_converged = 2
+    singular = 3
+    ill_conditioned = 4
+    shakedown = 5
+    no_root = 6
+
+    @staticmethod
+    def promote(status, condition, code: "RESULTS"):
+        """status where it already reports a problem (or `condition` is False), else `code`."""
+        return jnp.where((status == RESULTS.ok) & condition, jnp.int32(code), status)
+
+    @staticmethod
+    def name_of(status) -> str:
+        return RESULTS(int(np.asarray(status))).name
+
+    @staticmethod
+    def message(status) -> str:
+        return _MESSAGES[RESULTS(int(np.asarray(status)))]
+
+    @staticmethod
+    def valid(status):
+        """True where the numbers mean something (ok or shakedown)."""
+        return (status == RESULTS.ok) | (status == RESULTS.shakedown)
+
+
+_MESSAGES = {
+    RESULTS.ok: "ok",
+    RESULTS.liftoff: "a normal force reached zero (liftoff): the damper does not work as designed",
+    RESULTS.not_converged: "the cycle did not become periodic within the iteration bound",
+    RESULTS.singular: "a tract's linear system is singular (no consistent stick/slip set)",
+    RESULTS.ill_conditioned: ("the contact stiffness is outside the validated range: the "
+                              "equilibrium residual or the energy identity fails its tolerance"),
+    RESULTS.shakedown: "the steady cycle is elastic (shakedown): no slip, k_Im = 0",
+    RESULTS.no_root: "no solution of the scalar equation in the searched range",
+}
+
+
+def ok_status(shape=()):
+    """An array of `ok` codes (int32)."""
+    return jnp.zeros(shape, jnp.int32)
