@@ -23,7 +23,7 @@ jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
 from bench_common import interleaved_ms, machine, median_time  # noqa: E402
-from jaxdamp._linalg import solve3  # noqa: E402
+from jaxdamp.linalg import solve3  # noqa: E402
 from jaxdamp import cycle, tract  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -60,7 +60,7 @@ def main():
 
     # 1. single design: compile time and warm latency
     shape = jd.DamperShape(*(jnp.asarray(v, float) for v in jd.family_shape("60sym")[:4]))
-    single = jax.jit(lambda s, m: five(cycle._base_cycle(s, m, contacts, load)))
+    single = jax.jit(lambda s, m: five(cycle.base_cycle_kernel(s, m, contacts, load)))
     t = time.perf_counter()
     jax.block_until_ready(single(shape, 0.5))
     res["single_compile_s"] = time.perf_counter() - t
@@ -72,7 +72,7 @@ def main():
     shapes, mus = designs(n)
 
     def batched(max_pairs):
-        return jax.jit(jax.vmap(lambda s, m: five(cycle._base_cycle.__wrapped__(
+        return jax.jit(jax.vmap(lambda s, m: five(cycle.base_cycle_kernel.__wrapped__(
             s, m, contacts, load, max_tracts=cycle.MAX_TRACTS, max_pairs=max_pairs))))
 
     def plain(solve):

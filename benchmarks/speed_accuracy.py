@@ -4,9 +4,9 @@ For 60sym, 74R and 90R (mu = 0.5, the reference contact pair) this measures, in 
 machine, the error of k_Re,BC, k_Im,BC and psi_BC against the direct method's exact values versus
 warm wall time (jit compilation excluded, median of repeats) for
 
-* time marching with incremental return mapping (`jaxdamp.timemarch`) over N steps per half-cycle,
-* HBM-AFT (`jaxdamp.hbm`) at the exact psi_BC over Nt samples per period, 3 and 8 periods,
-* a tanh-regularised friction law evaluated the HBM-AFT way (`jaxdamp.regularized`) over eps,
+* time marching with incremental return mapping (`jaxdamp.baselines.timemarch`) over N steps per half-cycle,
+* HBM-AFT (`jaxdamp.baselines.hbm`) at the exact psi_BC over Nt samples per period, 3 and 8 periods,
+* a tanh-regularised friction law evaluated the HBM-AFT way (`jaxdamp.baselines.regularized`) over eps,
 * the direct method, one design per call and batched (`jd.evaluate_designs`).
 
 The time marcher's step is h = S / (N + 1/2), with S the exact longer half-span: the marcher is
@@ -50,10 +50,10 @@ ASYNC_DISPATCH = "--async-dispatch" in sys.argv[1:]
 jax.config.update("jax_cpu_enable_async_dispatch", ASYNC_DISPATCH)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.cycle import _base_cycle  # noqa: E402
-from jaxdamp.hbm import _hbm_aft  # noqa: E402
-from jaxdamp.regularized import _regularized_aft  # noqa: E402
-from jaxdamp.timemarch import _time_march  # noqa: E402
+from jaxdamp.cycle import base_cycle_kernel  # noqa: E402
+from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
+from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
+from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402
 from bench_batch import two_device_throughput  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -103,7 +103,7 @@ LOAD = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
 
 @jax.jit
 def direct_five(shape, mu):
-    return jnp.stack(list(jd.five_numbers(_base_cycle(shape, mu, CONTACTS, LOAD))))
+    return jnp.stack(list(jd.five_numbers(base_cycle_kernel(shape, mu, CONTACTS, LOAD))))
 
 
 def errors(exact, k_re=None, k_im=None, psi_bc=None, psi_fs=None, k_re_fs=None):
@@ -170,7 +170,7 @@ def run(cfg, progress=print):
 
     # Time marching over N steps per half-cycle.
     for N in cfg["tm_steps"]:
-        fn = jax.jit(lambda s, m, h, N=N: _time_march(s, m, CONTACTS, LOAD, h,
+        fn = jax.jit(lambda s, m, h, N=N: time_march_kernel(s, m, CONTACTS, LOAD, h,
                                                       n_steps=int(N * 1.02) + 4))
         for key, case in res["cases"].items():
             name, mu = key.split("@")
@@ -187,7 +187,7 @@ def run(cfg, progress=print):
     # HBM-AFT at the exact psi_BC over Nt samples per period.
     for periods in cfg["hbm_periods"]:
         for nt in cfg["hbm_nt"]:
-            fn = jax.jit(lambda s, m, a, nt=nt, P=periods: _hbm_aft(s, m, CONTACTS, LOAD, a, n_time=nt,
+            fn = jax.jit(lambda s, m, a, nt=nt, P=periods: hbm_aft_kernel(s, m, CONTACTS, LOAD, a, n_time=nt,
                                                                     n_periods=P))
             for key, case in res["cases"].items():
                 name, mu = key.split("@")
@@ -201,7 +201,7 @@ def run(cfg, progress=print):
     # tanh-regularised friction, HBM-AFT evaluation, over eps.
     for eps in cfg["reg_eps"]:
         nt = cfg["reg_nt"]
-        fn = jax.jit(lambda s, m, a, e, nt=nt: _regularized_aft(s, m, CONTACTS, LOAD, a, e, n_time=nt))
+        fn = jax.jit(lambda s, m, a, e, nt=nt: regularized_aft_kernel(s, m, CONTACTS, LOAD, a, e, n_time=nt))
         for key, case in res["cases"].items():
             name, mu = key.split("@")
             t, r = timed(fn, arrays(jd.family_shape(name)), jnp.asarray(float(mu)),
@@ -213,7 +213,7 @@ def run(cfg, progress=print):
 
     # Where the direct method interpolates: between psi_fs and psi_BC (microslip) the paper's (and
     # jaxdamp's) k_Re, k_Im are a linear interpolation, not a computed loop. Compare with HBM-AFT.
-    fn = jax.jit(lambda s, m, a: _hbm_aft(s, m, CONTACTS, LOAD, a, n_time=2048, n_periods=8))
+    fn = jax.jit(lambda s, m, a: hbm_aft_kernel(s, m, CONTACTS, LOAD, a, n_time=2048, n_periods=8))
     for key, case in res["cases"].items():
         name, mu = key.split("@")
         ex = case["exact"]

@@ -5,9 +5,9 @@ stiff tangential springs, back-slide, cycle closure, coarse steps that miss a tr
 the direct method and the conventional ones at typical settings:
 
     direct            jd.base_cycle + five numbers
-    time marching     jaxdamp.timemarch, N = 2000 steps per half-cycle, 10 pairs of halves
-    HBM-AFT           jaxdamp.hbm at psi_BC, Nt = 256 samples per period, 3 periods
-    tanh-regularised  jaxdamp.regularized at psi_BC, eps = 1e-3, Nt = 256, 8 periods (its creep
+    time marching     jaxdamp.baselines.timemarch, N = 2000 steps per half-cycle, 10 pairs of halves
+    HBM-AFT           jaxdamp.baselines.hbm at psi_BC, Nt = 256 samples per period, 3 periods
+    tanh-regularised  jaxdamp.baselines.regularized at psi_BC, eps = 1e-3, Nt = 256, 8 periods (its creep
                       transient needs more than 3)
 (the "coarse" rows use N = 20 or 50 and Nt = 16 instead).
 
@@ -40,10 +40,10 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.cycle import _base_cycle  # noqa: E402
-from jaxdamp.hbm import _hbm_aft  # noqa: E402
-from jaxdamp.regularized import _regularized_aft  # noqa: E402
-from jaxdamp.timemarch import _time_march  # noqa: E402
+from jaxdamp.cycle import base_cycle_kernel  # noqa: E402
+from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
+from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
+from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 FIVE = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
@@ -106,7 +106,7 @@ def _stack(cases):
 
 def direct_batch(cases) -> dict:
     shape, mu, contacts = _stack(cases)
-    bc = jax.vmap(lambda s, m, c: _base_cycle(s, m, c, LOAD))(shape, mu, contacts)
+    bc = jax.vmap(lambda s, m, c: base_cycle_kernel(s, m, c, LOAD))(shape, mu, contacts)
     five = np.array(jax.vmap(jd.five_numbers)(bc)).T
     span = np.maximum(np.asarray(bc.forward.span), np.asarray(bc.backward.span))
     return dict(five=five, span=span, liftoff=np.asarray(bc.liftoff), failed=np.asarray(bc.failed),
@@ -122,7 +122,7 @@ def reference_batch(cases, direct, n1=4000, n2=8000, max_pairs=12) -> dict:
     direct span; S = 1 mm where the direct method reports liftoff). Returns both runs and h."""
     shape, mu, contacts = _stack(cases)
     span = np.where(direct["liftoff"] | ~(direct["span"] > 0), 1.0, direct["span"])
-    run = jax.vmap(lambda s, m, c, h: _time_march(s, m, c, LOAD, h, n_steps=int(n2 * 1.02) + 4,
+    run = jax.vmap(lambda s, m, c, h: time_march_kernel(s, m, c, LOAD, h, n_steps=int(n2 * 1.02) + 4,
                                                    max_pairs=max_pairs))
     out = {}
     for key, n in (("coarse", n1), ("fine", n2)):
@@ -206,7 +206,7 @@ def _timed(fn, *args):
 
 @jax.jit
 def _direct_one(shape, mu, contacts):
-    return jnp.stack(list(jd.five_numbers(_base_cycle(shape, mu, contacts, LOAD))))
+    return jnp.stack(list(jd.five_numbers(base_cycle_kernel(shape, mu, contacts, LOAD))))
 
 
 def _merge_reference(cases, direct):
@@ -292,9 +292,9 @@ class _Compiled(dict):
         return fn
 
 
-_TM = _Compiled(lambda n: jax.jit(lambda s, m, c, h: _time_march(s, m, c, LOAD, h, n_steps=int(n * 1.02) + 4)))
-_HBM = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: _hbm_aft(s, m, c, LOAD, a, n_time=nt)))
-_REG = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: _regularized_aft(s, m, c, LOAD, a, 1e-3, n_time=nt,
+_TM = _Compiled(lambda n: jax.jit(lambda s, m, c, h: time_march_kernel(s, m, c, LOAD, h, n_steps=int(n * 1.02) + 4)))
+_HBM = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: hbm_aft_kernel(s, m, c, LOAD, a, n_time=nt)))
+_REG = _Compiled(lambda nt: jax.jit(lambda s, m, c, a: regularized_aft_kernel(s, m, c, LOAD, a, 1e-3, n_time=nt,
                                                                          n_periods=8)))
 
 

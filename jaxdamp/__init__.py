@@ -1,23 +1,63 @@
 """jaxdamp: underplatform damper Base-Cycles by the direct piecewise-linear method, in JAX.
 
-Float64 matters here: call `jaxdamp.enable_x64()` (or set JAX_ENABLE_X64=1) before computing.
-Importing the library does not change JAX's global configuration.
+Float64 matters here: call `jaxdamp.enable_x64()` (or set JAX_ENABLE_X64=1) before computing; the
+public entry points refuse to run in float32. Importing the library changes no JAX configuration
+and imports no plotting library. Layers (docs/architecture.md): this package's core modules, then
+`jaxdamp.baselines` and `jaxdamp.paper`, then `jaxdamp.plotting`, then `jaxdamp.cli`.
 """
 
-from .batch import (Designs, DesignSummary, SweepResult, centred_br, evaluate_designs,
-                    stack_designs, sweep)
-from .calibration import (CalibrationResult, CalibrationTargets, calibrate, comparison_table,
-                          paper_targets)
-from .cycle import BaseCycle, HalfCycle, base_cycle, base_cycles, transitions_chart
-from .energy import CycleEnergy, WorkShapeFactors, contact_energies, work_shape_factors
-from .geometry import (CONTACT_NAMES, FAMILY, DamperShape, SectionGeometry, family_shape,
-                       paper_tables, section_geometry)
-from .gradients import (DesignVariables, FiveNumbersJacobian, KImGradient, batch_jacobian,
-                        five_numbers_jacobian, k_im_gradient_at)
-from .harmonics import FiveNumbers, complex_stiffness, cycle_work, five_numbers, moment
-from .params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase
-from .statics import (DesignResult, FullSlipState, FullSlipStatics, design_br, full_slip_state,
-                      full_slip_statics, full_slip_work_shape_factors)
+__version__ = "0.2.0"
+
+from ._validate import Float64Required as Float64Required
+from .batch import DesignSummary as DesignSummary
+from .batch import SweepResult as SweepResult
+from .batch import centred_br as centred_br
+from .batch import evaluate_designs as evaluate_designs
+from .batch import stack_designs as stack_designs
+from .batch import sweep as sweep
+from .cycle import BaseCycle as BaseCycle
+from .cycle import HalfCycle as HalfCycle
+from .cycle import base_cycle as base_cycle
+from .cycle import base_cycle_kernel as base_cycle_kernel
+from .batch import base_cycles as base_cycles
+from .batch import map_batched as map_batched
+from .batch import default_chunk as default_chunk
+from .cycle import transitions_chart as transitions_chart
+from .design import Design as Design
+from .energy import CycleEnergy as CycleEnergy
+from .energy import WorkShapeFactors as WorkShapeFactors
+from .energy import contact_energies as contact_energies
+from .energy import work_shape_factors as work_shape_factors
+from .geometry import CONTACT_NAMES as CONTACT_NAMES
+from .geometry import FAMILY as FAMILY
+from .geometry import DamperShape as DamperShape
+from .geometry import SectionGeometry as SectionGeometry
+from .geometry import family_shape as family_shape
+from .geometry import paper_tables as paper_tables
+from .geometry import section_geometry as section_geometry
+from .gradients import FiveNumbersJacobian as FiveNumbersJacobian
+from .gradients import KImGradient as KImGradient
+from .gradients import batch_jacobian as batch_jacobian
+from .gradients import five_numbers_jacobian as five_numbers_jacobian
+from .gradients import k_im_gradient_at as k_im_gradient_at
+from .harmonics import FiveNumbers as FiveNumbers
+from .harmonics import complex_stiffness as complex_stiffness
+from .harmonics import cycle_work as cycle_work
+from .harmonics import five_numbers as five_numbers
+from .harmonics import moment as moment
+from .params import REFERENCE_KN as REFERENCE_KN
+from .params import REFERENCE_KT as REFERENCE_KT
+from .params import Contacts as Contacts
+from .params import LoadCase as LoadCase
+from .statics import DesignResult as DesignResult
+from .statics import FullSlipState as FullSlipState
+from .statics import FullSlipStatics as FullSlipStatics
+from .statics import design_br as design_br
+from .statics import full_slip_state as full_slip_state
+from .statics import full_slip_statics as full_slip_statics
+from .statics import full_slip_work_shape_factors as full_slip_work_shape_factors
+from .statics import statics_kernel as statics_kernel
+from .status import RESULTS as RESULTS
 
 
 def enable_x64() -> None:
@@ -25,6 +65,3 @@ def enable_x64() -> None:
     import jax
 
     jax.config.update("jax_enable_x64", True)
-
-
-__all__ = [name for name in dir() if not name.startswith("_")]

@@ -6,8 +6,23 @@ reports problems through status flags instead.
 
 from __future__ import annotations
 
+import jax
 import numpy as np
 from jax.core import Tracer
+
+X64_MESSAGE = ("jaxdamp needs float64 (in float32 stick/slip decisions flip and results are wrong): "
+               "call jaxdamp.enable_x64() or jax.config.update('jax_enable_x64', True) before "
+               "computing, or set JAX_ENABLE_X64=1")
+
+
+class Float64Required(RuntimeError):
+    """Raised by the public entry points when JAX runs in float32."""
+
+
+def require_x64() -> None:
+    """A Python-level check, once per public call (costs a config read, no device work)."""
+    if not jax.config.jax_enable_x64:
+        raise Float64Required(X64_MESSAGE)
 
 
 def is_concrete(value) -> bool:
@@ -34,7 +49,8 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
 
 
 def check_positive(name, value, unit=""):
-    check_range(name, value, 0.0, np.inf, lo_open=True, hi_open=False, unit=unit)
+    """0 < value < inf (a positive, finite number)."""
+    check_range(name, value, 0.0, np.inf, lo_open=True, hi_open=True, unit=unit)
 
 
 def check_int(name, value, lo):

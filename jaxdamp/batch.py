@@ -19,32 +19,17 @@ import jax.numpy as jnp
 import numpy as np
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-from .cycle import MAX_PAIRS, MAX_TRACTS, _base_cycle
+from ._validate import require_x64
+from .cycle import MAX_PAIRS, BaseCycle, base_cycle_kernel
+from .design import Design
 from .energy import work_shape_factors
 from .geometry import DamperShape, validate_shape
 from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .statics import _design_br
+from .statics import design_br_kernel
 
 AXIS = "designs"
-DEFAULT_CHUNK = 1024  # designs per device per compiled call: the fastest measured on 2 host
-# devices, within noise of the best on one (benchmarks/results/batch.json, "chunk_sweep")
 MIN_BATCH = 16  # smallest compiled batch: small batches are padded up to it
-
-
-class Designs(NamedTuple):
-    """A batch of designs: every leaf has the batch as its leading axis (per-contact kn, kt: (n, 3)).
-
-    `jax.vmap(jaxdamp.base_cycle)(*designs)` gives their Base-Cycles."""
-
-    shape: DamperShape
-    mu: jnp.ndarray
-    contacts: Contacts
-    load: LoadCase
-
-    @property
-    def size(self) -> int:
-        return int(np.shape(self.mu)[0])
 
 
 class DesignSummary(NamedTuple):
@@ -64,6 +49,7 @@ class DesignSummary(NamedTuple):
     liftoff: np.ndarray
     failed: np.ndarray
     half_cycles: np.ndarray
+    status: np.ndarray  # jaxdamp.RESULTS codes
 
 
 def _rows(name, value, n, per_contact):
@@ -83,7 +69,7 @@ def _batch_len(name, value, sizes):
 
 
 def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts(),
-                  load: LoadCase | Sequence[LoadCase] = LoadCase()) -> Designs:
+                  load: LoadCase | Sequence[LoadCase] = LoadCase()) -> Design:
     """Turn designs into one batched pytree.
 
     shapes: a sequence of DamperShape, or one DamperShape whose fields are arrays (n,) or scalars.
@@ -134,7 +120,7 @@ def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts
                           for f, v in zip(DamperShape._fields, shape)))
     per_contact = lambda k: k.ndim == (2 if per_design_k else 1)  # noqa: E731
     contacts = Contacts(_rows("kn", kn, n, per_contact(kn)), _rows("kt", kt, n, per_contact(kt)))
-    designs = Designs(shape, _rows("mu", mu, n, False), contacts,
+    designs = Design(shape, _rows("mu", mu, n, False), contacts,
                       LoadCase(*(_rows(f, v, n, False) for f, v in zip(LoadCase._fields, load))))
     validate_shape(designs.shape)
     validate_mu(designs.mu)
@@ -143,76 +129,187 @@ def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts
     return designs
 
 
-def _take(tree, idx):
+def take(tree, idx):
+    """Rows idx of every leaf of a batched pytree (numpy; None leaves stay None)."""
     return jax.tree_util.tree_map(lambda x: None if x is None else np.asarray(x)[idx], tree)
 
 
 def device_mesh(devices=None) -> Mesh:
-    """A 1-D mesh over `devices` (default: all of `jax.devices()`) with the batch axis "designs"."""
+    """A 1-D mesh over `devices` (default: all of `jax.devices()`, every process's under
+    `jax.distributed`) with the batch axis "designs"."""
     devices = jax.devices() if devices is None else list(devices)
     return Mesh(np.array(devices), (AXIS,))
 
 
-def _summary_one(shape, mu, contacts, load, max_pairs):
-    bc = _base_cycle(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=max_pairs)
-    nums = five_numbers(bc)
-    w = work_shape_factors(bc)
-    return DesignSummary(*nums, *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles)
+def shard(batched, mesh: Mesh):
+    """Place a batched pytree on the mesh, split along its leading axis (a multiple of the mesh
+    size) by a NamedSharding: what `map_batched` does with every chunk."""
+    return jax.device_put(batched, NamedSharding(mesh, PartitionSpec(AXIS)))
 
 
-@partial(jax.jit, static_argnames=("max_pairs",))
-def _summaries(designs: Designs, max_pairs: int) -> DesignSummary:
-    run = partial(_summary_one, max_pairs=max_pairs)
-    return jax.vmap(run)(*designs)
+# ---------------------------------------------------------------- the one batching path
+# Designs per device per compiled call, by platform. CPU: the fastest of the committed chunk sweep
+# on 2 host devices (benchmarks/results/batch.json, "chunk_sweep"); larger chunks only add memory.
+# GPU: a GPU idles between small calls; 131072 per device measured 26x the throughput of 1024 on
+# one H100 (issue 18), and the chunk is further bounded by free device memory (`default_chunk`).
+CHUNK_BY_PLATFORM = {"cpu": 1024, "gpu": 131072, "cuda": 131072, "rocm": 131072, "tpu": 65536}
+# Device memory one design may use while a chunk runs (inputs, the scan carries of both stages and
+# the outputs are a few kB; 64 kB leaves room for XLA's temporaries), and the share of free memory a
+# chunk may take.
+BYTES_PER_DESIGN = 64 * 1024
+MEMORY_SHARE = 0.5
 
 
-def _padded_size(n, ndev, chunk):
+def default_chunk(platform: str, free_bytes: int | None = None) -> int:
+    """Designs per device per call for a platform ("cpu", "gpu", ...), bounded by free memory (bytes)
+    when it is known: at most MEMORY_SHARE of it at BYTES_PER_DESIGN each, rounded down to a power of
+    two, and never below MIN_BATCH."""
+    chunk = CHUNK_BY_PLATFORM.get(platform, CHUNK_BY_PLATFORM["cpu"])
+    if free_bytes is not None:
+        fit = int(free_bytes * MEMORY_SHARE // BYTES_PER_DESIGN)
+        if fit < chunk:
+            chunk = 1 << max(int(np.log2(max(fit, 1))), 0)
+    return max(chunk, MIN_BATCH)
+
+
+def _free_bytes(device) -> int | None:
+    try:
+        stats = device.memory_stats()
+    except Exception:  # noqa: BLE001 - CPU clients raise or return None: memory is not the bound
+        return None
+    if not stats or "bytes_limit" not in stats:
+        return None
+    return int(stats["bytes_limit"] - stats.get("bytes_in_use", 0))
+
+
+def device_chunk(mesh: Mesh) -> int:
+    """`default_chunk` for the mesh's first device (all devices of a mesh are alike)."""
+    dev = mesh.devices.flat[0]
+    return default_chunk(dev.platform, _free_bytes(dev))
+
+
+def bucket_size(n: int, ndev: int, chunk: int) -> int:
     """Batch size actually compiled: chunk designs per device for large batches; for small ones the
-    next power of two, at least MIN_BATCH (few programs for many sizes); a multiple of ndev."""
+    next power of two, at least MIN_BATCH, so that many batch sizes share a few compiled programs;
+    always a multiple of ndev."""
     small = max(MIN_BATCH, 1 << int(np.ceil(np.log2(max(n, 1)))))
     size = min(chunk * ndev, small)
     return -(-size // ndev) * ndev
 
 
-def _run_sharded(designs: Designs, mesh: Mesh, chunk: int, max_pairs: int) -> DesignSummary:
-    """Evaluate in chunks; each chunk is padded (with copies of its first design) and sharded over
-    the mesh. All chunks are dispatched before any result is read, so host and devices overlap."""
-    n = designs.size
-    size = _padded_size(n, mesh.devices.size, chunk)
-    sharding = NamedSharding(mesh, PartitionSpec(AXIS))
+_COMPILED: dict = {}
+
+
+def _compiled(fn, in_axes):
+    key = (fn, in_axes)
+    if key not in _COMPILED:
+        _COMPILED[key] = jax.jit(jax.vmap(fn, in_axes=in_axes))
+    return _COMPILED[key]
+
+
+def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = None,
+                progress=None):
+    """fn(item, *shared) over the leading axis of the pytree `batched`: numpy pytree out.
+
+    The one batching path of jaxdamp (Base-Cycles, summaries, sweeps, Jacobians, the optimiser):
+    the batch is cut into chunks of chunk_size designs per device (default: `default_chunk` for the
+    platform and its free memory), each padded with copies of its first item to a bucket size
+    (`bucket_size`) so that jit does not recompile per batch size, and sharded along its leading
+    axis over the devices of `device_mesh(devices)` with a NamedSharding. All chunks are dispatched
+    before any result is read, so host and devices overlap. `fn` must be a stable (module-level)
+    function: its jit(vmap) is cached by identity. progress(k) is called after each chunk is read.
+    """
+    if chunk_size is not None and (isinstance(chunk_size, bool) or int(chunk_size) < 1):
+        raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}")
+    leaves = [x for x in jax.tree_util.tree_leaves(batched)]
+    n = int(np.shape(leaves[0])[0])
+    mesh = device_mesh(devices)
+    ndev = mesh.devices.size
+    chunk = device_chunk(mesh) if chunk_size is None else int(chunk_size)
+    size = bucket_size(n, ndev, chunk)
+    run = _compiled(fn, (0,) + (None,) * len(shared))
     pending = []
     for start in range(0, n, size):
         idx = np.arange(start, min(start + size, n))
         count = idx.size
         idx = np.concatenate([idx, np.full(size - count, idx[0])])
-        pending.append((count, _summaries(jax.device_put(_take(designs, idx), sharding), max_pairs)))
-    parts = [jax.tree_util.tree_map(lambda x, k=count: np.asarray(x)[:k], out) for count, out in pending]
-    return DesignSummary(*(np.concatenate(xs) for xs in zip(*parts)))
+        pending.append((count, run(shard(take(batched, idx), mesh), *shared)))
+    parts = []
+    for count, out in pending:
+        parts.append(jax.tree_util.tree_map(lambda x, k=count: np.asarray(x)[:k], out))
+        if progress is not None:
+            progress(count)
+    return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, 0), *parts)
 
 
-def evaluate_designs(designs: Designs, *, devices=None, chunk_size: int = DEFAULT_CHUNK,
-                     max_pairs: int = MAX_PAIRS) -> DesignSummary:
-    """Five numbers, work shape factors and flags of every design in the batch (numpy arrays).
-
-    The batch is sharded over `devices` (default: all), chunk_size designs per device per call.
-    Two stages, as `jaxdamp.base_cycles`: one forward/backward pair for every design, then the full
-    iteration only for the designs whose cycle did not close in one pair (under vmap every design
-    would otherwise pay for the longest iteration). The results equal `base_cycle` design by design
-    (see tests/test_batch.py for the one known exception at rounding level, k_Re,BC).
-    """
-    if not isinstance(designs, Designs):
-        raise ValueError("designs must be a Designs batch (see jaxdamp.stack_designs)")
-    if chunk_size < 1:
-        raise ValueError(f"chunk_size must be >= 1; got {chunk_size}")
-    mesh = device_mesh(devices)
-    out = _run_sharded(designs, mesh, chunk_size, 1)
-    again = np.nonzero(~(out.converged | out.liftoff | out.failed))[0]
-    if max_pairs > 1 and again.size:
-        rerun = _run_sharded(_take(designs, again), mesh, chunk_size, max_pairs)
-        out = DesignSummary(*(np.array(a) for a in out))
-        for a, b in zip(out, rerun):
-            a[again] = b
+def two_stage(fast, full, batched, *shared, unfinished, **kwargs):
+    """map_batched(fast) for every item, then map_batched(full) only where unfinished(result) is
+    True. Under vmap every design pays for the slowest: a frozen mechanism needs several pairs of
+    half-cycles, almost every other design one, so the second stage runs the long iteration only
+    for the few that need it."""
+    out = map_batched(fast, batched, *shared, **kwargs)
+    again = np.nonzero(unfinished(out))[0]
+    if again.size == 0:
+        return out
+    rerun = map_batched(full, take(batched, again), *shared, **kwargs)
+    out = jax.tree_util.tree_map(np.array, out)
+    for a, b in zip(jax.tree_util.tree_leaves(out), jax.tree_util.tree_leaves(rerun)):
+        a[again] = b
     return out
+
+
+def _not_closed(r) -> np.ndarray:
+    return ~(np.asarray(r.converged) | np.asarray(r.liftoff) | np.asarray(r.failed))
+
+
+def _cycle_one_pair(design: Design):
+    return base_cycle_kernel(*design, max_pairs=1)
+
+
+def _cycle_full(design: Design):
+    return base_cycle_kernel(*design)
+
+
+def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(), *,
+                devices=None, chunk_size: int | None = None) -> BaseCycle:
+    """Base-Cycles of a batch of designs (a batched Design, or shapes/mu/contacts/load whose leaves
+    have a leading batch axis or are shared scalars). The same numbers as calling `base_cycle`
+    design by design; numpy leaves."""
+    designs = shapes if isinstance(shapes, Design) else stack_designs(shapes, mu, contacts, load)
+    return two_stage(_cycle_one_pair, _cycle_full, designs, unfinished=_not_closed,
+                     devices=devices, chunk_size=chunk_size)
+
+
+def summary_kernel(design: Design, max_pairs: int = MAX_PAIRS) -> DesignSummary:
+    """Five numbers, work shape factors and status of one prepared Design (traceable)."""
+    bc = base_cycle_kernel(*design, max_pairs=max_pairs)
+    nums = five_numbers(bc)
+    w = work_shape_factors(bc)
+    return DesignSummary(*nums, *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)
+
+
+def _summary_one_pair(design: Design) -> DesignSummary:
+    return summary_kernel(design, 1)
+
+
+def _summary_full(design: Design) -> DesignSummary:
+    return summary_kernel(design, MAX_PAIRS)
+
+
+def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = None,
+                     progress=None) -> DesignSummary:
+    """Five numbers, work shape factors and status of every design in the batch (numpy arrays).
+
+    Sharded over `devices` (default: all, every process's under jax.distributed), chunk_size
+    designs per device per call (default: per platform, see `default_chunk`), in two stages
+    (`two_stage`). The results equal `base_cycle` design by design (see tests/test_batch.py for the
+    one known exception at rounding level, k_Re,BC).
+    """
+    require_x64()
+    if not isinstance(designs, Design):
+        raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
+    return two_stage(_summary_one_pair, _summary_full, designs, unfinished=_not_closed,
+                     devices=devices, chunk_size=chunk_size, progress=progress)
 
 
 # ---------------------------------------------------------------- sweep
@@ -241,7 +338,7 @@ class SweepResult(NamedTuple):
 @jax.jit
 def _centring(theta_l, theta_r, bl2_over_hl, mu_max):
     def one(tl, tr):
-        return _design_br(DamperShape(tl, tr, 0.0, bl2_over_hl), mu_max, -0.45, 0.45)
+        return design_br_kernel(DamperShape(tl, tr, 0.0, bl2_over_hl), mu_max, -0.45, 0.45)
 
     return jax.vmap(one)(theta_l, theta_r)
 
@@ -258,7 +355,7 @@ def centred_br(theta_l, theta_r, mu_max=0.7, bl2_over_hl=0.8):
 
 def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_hl=0.8,
           contacts: Contacts = Contacts(), load: LoadCase = LoadCase(), devices=None,
-          chunk_size: int = DEFAULT_CHUNK) -> SweepResult:
+          chunk_size: int | None = None, progress=None) -> SweepResult:
     """Evaluate every (mu, theta_l, theta_r) of a grid.
 
     br_over_hr: a number (fixed b_R/h_R) or "centred": the paper's rule, which puts the left resultant
@@ -287,7 +384,7 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
     grid = lambda a: np.broadcast_to(a, (mus.size,) + L.shape).ravel()  # noqa: E731
     shape = DamperShape(grid(L), grid(R), grid(np.clip(br, -0.5, 0.5)), bl2_over_hl)
     designs = stack_designs(shape, grid(mus[:, None, None]), contacts, load)
-    out = evaluate_designs(designs, devices=devices, chunk_size=chunk_size)
+    out = evaluate_designs(designs, devices=devices, chunk_size=chunk_size, progress=progress)
     out = DesignSummary(*(a.reshape((mus.size,) + L.shape) for a in out))
     return SweepResult(tl, tr, mus, br, found, inside, mu_max, float(bl2_over_hl),
                        float(contacts.kn), float(contacts.kt), out)
@@ -311,7 +408,7 @@ def cmd_sweep(args):
     from pathlib import Path
 
     from .cli import emit
-    from .sweep_plot import write_sweep
+    from .plotting.sweep import write_sweep
 
     br = args.br if args.br in ("centred", "centered") else None
     if br is None:

@@ -12,9 +12,12 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from .design import Design, as_design
 from .geometry import DamperShape
+from .status import RESULTS, ok_status
 from .params import Contacts, LoadCase, prepare_inputs
-from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
+from .conventions import PLATFORM_MOTION, START_FRICTION_SIGNS
+from .statics import contact_columns, full_slip_state
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     make_mechanics, next_event)
 
@@ -45,10 +48,8 @@ class HalfCycle(NamedTuple):
 
 def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mechanics:
     a, c, geo = contact_columns(shape)
-    # Platform motion per unit dv: R1 moves with the right platform, vertically.
-    w = jnp.array([1.0, 0.0, 0.0])
-    nw = geo.normals[:, 1] * w
-    tw = geo.tangents[:, 1] * w
+    nw = geo.normals[:, 1] * PLATFORM_MOTION
+    tw = geo.tangents[:, 1] * PLATFORM_MOTION
     kn, kt = contacts.per_contact()
     return make_mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, mu)
 
@@ -124,10 +125,14 @@ class BaseCycle(NamedTuple):
     liftoff: jnp.ndarray
     failed: jnp.ndarray
     half_cycles: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the same facts as booleans
 
 
 @partial(jax.jit, static_argnames=("max_tracts", "max_pairs"))
-def _base_cycle(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS):
+def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS):
+    """The jit-compiled Base-Cycle without input checks: for use inside your own jit/vmap/grad
+    (inputs as float arrays; kn, kt per contact (3,) or shared). `base_cycle` is the checked form.
+    """
     mech = mechanics(shape, mu, contacts, load)
     start = full_slip_state(shape, mech.mu, START_FRICTION_SIGNS)
     liftoff0 = (start.min_normal <= 0.0) | ~start.solvable
@@ -156,8 +161,12 @@ def _base_cycle(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_
     (_, _, conv, _, fwd, bwd, nhalf, _), _ = jax.lax.scan(pair, init, jnp.arange(max_pairs))
     liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
     failed = ~liftoff0 & (fwd.failed | bwd.failed)
-    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, conv & ~liftoff, liftoff, failed,
-                     nhalf)
+    converged = conv & ~liftoff
+    status = RESULTS.promote(ok_status(), liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, failed, RESULTS.singular)
+    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
+    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
+                     status)
 
 
 def _aitken(mech: Mechanics, s0, s1, s2, have_history):
@@ -182,18 +191,18 @@ def _aitken(mech: Mechanics, s0, s1, s2, have_history):
     return jnp.where(ok & admissible, guess, s2)
 
 
-def base_cycle(shape: DamperShape, mu, contacts: Contacts = Contacts(),
+def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contacts(),
                load: LoadCase = LoadCase(), *, max_tracts: int = MAX_TRACTS,
                max_pairs: int = MAX_PAIRS) -> BaseCycle:
     """The damper's periodic Base-Cycle by the direct piecewise-linear method (jit-compiled).
 
+    shape: a DamperShape (then mu is required) or a whole Design.
     mu: friction coefficient (> 0). contacts: kn, kt in N/mm. load: F_D (N), q* (mm), r sin(beta) (mm).
     Liftoff, non-convergence and singular states are reported in the result's flags, never as NaN.
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
-    return _base_cycle(shape, mu, contacts, load, max_tracts=max_tracts,
-                       max_pairs=max_pairs)
+    shape, mu, contacts, load = prepare_inputs(*as_design(shape, mu, contacts, load))
+    return base_cycle_kernel(shape, mu, contacts, load, max_tracts=max_tracts, max_pairs=max_pairs)
 
 
 def _letters():
@@ -234,38 +243,3 @@ def transitions_chart(bc: BaseCycle) -> list[dict]:
             if label == "forward":
                 names[k] = f"{end}2"
     return rows
-
-
-def base_cycles(shapes: DamperShape, mu, contacts: Contacts = Contacts(),
-                load: LoadCase = LoadCase(), *, max_tracts: int = MAX_TRACTS,
-                max_pairs: int = MAX_PAIRS) -> BaseCycle:
-    """Base-Cycles of a batch of designs (every leaf with a leading batch axis, or a scalar shared
-    by all), in two stages: one forward/backward pair for every design, then the full iteration
-    only for the designs whose cycle did not close in one pair (frozen mechanisms at vertical
-    flanks). Under plain `vmap` every design would pay for the longest iteration.
-
-    Returns a batched BaseCycle; the same numbers as calling `base_cycle` design by design.
-    """
-    import numpy as np
-
-    args = (shapes, mu, contacts, load)
-    size = max(int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0)
-    batched = jax.tree_util.tree_map(
-        lambda x: jnp.broadcast_to(jnp.asarray(x, float), (size,) + jnp.shape(x)[
-            1 if np.ndim(x) and np.shape(x)[0] == size else 0:]), args)
-    first = _batched(*batched, max_tracts, 1)
-    again = np.nonzero(~np.asarray(first.converged | first.liftoff | first.failed))[0]
-    if max_pairs == 1 or again.size == 0:
-        return first
-    # Pad the re-run to a power of two so that repeated calls reuse a few compiled programs.
-    pad = 1 << int(np.ceil(np.log2(again.size)))
-    idx = np.concatenate([again, np.full(pad - again.size, again[0])])
-    sub = jax.tree_util.tree_map(lambda x: x[idx], batched)
-    rerun = _batched(*sub, max_tracts, max_pairs)
-    return jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first, rerun)
-
-
-@partial(jax.jit, static_argnames=("max_tracts", "max_pairs"))
-def _batched(shapes, mu, contacts, load, max_tracts, max_pairs):
-    run = partial(_base_cycle, max_tracts=max_tracts, max_pairs=max_pairs)
-    return jax.vmap(run)(shapes, mu, contacts, load)

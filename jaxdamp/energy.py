@@ -7,6 +7,7 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .harmonics import base_cycle_amplitude, moment
 from .statics import full_slip_work_shape_factors
@@ -34,7 +35,7 @@ def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
 
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else jnp.maximum(
         psi_a_mrad, base_cycle_amplitude(bc))
-    total = 2.0 * psi * bc.load.q_star / 1e3
+    total = 2.0 * travel_mm(psi, bc.load.q_star)
     w = _half_energy(bc.forward, total, bc.load.F_D) + _half_energy(bc.backward, total, bc.load.F_D)
     return CycleEnergy(w, cycle_work(bc, psi))
 
@@ -57,8 +58,7 @@ def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
     w = -2.0 * (f.T_end * f.gross_dslip + b.T_end * b.gross_dslip)
     m_f = moment(bc, f.N_end, f.T_end)
     m_b = moment(bc, b.N_end, b.T_end)
-    arm = bc.load.q_star / 2.0 + bc.load.r_sin_beta
-    w_m = jnp.abs(m_b - m_f) / (bc.load.F_D * arm)
+    w_m = jnp.abs(m_b - m_f) / (bc.load.F_D * platform_arm(bc.load.q_star, bc.load.r_sin_beta))
     return WorkShapeFactors(w[0], w[1], w[2], w_m)
 
 

@@ -15,7 +15,7 @@ import jax.numpy as jnp
 
 from ._validate import check_range
 
-CONTACT_NAMES = ("R1", "L1", "L2")
+from .conventions import CONTACT_NAMES as CONTACT_NAMES  # noqa: E402  (re-exported)
 FAMILY = ("90L", "74L", "60sym", "74R", "90R")
 
 

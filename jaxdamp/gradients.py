@@ -3,8 +3,9 @@ differentiation through the jit-compiled direct solver, in forward (`jax.jacfwd`
 (`jax.jacrev`) mode. `outputs` is the pure function behind them: use it with `jax.grad`, `jax.vmap`
 or your own jit (benchmarks/bench_batch.py times jax.grad of one output through it).
 
-Design variables: theta_l, theta_r (per degree), br_over_hr, bl2_over_hl, mu, kn and kt (per N/mm;
-kn, kt shared by R1, L1, L2 when scalar, per contact when given as (3,) arrays). Units of the
+Derivatives are taken with respect to a whole `Design` and come back as Designs: theta_l, theta_r
+(per degree), br_over_hr, bl2_over_hl, mu, kn and kt (per N/mm; kn, kt shared by R1, L1, L2 when
+scalar, per contact when given as (3,) arrays) and the load (F_D per N, ...). Units of the
 outputs: psi in mrad, k in N mm/mrad (see `jaxdamp --help`).
 
 Within a fixed transition sequence the Base-Cycle is a smooth function of the design: every event
@@ -27,25 +28,25 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .cycle import _base_cycle
-from .geometry import DamperShape, validate_shape
+from ._validate import check_range
+from .batch import map_batched
+from .cycle import base_cycle_kernel
+from .design import Design, as_design
+from .geometry import DamperShape
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .params import Contacts, LoadCase, prepare_inputs
 
+# The design variables that a derivative reports, with the Design field each one lives in.
 PARAMETERS = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "mu", "kn", "kt")
 MODES = ("fwd", "rev")
 
 
-class DesignVariables(NamedTuple):
-    """The differentiable inputs of a Base-Cycle (a pytree; also the structure of every gradient)."""
-
-    theta_l: jnp.ndarray  # deg
-    theta_r: jnp.ndarray  # deg
-    br_over_hr: jnp.ndarray
-    bl2_over_hl: jnp.ndarray
-    mu: jnp.ndarray
-    kn: jnp.ndarray  # N/mm, scalar or (3,) for (R1, L1, L2)
-    kt: jnp.ndarray  # N/mm
+def by_name(d: Design) -> dict:
+    """A Design of derivatives as {parameter: value} over PARAMETERS plus F_D, q_star, r_sin_beta."""
+    return {"theta_l": d.shape.theta_l, "theta_r": d.shape.theta_r,
+            "br_over_hr": d.shape.br_over_hr, "bl2_over_hl": d.shape.bl2_over_hl, "mu": d.mu,
+            "kn": d.contacts.kn, "kt": d.contacts.kt, "F_D": d.load.F_D, "q_star": d.load.q_star,
+            "r_sin_beta": d.load.r_sin_beta}
 
 
 class Outputs(NamedTuple):
@@ -63,54 +64,46 @@ class Flags(NamedTuple):
     converged: jnp.ndarray
     liftoff: jnp.ndarray
     failed: jnp.ndarray
+    status: jnp.ndarray
 
 
 class FiveNumbersJacobian(NamedTuple):
-    """values: the five numbers. d: FiveNumbers whose fields are DesignVariables of derivatives,
-    e.g. d.psi_bc.theta_l = d psi_BC / d theta_L in mrad per degree."""
+    """values: the five numbers. d: FiveNumbers whose fields are Designs of derivatives,
+    e.g. d.psi_bc.shape.theta_l = d psi_BC / d theta_L in mrad per degree (`by_name` flattens)."""
 
     values: FiveNumbers
     d: FiveNumbers
     converged: jnp.ndarray
     liftoff: jnp.ndarray
     failed: jnp.ndarray
+    status: jnp.ndarray
 
 
 class KImGradient(NamedTuple):
-    """k_Im at psi_a (N mm/mrad) and its derivatives d (DesignVariables)."""
+    """k_Im at psi_a (N mm/mrad) and its derivatives d (a Design)."""
 
     psi_a: jnp.ndarray
     k_im: jnp.ndarray
-    d: DesignVariables
+    d: Design
     converged: jnp.ndarray
     liftoff: jnp.ndarray
     failed: jnp.ndarray
+    status: jnp.ndarray
 
 
-def design_variables(shape: DamperShape, mu, contacts: Contacts = Contacts()) -> DesignVariables:
-    """The design variables of (shape, mu, contacts) as float arrays."""
-    f = lambda v: jnp.asarray(v, float)  # noqa: E731
-    return DesignVariables(f(shape.theta_l), f(shape.theta_r), f(shape.br_over_hr),
-                           f(shape.bl2_over_hl), f(mu), f(contacts.kn), f(contacts.kt))
-
-
-def outputs(dv: DesignVariables, psi_a=0.0, load: LoadCase = LoadCase(), x_d=None):
-    """Pure, traceable: (Outputs, Flags) of one design. Use inside your own jit/vmap/grad.
-
-    x_d (centre of mass, held fixed, not differentiated) is None for the triangle's centroid.
-    """
-    shape = DamperShape(dv.theta_l, dv.theta_r, dv.br_over_hr, dv.bl2_over_hl, x_d)
-    load = LoadCase(*(jnp.asarray(v, float) for v in load))
-    bc = _base_cycle(shape, dv.mu, Contacts(dv.kn, dv.kt), load)
+def outputs(design: Design, psi_a=0.0):
+    """Pure, traceable: (Outputs, Flags) of one prepared Design. Use inside your own
+    jit/vmap/grad; psi_a in mrad."""
+    bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
     _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float))
-    return Outputs(*nums, k_im), Flags(bc.converged, bc.liftoff, bc.failed)
+    return Outputs(*nums, k_im), Flags(bc.converged, bc.liftoff, bc.failed, bc.status)
 
 
 # Compiled once per mode and reused by every call (and by the tests): the five numbers and k_Im(psi_a)
 # share one program, so asking for either costs the same compile.
-def _with_values(dv, psi_a, load, x_d):
-    out, flags = outputs(dv, psi_a, load, x_d)
+def _with_values(design, psi_a):
+    out, flags = outputs(design, psi_a)
     return out, (out, flags)
 
 
@@ -119,61 +112,63 @@ _jacobian = {"fwd": jax.jit(jax.jacfwd(_with_values, has_aux=True)),
              "rev": jax.jit(jax.jacrev(_with_values, has_aux=True))}
 
 
-def _checked(shape, mu, contacts, load, mode):
-    """Validated design variables with kn, kt always per contact (3,): one compiled program serves
-    shared and per-contact stiffness (a shared value's derivative is the sum over contacts)."""
+def _jac_fwd(design, psi_a):
+    return _jacobian["fwd"](design, psi_a)
+
+
+def _jac_rev(design, psi_a):
+    return _jacobian["rev"](design, psi_a)
+
+
+_BATCHED = {"fwd": _jac_fwd, "rev": _jac_rev}
+
+
+def _check_mode(mode):
     if mode not in MODES:
         raise ValueError(f"mode must be one of {', '.join(MODES)}; got {mode!r}")
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    x_d = None if shape.x_d is None else jnp.asarray(shape.x_d, float)
-    dv = design_variables(shape, mu, contacts)
-    if dv.kn.shape not in ((), (3,)) or dv.kt.shape not in ((), (3,)):
-        raise ValueError("kn and kt must be scalars or per-contact arrays of shape (3,)")
-    return dv._replace(kn=jnp.broadcast_to(dv.kn, (3,)), kt=jnp.broadcast_to(dv.kt, (3,))), x_d
-
-
-def _collapse(d: DesignVariables, kn_shared: bool, kt_shared: bool) -> DesignVariables:
-    """Sum per-contact stiffness derivatives (last axis) for stiffness given as one shared value."""
-    return d._replace(kn=jnp.sum(d.kn, axis=-1) if kn_shared else d.kn,
-                      kt=jnp.sum(d.kt, axis=-1) if kt_shared else d.kt)
-
-
-def evaluate(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
-             psi_a_mrad=0.0) -> tuple[Outputs, Flags]:
-    """The differentiated outputs and flags of one design (the same program the gradients trace)."""
-    dv, x_d = _checked(shape, mu, contacts, load, "fwd")
-    _check_psi_a(psi_a_mrad)
-    return _value(dv, jnp.asarray(psi_a_mrad, float), load, x_d)
 
 
 def _check_psi_a(psi_a_mrad):
-    from ._validate import check_range
-
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e9, unit="mrad")
 
 
+def _collapse(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
+    """Sum per-contact stiffness derivatives (last axis) for stiffness given as one shared value."""
+    kn, kt = d.contacts
+    return d._replace(contacts=Contacts(jnp.sum(kn, axis=-1) if kn_shared else kn,
+                                        jnp.sum(kt, axis=-1) if kt_shared else kt))
+
+
+def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
+             psi_a_mrad=0.0) -> tuple[Outputs, Flags]:
+    """The differentiated outputs and flags of one design (the same program the gradients trace)."""
+    design = Design(*prepare_inputs(*as_design(shape, mu, contacts, load)))
+    _check_psi_a(psi_a_mrad)
+    return _value(design, jnp.asarray(psi_a_mrad, float))
+
+
 def _jac(shape, mu, contacts, load, psi_a, mode):
-    dv, x_d = _checked(shape, mu, contacts, load, mode)
+    _check_mode(mode)
+    given = as_design(shape, mu, contacts, load)
+    design = Design(*prepare_inputs(*given))
     _check_psi_a(psi_a)
-    psi_a = jnp.asarray(psi_a, float)
-    jac, (values, flags) = _jacobian[mode](dv, psi_a, load, x_d)
-    shared = (np.ndim(contacts.kn) == 0, np.ndim(contacts.kt) == 0)
+    jac, (values, flags) = _jacobian[mode](design, jnp.asarray(psi_a, float))
+    shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
     return values, Outputs(*(_collapse(d, *shared) for d in jac)), flags
 
 
-def five_numbers_jacobian(shape: DamperShape, mu, contacts: Contacts = Contacts(),
+def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contacts = Contacts(),
                           load: LoadCase = LoadCase(), mode: str = "fwd") -> FiveNumbersJacobian:
-    """Derivatives of (psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC) with respect to the design
-    variables, by forward ("fwd", jax.jacfwd) or reverse ("rev", jax.jacrev) mode AD."""
+    """Derivatives of (psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC) with respect to every leaf of the
+    Design (angles per degree, kn/kt per N/mm, F_D per N, ...), by forward ("fwd", jax.jacfwd) or
+    reverse ("rev", jax.jacrev) mode AD."""
     values, jac, flags = _jac(shape, mu, contacts, load, 0.0, mode)
     return FiveNumbersJacobian(FiveNumbers(*values[:5]), FiveNumbers(*jac[:5]), *flags)
 
 
-def k_im_gradient_at(psi_a_mrad, shape: DamperShape, mu, contacts: Contacts = Contacts(),
-                     load: LoadCase = LoadCase(), mode: str = "fwd") -> KImGradient:
+def k_im_gradient_at(psi_a_mrad, shape: DamperShape | Design, mu=None,
+                     contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
+                     mode: str = "fwd") -> KImGradient:
     """k_Im (N mm/mrad) at platform rotation amplitude psi_a (mrad) and its derivatives.
 
     Below psi_BC this is the paper's linear microslip interpolation (zero below psi_fs), above it
@@ -182,29 +177,23 @@ def k_im_gradient_at(psi_a_mrad, shape: DamperShape, mu, contacts: Contacts = Co
     return KImGradient(jnp.asarray(psi_a_mrad, float), values.k_im_at, jac.k_im_at, *flags)
 
 
-_batched = {mode: jax.jit(jax.vmap(_jacobian[mode], in_axes=(0, None, None, None))) for mode in MODES}
-
-
-def batch_jacobian(dv: DesignVariables, psi_a=0.0, load: LoadCase = LoadCase(), mode: str = "fwd"):
-    """Jacobians of a batch of designs under vmap: every field of dv has a leading batch axis
-    (kn, kt: (n,) or (n, 3)); psi_a (mrad) and load are shared. Returns (jacobian, (values, flags))
-    with Outputs-of-DesignVariables structure and a leading batch axis on every leaf."""
-    if mode not in MODES:
-        raise ValueError(f"mode must be one of {', '.join(MODES)}; got {mode!r}")
-    dv = DesignVariables(*(jnp.asarray(v, float) for v in dv))
-    n = {int(v.shape[0]) for v in dv if v.ndim}
-    if len(n) != 1 or any(v.ndim == 0 for v in dv):
-        raise ValueError("every design variable needs the same leading batch axis")
-    shared = (dv.kn.ndim == 1, dv.kt.ndim == 1)
-    size = n.pop()
-    dv = dv._replace(kn=jnp.broadcast_to(dv.kn.reshape(size, -1), (size, 3)),
-                     kt=jnp.broadcast_to(dv.kt.reshape(size, -1), (size, 3)))
-    validate_shape(DamperShape(*dv[:4]))
-    validate_mu(dv.mu)
-    validate_contacts(Contacts(dv.kn, dv.kt))
-    validate_load(load)
+def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=None,
+                   chunk_size: int | None = None, progress=None):
+    """Jacobians of a batch of designs (a batched Design, e.g. from `jaxdamp.stack_designs`)
+    through the one batching path (`jaxdamp.map_batched`): psi_a (mrad) is shared. Returns
+    (jacobian, (values, flags)) with Outputs-of-Design structure and a leading batch axis on every
+    leaf (numpy)."""
+    _check_mode(mode)
+    if not isinstance(designs, Design):
+        raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
+    shared = (np.ndim(designs.contacts.kn) == 1, np.ndim(designs.contacts.kt) == 1)
+    n = int(np.shape(designs.mu)[0])
+    prepared = Design(*prepare_inputs(*designs))
+    prepared = prepared._replace(contacts=Contacts(
+        *(np.broadcast_to(np.reshape(k, (n, -1)), (n, 3)) for k in prepared.contacts)))
     _check_psi_a(psi_a)
-    jac, aux = _batched[mode](dv, jnp.asarray(psi_a, float), load, None)
+    jac, aux = map_batched(_BATCHED[mode], prepared, jnp.asarray(psi_a, float), devices=devices,
+                           chunk_size=chunk_size, progress=progress)
     return Outputs(*(_collapse(d, *shared) for d in jac)), aux
 
 
@@ -213,11 +202,9 @@ JSON_OUTPUTS = (("psi_bc_mrad", "psi_bc"), ("k_im_bc", "k_im_bc"), ("k_re_bc", "
                 ("psi_fs_mrad", "psi_fs"), ("k_re_fs", "k_re_fs"))
 
 
-def _as_json(d: DesignVariables) -> dict:
-    import numpy as np
-
+def _as_json(d: Design) -> dict:
     out = {}
-    for name, value in d._asdict().items():
+    for name, value in by_name(d).items():
         arr = np.asarray(value, float)
         out[name] = float(arr) if arr.ndim == 0 else [float(v) for v in arr]
     return out

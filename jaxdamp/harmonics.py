@@ -15,6 +15,7 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from .conventions import moment_coefficients, psi_mrad, stiffness_from_fourier, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .geometry import section_geometry
 
@@ -22,17 +23,14 @@ from .geometry import section_geometry
 def _vertical_moment_factor(bc: BaseCycle):
     """Coefficients (per N, per T) of M_P for each contact, in N mm per unit force (units of F_D)."""
     geo = section_geometry(bc.shape)
-    arm = bc.load.q_star / 2.0 + bc.load.r_sin_beta
-    side = jnp.array([1.0, -1.0, -1.0])  # +F_R1,v - F_L,v
-    fn = -geo.normals[:, 1] * side * arm * bc.load.F_D
-    ft = geo.tangents[:, 1] * side * arm * bc.load.F_D
-    return fn, ft
+    return moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], bc.load.F_D, bc.load.q_star,
+                               bc.load.r_sin_beta)
 
 
 def moment(bc: BaseCycle, N, T):
     """Platform moment M_P (N mm) for contact forces N, T (units of F_D), last axis = contact."""
     fn, ft = _vertical_moment_factor(bc)
-    return jnp.sum(N * fn + T * ft, axis=-1)
+    return N @ fn + T @ ft
 
 
 class MomentHalf(NamedTuple):
@@ -91,7 +89,7 @@ def _work(seg: MomentHalf, branch, q_star):
 
 def stretched_cycle(bc: BaseCycle, psi_a_mrad):
     """Moment halves of the cycle at amplitude psi_a >= psi_BC (full-slip stretches at both ends)."""
-    total = 2.0 * psi_a_mrad * bc.load.q_star / 1e3
+    total = 2.0 * travel_mm(psi_a_mrad, bc.load.q_star)
     return moment_half(bc, bc.forward, total), moment_half(bc, bc.backward, total)
 
 
@@ -103,11 +101,10 @@ def _gross_slip_stiffness(bc: BaseCycle, psi_a_mrad):
     valid = psi_a_mrad > 0.0
     psi = jnp.where(valid, psi_a_mrad, 1.0)
     fwd, bwd = stretched_cycle(bc, psi)
-    a_dv = psi * bc.load.q_star / 1e3
+    a_dv = travel_mm(psi, bc.load.q_star)
     c1, s1 = _half_fourier(fwd, a_dv, 1.0)
     c2, s2 = _half_fourier(bwd, a_dv, -1.0)
-    k_re = (c1 + c2) / (jnp.pi * psi)
-    k_im = -(s1 + s2) / (jnp.pi * psi)
+    k_re, k_im = stiffness_from_fourier(c1 + c2, s1 + s2, psi)
     work = _work(fwd, 1.0, bc.load.q_star) + _work(bwd, -1.0, bc.load.q_star)
     zero = jnp.zeros_like(k_re)
     return jnp.where(valid, k_re, zero), jnp.where(valid, k_im, zero), jnp.where(valid, work, zero)
@@ -127,8 +124,9 @@ class FiveNumbers(NamedTuple):
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
     """psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC; all zero where the damper lifts off."""
     q = bc.load.q_star
-    psi_fs = bc.forward.dv[0] / (2.0 * q) * 1e3
-    k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * q / 1e3
+    psi_fs = psi_mrad(bc.forward.dv[0] / 2.0, q)
+    # Moment rate per mm of travel, with the forward half's travel running in -dv.
+    k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * travel_mm(1.0, q)
     psi_bc = base_cycle_amplitude(bc)
     k_re_bc, k_im_bc, _ = _gross_slip_stiffness(bc, psi_bc)
     nums = FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
@@ -138,7 +136,7 @@ def five_numbers(bc: BaseCycle) -> FiveNumbers:
 
 def base_cycle_amplitude(bc: BaseCycle):
     """psi_BC (mrad): half the larger of the two half-cycle spans, over q*."""
-    return jnp.maximum(bc.forward.span, bc.backward.span) / (2.0 * bc.load.q_star) * 1e3
+    return psi_mrad(jnp.maximum(bc.forward.span, bc.backward.span) / 2.0, bc.load.q_star)
 
 
 @jax.jit

@@ -8,7 +8,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_positive, check_range
+from ._validate import check_positive, check_range, require_x64
 
 # The paper's reference contact pair: the least-squares fit of `jaxdamp calibrate` to Tables B3.1
 # and B4.1 (every number within 0.7 %, docs/paper_comparison.md). MODEL.md's first quick fit was
@@ -64,12 +64,14 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
     to float arrays, so that every entry point compiles the same program."""
     from .geometry import DamperShape, validate_shape
 
+    require_x64()
     validate_shape(shape)
     validate_mu(mu)
     validate_contacts(contacts)
     validate_load(load)
     shape = DamperShape(*(None if v is None else _float_array(v) for v in shape))
-    contacts = Contacts(_float_array(contacts.kn), _float_array(contacts.kt))
+    # A shared stiffness runs as three equal ones: one compiled program for both forms.
+    contacts = Contacts(*(_per_contact(_float_array(k)) for k in contacts))
     load = LoadCase(*(_float_array(v) for v in load))
     return shape, _float_array(mu), contacts, load
 
@@ -80,3 +82,9 @@ def _float_array(v):
     if isinstance(v, jax.Array):
         return v if v.dtype == jnp.result_type(float) else jnp.asarray(v, float)
     return np.asarray(v, dtype=float)
+
+
+def _per_contact(k):
+    if np.ndim(k) == 0:
+        return np.full(3, k) if isinstance(k, np.ndarray) else jnp.broadcast_to(k, (3,))
+    return k

@@ -7,14 +7,11 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
-from ._linalg import generalized, solve3
+from .linalg import generalized, solve3
 from .geometry import DamperShape, full_slip_slide_rates, section_geometry, validate_shape
+from ._validate import require_x64
+from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import validate_mu
-
-# Friction direction factor s_i (T_i = s_i * mu * N_i along the up-flank tangent) at cycle start,
-# i.e. after the left platform moved down relative to the right one: the damper slides down the
-# right flank and up the left flank, so friction points up the right flank and down the left one.
-START_FRICTION_SIGNS = jnp.array([1.0, -1.0, -1.0])
 
 
 class FullSlipState(NamedTuple):
@@ -46,7 +43,7 @@ def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
     a, c, _ = contact_columns(shape)
     # Force on the damper per unit N: -n_i + s_i mu t_i; plus F_D = 1 upward at D.
     cols = -a + (friction_signs * mu)[:, None] * c
-    N, ok = solve3(cols.T, jnp.array([0.0, -1.0, 0.0]))
+    N, ok = solve3(cols.T, -CENTRIFUGAL_LOAD)
     T = friction_signs * mu * N
     left = N[1] + N[2]
     safe = jnp.where(jnp.abs(left) > 1e-300, left, 1.0)
@@ -55,7 +52,7 @@ def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
 
 
 @jax.jit
-def _statics(shape: DamperShape, mu) -> FullSlipStatics:
+def statics_kernel(shape: DamperShape, mu) -> FullSlipStatics:
     start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
     mid = full_slip_state(shape, mu, -START_FRICTION_SIGNS)
     min_n = jnp.minimum(start.min_normal, mid.min_normal)
@@ -68,9 +65,10 @@ def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
 
     A shape that lifts off is a valid result (liftoff=True), not an error.
     """
+    require_x64()
     validate_shape(shape)
     validate_mu(mu)
-    return _statics(shape, mu)
+    return statics_kernel(shape, mu)
 
 
 @jax.jit
@@ -80,7 +78,7 @@ def full_slip_work_shape_factors(shape: DamperShape, mu) -> jnp.ndarray:
     W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch of platform rotation dpsi traversed forward
     and back; w_M = |(f_Lv - f_R1v)^+ - (f_Lv - f_R1v)^-| and the identity w_M = sum w_i holds.
     """
-    st = _statics(shape, mu)
+    st = statics_kernel(shape, mu)
     rates = full_slip_slide_rates(shape)
     # Appendix C's dv is the displacement of each platform end, half the relative one (C.10).
     w = 2.0 * mu * (st.start.N + st.mid.N) * rates
@@ -105,15 +103,16 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     """The paper's design rule (§3): the b_R/h_R that puts the left resultant equidistant from L1
     (cycle start) and L2 (mid-cycle) at mu_max, by bisection. `inside` is False where no b_R keeps
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
+    require_x64()
     validate_shape(shape)
     validate_mu(mu_max)
-    return _design_br(shape, mu_max, lo, hi)
+    return design_br_kernel(shape, mu_max, lo, hi)
 
 
 @jax.jit
-def _design_br(shape, mu_max, lo, hi) -> DesignResult:
+def design_br_kernel(shape, mu_max, lo, hi) -> DesignResult:
     def g(br):
-        st = _statics(shape._replace(br_over_hr=br), mu_max)
+        st = statics_kernel(shape._replace(br_over_hr=br), mu_max)
         return st.start.resultant_pos_pct + st.mid.resultant_pos_pct - 100.0
 
     g_lo, g_hi = g(lo), g(hi)
@@ -128,5 +127,5 @@ def _design_br(shape, mu_max, lo, hi) -> DesignResult:
 
     a, b, _ = jax.lax.fori_loop(0, 80, body, (jnp.asarray(lo, float), jnp.asarray(hi, float), g_lo))
     br = 0.5 * (a + b)
-    margin = _statics(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
+    margin = statics_kernel(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
     return DesignResult(br, found, margin, found & (margin > 0.0))

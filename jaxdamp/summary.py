@@ -57,9 +57,9 @@ def stiffness_at(bc, psi_a_mrad):
 
 @jax.jit
 def _section_data(shape, mu):
-    from .statics import _statics
+    from .statics import statics_kernel
 
-    return section_geometry(shape), _statics(shape, mu)
+    return section_geometry(shape), statics_kernel(shape, mu)
 
 
 def section_data(shape, mu):

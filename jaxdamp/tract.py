@@ -20,14 +20,16 @@ from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
-from ._linalg import solve3
+from .linalg import solve3
 
 STICK, SLIP, BACKSLIDE, OPEN = 0, 1, 2, 3
 STATE_NAMES = ("stick", "slip", "backslide", "open")
 
 # 8 candidate state sets for 3 contacts: bit i set means contact i slips.
-_CANDIDATES = jnp.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
+# numpy, not jnp: a module-level JAX array would start the backend when jaxdamp is imported.
+_CANDIDATES = np.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
 
 LIMIT_TOL = 1e-10  # force (units of F_D) within which a contact counts as on its friction limit
 RATE_TOL = 1e-9  # relative tolerance on rates (consistency checks, gross-slip detection)
@@ -78,12 +80,14 @@ class TractRates(NamedTuple):
 
 def _rates(mech: Mechanics, m, signs, y, ok, direction) -> TractRates:
     """Rates of a tract from its slipping mask m (float, (..., 3)) and slip solution y."""
-    gn = direction * mech.gn0 + y @ mech.Q.T
-    gt = direction * mech.gt0 + y @ mech.P.T
-    dN = mech.kn * gn
-    dT = (1.0 - m) * (-mech.kt * gt) + m * signs * mech.mu * dN
+    per = lambda v: jnp.broadcast_to(v, y.shape)  # noqa: E731  one set (3,) or all 8 (8, 3)
+    kn, kt = per(mech.kn), per(mech.kt)
+    gn = direction * per(mech.gn0) + y @ mech.Q.T
+    gt = direction * per(mech.gt0) + y @ mech.P.T
+    dN = kn * gn
+    dT = (1.0 - m) * (-kt * gt) + m * per(signs) * mech.mu * dN
     # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
-    dslip = m * (gt + dT / mech.kt)
+    dslip = m * (gt + dT / kt)
     return TractRates(dN, dT, dslip, ok & mech.stick_ok)
 
 
@@ -192,17 +196,19 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     signs = jnp.where(T >= 0.0, 1.0, -1.0)
     scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
 
-    slipping = _CANDIDATES
+    slipping = jnp.asarray(_CANDIDATES)
     rates = candidate_rates(mech, signs, direction)
-    cone_rate = signs * rates.dT - mech.mu * rates.dN
+    # Per-contact quantities against the (8 candidates, 3 contacts) table: explicit leading axis.
+    at_limit, signs8 = at_limit[None], signs[None]
+    cone_rate = signs8 * rates.dT - mech.mu * rates.dN
     stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
-    slip_ok = jnp.where(slipping, signs * rates.dslip <= RATE_TOL, True)
+    slip_ok = jnp.where(slipping, signs8 * rates.dslip <= RATE_TOL, True)
     allowed = ~jnp.any(slipping & ~at_limit, axis=1)
     good = allowed & rates.ok & jnp.all(stick_ok, axis=1) & jnp.all(slip_ok, axis=1)
     score = jnp.where(good, 10 + jnp.sum(~_CANDIDATES, axis=1), 0)
     best = jnp.argmax(score)
     pick = lambda x: x[best]  # noqa: E731
-    return TractChoice(_CANDIDATES[best], signs, jax.tree_util.tree_map(pick, rates), good[best])
+    return TractChoice(slipping[best], signs, jax.tree_util.tree_map(pick, rates), good[best])
 
 
 class TractEvent(NamedTuple):

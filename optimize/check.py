@@ -63,8 +63,7 @@ def check_design(problem: Problem, x) -> DesignCheck:
 @jax.jit
 def _derived(st, bc, margin_pct, min_normal):
     """Margins and metrics from the statics and Base-Cycle (jitted: op-by-op is slow)."""
-    from jaxdamp.harmonics import five_numbers
-    from jaxdamp.statics import full_slip_work_shape_factors
+    from jaxdamp import five_numbers, full_slip_work_shape_factors
 
     nums = five_numbers(bc)
     w_m = full_slip_work_shape_factors(bc.shape, bc.mu)[3]

@@ -25,7 +25,7 @@ from typing import NamedTuple
 
 import jax.numpy as jnp
 
-from jaxdamp.statics import FullSlipStatics
+from jaxdamp import FullSlipStatics
 
 LOCATIONS = ("start", "mid", "cycle")
 LOCATION_TEXT = {"start": "cycle start (full slip)", "mid": "mid-cycle (full slip)",

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp.geometry import DamperShape, family_shape
+from jaxdamp import Contacts, DamperShape, Design, LoadCase, family_shape
 
 VARIABLES = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl")
 UNITS = {"theta_l": "deg", "theta_r": "deg", "br_over_hr": "", "bl2_over_hl": ""}
@@ -126,6 +126,25 @@ def shape_of(space: DesignSpace, x) -> DamperShape:
             fields[name] = jnp.asarray(values[name], dtype=float)
     return DamperShape(fields["theta_l"], fields["theta_r"], fields["br_over_hr"],
                        fields["bl2_over_hl"], None)
+
+
+def design_from_vector(v, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase()) -> Design:
+    """The Design of a complete shape vector v = (theta_l, theta_r, br_over_hr, bl2_over_hl) at mu
+    (scalar or an array: then a batch over mu); jit-able. Every optimiser path reaches the solver
+    through here (unit box -> `from_unit` -> `embed` -> this)."""
+    v = jnp.asarray(v, dtype=float)
+    return Design(DamperShape(v[..., 0], v[..., 1], v[..., 2], v[..., 3], None), mu, contacts, load)
+
+
+def design_of(space: DesignSpace, z, mu, contacts: Contacts = Contacts(),
+              load: LoadCase = LoadCase()) -> Design:
+    """The optimiser's unit-box point z (d,) as a jaxdamp Design (concrete z; see `unit_of`)."""
+    return design_from_vector(embed(space, np.asarray(from_unit(space, z))), mu, contacts, load)
+
+
+def unit_of(space: DesignSpace, design: Design) -> np.ndarray:
+    """The unit-box point of a Design's free shape variables (the inverse of `design_of`)."""
+    return np.asarray(to_unit(space, vector_of(space, design.shape)))
 
 
 def embed(space: DesignSpace, X) -> np.ndarray:

@@ -15,14 +15,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp.cycle import _base_cycle
-from jaxdamp.geometry import DamperShape
-from jaxdamp.harmonics import five_numbers
-from jaxdamp.params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase
-from jaxdamp.statics import _statics, full_slip_work_shape_factors
+from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
+                     five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
 
 from .constraints import Margins, margins
-from .design import DesignSpace, design_space, embed, free_columns, from_unit
+from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit
 
 DEFAULT_MU_SET = (0.3, 0.5, 0.7)
 DEFAULT_MARGIN_PCT = 5.0
@@ -30,7 +27,7 @@ DEFAULT_MARGIN_PCT = 5.0
 # degenerate (theta_L = theta_R = 90 deg is a zero-width section): w_M and psi_BC then diverge like
 # 1 / vertex angle, so w_M would have no finite optimum. The paper's shapes have 49-90 deg.
 DEFAULT_MIN_VERTEX_DEG = 20.0
-CHUNK = 256  # designs per compiled call of the value evaluator (the last block is padded)
+CHUNK = 256  # designs per compiled call of the value evaluator
 JAC_BATCH = 8  # designs per compiled call of the Jacobian evaluator
 
 
@@ -93,27 +90,25 @@ class Evaluation(NamedTuple):
     vertex: np.ndarray | None = None  # (1,) (180 - theta_l - theta_r - min_vertex_deg) / 100
 
 
-def _one_mu(shape, mu, contacts, load, margin_pct, min_normal):
-    st = _statics(shape, mu)
-    bc = _base_cycle(shape, mu, contacts, load)
+def _one_mu(design: Design, margin_pct, min_normal):
+    st = statics_kernel(design.shape, design.mu)
+    bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
-    w_m = full_slip_work_shape_factors(shape, mu)[3]
+    w_m = full_slip_work_shape_factors(design.shape, design.mu)[3]
     metrics = jnp.stack([nums.k_im_bc, nums.psi_bc, w_m])
     return metrics, margins(st, bc, margin_pct, min_normal), bc.liftoff, bc.converged, bc.failed
 
 
 def _evaluate_full(v, mus, kn, kt, load, margin_pct, min_normal) -> Evaluation:
     """One complete shape vector v = (theta_l, theta_r, br_over_hr, bl2_over_hl) over the mu set."""
-    shape = DamperShape(v[0], v[1], v[2], v[3], None)
-    out = jax.vmap(_one_mu, (None, 0, None, None, None, None))(shape, mus, Contacts(kn, kt),
-                                                                 LoadCase(*load), margin_pct,
-                                                                 min_normal)
+    designs = design_from_vector(v, mus, Contacts(kn, kt), LoadCase(*load))
+    out = jax.vmap(_one_mu, (Design(None, 0, None, None), None, None))(designs, margin_pct,
+                                                                      min_normal)
     return Evaluation(*out)
 
 
 # One compiled program each, whatever the design space (evaluations take complete shape vectors
-# and derivatives are taken with respect to all four parameters), padded to fixed batch sizes.
-_values = jax.jit(jax.vmap(_evaluate_full, (0,) + (None,) * 6))
+# and derivatives are taken with respect to all four parameters), batched by jaxdamp.map_batched.
 
 
 def _with_jacobian(v, *args):
@@ -124,7 +119,6 @@ def _with_jacobian(v, *args):
     return jax.jacfwd(f, has_aux=True)(v)
 
 
-_jacobians = jax.jit(jax.vmap(_with_jacobian, (0,) + (None,) * 6))
 
 
 MU_PAD = 3  # mu sets are padded (repeating the last mu) to at least this length: one compile
@@ -147,23 +141,6 @@ def _args(problem: Problem):
             jnp.asarray(problem.min_normal))
 
 
-def _to_numpy(tree):
-    return jax.tree_util.tree_map(np.asarray, tree)
-
-
-def _batched(fn, V, size, args):
-    """Apply fn to V (B, 4) in blocks of a fixed size (the last one padded); numpy pytree out."""
-    parts = []
-    for i in range(0, len(V), size):
-        block = V[i:i + size]
-        n = len(block)
-        if n < size:
-            block = np.concatenate([block, np.repeat(block[-1:], size - n, 0)])
-        out = _to_numpy(fn(jnp.asarray(block), *args))
-        parts.append(jax.tree_util.tree_map(lambda a, n=n: a[:n], out))
-    return jax.tree_util.tree_map(lambda *a: np.concatenate(a, 0), *parts)
-
-
 def _check_columns(problem: Problem, X):
     X = np.atleast_2d(np.asarray(X, float))
     if X.ndim != 2 or X.shape[-1] != problem.space.dim:
@@ -181,7 +158,7 @@ def evaluate(problem: Problem, X) -> Evaluation:
 def evaluate_shapes(problem: Problem, V) -> Evaluation:
     """Values for complete shape vectors V (B, 4) ordered as design.VARIABLES."""
     V = np.atleast_2d(np.asarray(V, float))
-    ev = _unpad(problem, _batched(_values, V, CHUNK, _args(problem)))
+    ev = _unpad(problem, map_batched(_evaluate_full, V, *_args(problem), chunk_size=CHUNK))
     return ev._replace(vertex=vertex_constraint(problem, V))
 
 
@@ -194,7 +171,7 @@ def evaluate_with_jacobian(problem: Problem, Z):
     Z = _check_columns(problem, Z)
     space = problem.space
     V = embed(space, np.asarray(from_unit(space, Z)))
-    (d_metrics, d_g), ev = _unpad(problem, _batched(_jacobians, V, JAC_BATCH, _args(problem)))
+    (d_metrics, d_g), ev = _unpad(problem, map_batched(_with_jacobian, V, *_args(problem), chunk_size=JAC_BATCH))
     cols = free_columns(space)
     span = np.asarray(space.upper) - np.asarray(space.lower)
     d_vertex = np.zeros((len(V), 1, 4))

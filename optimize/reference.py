@@ -6,7 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from jaxdamp.geometry import family_shape
+from jaxdamp import family_shape
 
 from .design import VARIABLES
 from .objectives import Objective, combined_refs, reported_value, score

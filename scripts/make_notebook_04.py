@@ -17,11 +17,11 @@ CELLS = [
 The direct method computes a Base-Cycle from one 3×3 linear solve per tract and closed-form
 stick/slip events. The conventional ways to get the same numbers for the same damper are
 
-* **time marching** with incremental return mapping (`jaxdamp.timemarch`): small steps of the
+* **time marching** with incremental return mapping (`jaxdamp.baselines.timemarch`): small steps of the
   platform motion, Newton iterations with per-contact return mapping at every step;
-* **HBM-AFT** (`jaxdamp.hbm`), as friction-damper codes do it: for a prescribed amplitude, march a
+* **HBM-AFT** (`jaxdamp.baselines.hbm`), as friction-damper codes do it: for a prescribed amplitude, march a
   few periods of harmonic motion at Nt samples per period and take the first harmonic by FFT;
-* a **tanh-regularised** friction law (`jaxdamp.regularized`), evaluated the HBM-AFT way.
+* a **tanh-regularised** friction law (`jaxdamp.baselines.regularized`), evaluated the HBM-AFT way.
 
 This notebook reads the committed results of `benchmarks/speed_accuracy.py` and
 `benchmarks/stability_map.py`, then reruns a small timing on this machine."""),
@@ -68,9 +68,9 @@ print(f"\\nbatched direct method: {b['designs_per_s']:.0f} Base-Cycles + five nu
 two sample counts (HBM is given the exact ψ_BC: it cannot find it by itself). The first call of each
 function compiles it; the timings below are warm."""),
     new_code_cell("""\
-from jaxdamp.cycle import _base_cycle
-from jaxdamp.timemarch import _time_march
-from jaxdamp.hbm import _hbm_aft
+from jaxdamp.cycle import base_cycle_kernel
+from jaxdamp.baselines.timemarch import time_march_kernel
+from jaxdamp.baselines.hbm import hbm_aft_kernel
 
 contacts = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
 load = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
@@ -84,7 +84,7 @@ def warm(fn, *args, repeats=3):
         t = time.perf_counter(); out = jax.block_until_ready(fn(*args)); ts.append(time.perf_counter() - t)
     return float(np.median(ts)), out
 
-direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(_base_cycle(s, m, contacts, load)))))
+direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(base_cycle_kernel(s, m, contacts, load)))))
 t_d, five = warm(direct, shape, mu, repeats=20)
 psi_fs, k_re_fs, psi_bc, k_re, k_im = map(float, five)
 bc = jd.base_cycle(jd.family_shape("60sym"), 0.5, contacts, load)
@@ -93,13 +93,13 @@ print(f"direct: {t_d * 1e3:.3f} ms   psi_BC = {psi_bc:.5f} mrad, k_Re = {k_re:.1
 
 for N in (500, 2000):
     # n_steps is static: a little more than N, so that the march stops soon after gross slip.
-    tm = jax.jit(lambda s, m, h, N=N: _time_march(s, m, contacts, load, h, n_steps=int(1.02 * N) + 4))
+    tm = jax.jit(lambda s, m, h, N=N: time_march_kernel(s, m, contacts, load, h, n_steps=int(1.02 * N) + 4))
     t, r = warm(tm, shape, mu, jnp.asarray(span / (N + 0.5)))
     print(f"time marching N = {N:5d}: {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
           f"errors: psi_BC {abs(float(r.psi_bc) / psi_bc - 1):.1e}, k_Re {abs(float(r.k_re_bc) / k_re - 1):.1e}, "
           f"k_Im {abs(float(r.k_im_bc) / k_im - 1):.1e}")
 for nt in (32, 128):
-    hb = jax.jit(lambda s, m, a, nt=nt: _hbm_aft(s, m, contacts, load, a, n_time=nt))
+    hb = jax.jit(lambda s, m, a, nt=nt: hbm_aft_kernel(s, m, contacts, load, a, n_time=nt))
     t, r = warm(hb, shape, mu, jnp.asarray(psi_bc))
     print(f"HBM-AFT Nt = {nt:4d}:      {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
           f"errors: k_Re {abs(float(r.k_re) / k_re - 1):.1e}, k_Im {abs(float(r.k_im) / k_im - 1):.1e}")"""),

@@ -169,7 +169,7 @@ of the base (90L, 74L, 60sym, 74R, 90R), each with b_R chosen to centre the left
 scores of Table 11. Everything below is computed here; the paper's values come from
 `jd.paper_tables()`. Units: ψ in mrad, k in N mm/mrad, energy in N mm."""),
     new_code_cell(SETUP + """
-from jaxdamp.scoring import MARK_SYMBOLS, qualitative_findings, score_table"""),
+from jaxdamp.paper.scoring import MARK_SYMBOLS, qualitative_findings, score_table"""),
     new_markdown_cell("""\
 ## The shapes (Fig. 18) and their cycle-start statics at μ = 0.7"""),
     new_code_cell("""\

@@ -1,6 +1,17 @@
-"""Shared test helpers: finite-difference JVPs for gradient checks."""
+"""Shared test helpers: pytree comparison and finite-difference JVPs for gradient checks."""
 
+import jax
 import numpy as np
+
+
+def tree_allclose(a, b, rtol=1e-12, atol=0.0) -> bool:
+    """True when two pytrees have the same structure and every pair of leaves is allclose
+    (None leaves must match None)."""
+    la, ta = jax.tree_util.tree_flatten(a)
+    lb, tb = jax.tree_util.tree_flatten(b)
+    if ta != tb:
+        return False
+    return all(np.allclose(np.asarray(x), np.asarray(y), rtol=rtol, atol=atol) for x, y in zip(la, lb))
 
 
 def fd_jvp(f, x, v, h=1e-6):
@@ -8,3 +19,12 @@ def fd_jvp(f, x, v, h=1e-6):
     x = np.asarray(x, float)
     v = np.asarray(v, float)
     return (np.asarray(f(x + h * v)) - np.asarray(f(x - h * v))) / (2 * h)
+
+
+def tree_fd_jvp(f, x, v, h=1e-6):
+    """fd_jvp for pytree arguments: f(x + h v) - f(x - h v) over 2h, leaf by leaf (v has x's
+    structure; the output may be any pytree)."""
+    plus = jax.tree_util.tree_map(lambda a, d: np.asarray(a, float) + h * np.asarray(d, float), x, v)
+    minus = jax.tree_util.tree_map(lambda a, d: np.asarray(a, float) - h * np.asarray(d, float), x, v)
+    return jax.tree_util.tree_map(lambda p, m: (np.asarray(p) - np.asarray(m)) / (2 * h), f(plus),
+                                  f(minus))

@@ -51,7 +51,7 @@ def thousand():
     return B.stack_designs(shape, mu, contacts)
 
 
-def one_design(d: B.Designs, i):
+def one_design(d: jd.Design, i):
     shape = jd.DamperShape(*(np.asarray(v)[i] for v in d.shape[:4]))
     return shape, d.mu[i], jd.Contacts(d.contacts.kn[i], d.contacts.kt[i]), jd.LoadCase(
         *(v[i] for v in d.load))
@@ -175,7 +175,6 @@ TWO_DEVICE_SCRIPT = textwrap.dedent("""
     jax.config.update("jax_enable_x64", True)
     import jaxdamp as jd
     from jaxdamp import batch as B
-    from jax.sharding import NamedSharding, PartitionSpec
 
     assert len(jax.devices()) == 2, jax.devices()
     rng = np.random.default_rng(5)
@@ -185,8 +184,8 @@ TWO_DEVICE_SCRIPT = textwrap.dedent("""
     shape = jd.DamperShape(*(np.r_[v[:-1], w] for v, w in zip(shape, (40.9, 90.0, 0.0))))
     d = B.stack_designs(shape, np.r_[rng.uniform(0.2, 0.8, n - 1), 0.5])
     mesh = B.device_mesh()
-    padded = B._take(d, np.r_[np.arange(n), [0] * (64 - n)])
-    out = B._summaries(jax.device_put(padded, NamedSharding(mesh, PartitionSpec(B.AXIS))), 1)
+    padded = B.take(d, np.r_[np.arange(n), [0] * (64 - n)])
+    out = jax.jit(jax.vmap(lambda x: B.summary_kernel(x, 1)))(B.shard(padded, mesh))
     shards = sorted(s.data.shape[0] for s in out.psi_bc.addressable_shards)
     two = B.evaluate_designs(d)
     print(json.dumps({"devices": len(out.psi_bc.sharding.device_set), "shards": shards,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp import calibration as cal
+from jaxdamp.paper import calibration as cal
 from jaxdamp.cli import main
 
 KN0, KT0 = jd.REFERENCE_KN, jd.REFERENCE_KT

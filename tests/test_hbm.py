@@ -1,4 +1,4 @@
-"""HBM-AFT (`jaxdamp.hbm`): convergence to the direct method's closed-form first harmonic, the
+"""HBM-AFT (`jaxdamp.baselines.hbm`): convergence to the direct method's closed-form first harmonic, the
 stick limit, periodicity flags, input checks."""
 
 import jax.numpy as jnp
@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.hbm import first_harmonic, hbm_aft
+from jaxdamp.baselines.hbm import first_harmonic, hbm_aft
 
 CONTACTS = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)
 

@@ -1,6 +1,10 @@
 """Figures: each function returns a labelled Figure, and what it draws is checked independently."""
 
+import subprocess
+import sys
+
 import matplotlib
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -22,7 +26,7 @@ def cycles():
 @pytest.fixture(autouse=True)
 def _close():
     yield
-    P.plt.close("all")
+    plt.close("all")
 
 
 def _labelled(fig, x_units=True):
@@ -35,8 +39,15 @@ def _labelled(fig, x_units=True):
     return main
 
 
-def test_headless_backend_is_agg():
-    assert matplotlib.get_backend().lower() == "agg"
+def test_tests_draw_headless_with_agg():
+    assert matplotlib.get_backend().lower() == "agg"  # chosen by conftest.py, as the CLI does
+
+
+def test_importing_plotting_chooses_no_backend():
+    code = ("import os; os.environ.pop('MPLBACKEND', None); import matplotlib, jaxdamp.plotting; "
+            "print(matplotlib.rcParams._get_backend_or_none())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "None"
 
 
 def test_section_lines_of_action_meet_on_the_line_of_FD():

@@ -1,12 +1,12 @@
-"""The tanh-regularised friction law (`jaxdamp.regularized`): its bias shrinks with eps towards the
+"""The tanh-regularised friction law (`jaxdamp.baselines.regularized`): its bias shrinks with eps towards the
 Coulomb result, and it is a bias (it over-dissipates), not noise."""
 
 import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.hbm import hbm_aft
-from jaxdamp.regularized import _local_tanh, regularized_aft
+from jaxdamp.baselines.hbm import hbm_aft
+from jaxdamp.baselines.regularized import _local_tanh, regularized_aft
 
 CONTACTS = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)
 

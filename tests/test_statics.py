@@ -68,9 +68,9 @@ def test_design_rule_45sym_no_valid_br_at_0p7_and_marginal_0p20_at_0p5():
 def test_statics_is_jitted_and_vmaps():
     shapes = jd.DamperShape(jnp.array([60.0, 49.1, 40.9]), jnp.array([60.0, 73.9, 90.0]),
                             jnp.array([0.14, 0.08, 0.0]), jnp.full(3, 0.8))
-    from jaxdamp.statics import _statics
+    from jaxdamp.statics import statics_kernel
 
-    batched = jax.vmap(_statics, in_axes=(0, None))(shapes, 0.5)
+    batched = jax.vmap(statics_kernel, in_axes=(0, None))(shapes, 0.5)
     for i in range(3):
         one = jd.full_slip_statics(jd.DamperShape(*(float(x[i]) for x in shapes[:3])), 0.5)
         assert np.allclose(batched.start.N[i], one.start.N, rtol=1e-13)

@@ -7,8 +7,8 @@ import pytest
 
 from jaxdamp.cli import main
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT
-from jaxdamp.scoring import qualitative_findings, rank_indicator, score_table
-from jaxdamp.study import CONTRACT_KEYS, DEFAULT_SHAPES, run_study
+from jaxdamp.paper.scoring import qualitative_findings, rank_indicator, score_table
+from jaxdamp.paper.study import CONTRACT_KEYS, DEFAULT_SHAPES, run_study
 
 MU_KEYS = ["0.7", "0.5", "0.3"]
 TABLE_B_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")

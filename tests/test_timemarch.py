@@ -11,10 +11,10 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.cycle import _base_cycle
+from jaxdamp.cycle import base_cycle_kernel
 from jaxdamp.harmonics import five_numbers
 from jaxdamp.statics import START_FRICTION_SIGNS
-from jaxdamp.timemarch import _time_march, time_march
+from jaxdamp.baselines.timemarch import time_march_kernel, time_march
 
 CONTACTS = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
 LOAD = jd.LoadCase(*(jnp.asarray(v) for v in (1000.0, 100.0, 0.0)))
@@ -36,14 +36,14 @@ def _random_shapes(n=6, seed=20240607):
 
 
 def _direct(shapes, mus):
-    bc = jax.vmap(lambda s, m: _base_cycle(s, m, CONTACTS, LOAD))(_stack(shapes), jnp.asarray(mus))
+    bc = jax.vmap(lambda s, m: base_cycle_kernel(s, m, CONTACTS, LOAD))(_stack(shapes), jnp.asarray(mus))
     nums = np.array(jax.vmap(five_numbers)(bc)).T
     span = np.maximum(np.asarray(bc.forward.span), np.asarray(bc.backward.span))
     return bc, nums, span
 
 
 def _march(shapes, mus, h, n_steps):
-    fn = jax.vmap(lambda s, m, hh: _time_march(s, m, CONTACTS, LOAD, hh, n_steps=n_steps))
+    fn = jax.vmap(lambda s, m, hh: time_march_kernel(s, m, CONTACTS, LOAD, hh, n_steps=n_steps))
     return fn(_stack(shapes), jnp.asarray(mus), jnp.asarray(h))
 
 

@@ -22,7 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .cycle import MAX_PAIRS
+from ..cycle import MAX_PAIRS
 
 NUMBERS = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
 FITTED_TABLES = ("60sym", "74R")  # Tables B3.1 and B4.1
@@ -75,7 +75,7 @@ def paper_targets(shapes=FITTED_TABLES, numbers=NUMBERS) -> CalibrationTargets:
 
 
 def _paper_table_b() -> dict:
-    from .geometry import paper_tables
+    from ..geometry import paper_tables
 
     t = paper_tables()["table_B"]
     return {k: v for k, v in t.items() if k in TABLE_NAMES}
@@ -90,8 +90,8 @@ class _Cases(NamedTuple):
 
 
 def _validate_targets(targets: CalibrationTargets) -> _Cases:
-    from .geometry import family_shape
-    from .params import validate_mu
+    from ..geometry import family_shape
+    from ..params import validate_mu
 
     if not isinstance(targets, CalibrationTargets):
         raise ValueError("targets must be a CalibrationTargets (see jaxdamp.calibration.paper_targets)")
@@ -115,7 +115,7 @@ def _validate_targets(targets: CalibrationTargets) -> _Cases:
 
 def _contacts(theta, split: bool):
     """log-parameters -> Contacts. theta = (log kn, log kt) or (log kn_R1, log kn_L, log kt_R1, log kt_L)."""
-    from .params import Contacts
+    from ..params import Contacts
 
     k = jnp.exp(theta)
     if not split:
@@ -124,14 +124,14 @@ def _contacts(theta, split: bool):
 
 
 def _case_numbers(theta, shape_row, mu, split, max_pairs):
-    from .cycle import _base_cycle
-    from .geometry import DamperShape
-    from .harmonics import five_numbers
-    from .params import LoadCase
+    from ..cycle import base_cycle_kernel
+    from ..geometry import DamperShape
+    from ..harmonics import five_numbers
+    from ..params import LoadCase
 
     shape = DamperShape(shape_row[0], shape_row[1], shape_row[2], shape_row[3], None)
     load = LoadCase(*(jnp.asarray(v, float) for v in LoadCase()))
-    bc = _base_cycle(shape, mu, _contacts(theta, split), load, max_pairs=max_pairs)
+    bc = base_cycle_kernel(shape, mu, _contacts(theta, split), load, max_pairs=max_pairs)
     ok = bc.converged & ~bc.failed & ~bc.liftoff
     return jnp.stack(five_numbers(bc)), ok
 
@@ -315,7 +315,7 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
     report: targets evaluated at the optimum but not fitted (default: Table B5.1 without k_Im
         when targets is None, else none).
     """
-    from .params import REFERENCE_KN, REFERENCE_KT
+    from ..params import REFERENCE_KN, REFERENCE_KT
 
     if method not in ("lbfgs", "adam"):
         raise ValueError(f"method must be 'lbfgs' or 'adam'; got {method!r}")
@@ -396,7 +396,7 @@ def _start_theta(start, kn0, kt0):
 def target_numbers(targets: CalibrationTargets, kn, kt, max_pairs: int = MAX_PAIRS) -> np.ndarray:
     """Our five numbers (n, 5) for every target case at contacts kn, kt (N/mm; scalars, or (3,)
     arrays ordered R1, L1, L2 with L1 = L2)."""
-    from .params import Contacts, validate_contacts
+    from ..params import Contacts, validate_contacts
 
     cases = _validate_targets(targets)
     validate_contacts(Contacts(kn, kt))
@@ -457,10 +457,10 @@ def comparison_table(kn, kt, shapes=("60sym", "74R", "90R")) -> str:
 
 def _two_iterations(name, mu, kn, kt):
     """Five numbers of the cycle stopped after two forward/backward pairs (the paper's 90R runs)."""
-    from .cycle import base_cycle
-    from .geometry import family_shape
-    from .harmonics import five_numbers
-    from .params import Contacts
+    from ..cycle import base_cycle
+    from ..geometry import family_shape
+    from ..harmonics import five_numbers
+    from ..params import Contacts
 
     return [float(v) for v in five_numbers(base_cycle(family_shape(name), mu, Contacts(kn, kt),
                                                       max_pairs=2))]
@@ -504,7 +504,7 @@ def _fmt_k(k):
 
 # ---------------------------------------------------------------------------- CLI
 def result_payload(res: CalibrationResult) -> dict:
-    from .cli import _named
+    from ..cli import _named
 
     def k(v):
         return float(v) if np.ndim(v) == 0 else _named(v)
@@ -517,11 +517,11 @@ def result_payload(res: CalibrationResult) -> dict:
 
 
 def cmd_calibrate(args):
-    from .cli import emit
+    from ..cli import emit
 
     start = None
     if args.start_kn is not None or args.start_kt is not None:
-        from .params import REFERENCE_KN, REFERENCE_KT
+        from ..params import REFERENCE_KN, REFERENCE_KT
 
         start = (REFERENCE_KN if args.start_kn is None else args.start_kn,
                  REFERENCE_KT if args.start_kt is None else args.start_kt)

@@ -105,9 +105,9 @@ def _paper_values(tables):
 
 def compute_cases(shapes, mus, contacts, load, progress=None):
     """BaseCycles and their summaries for every shape x mu (the jitted solver compiles once)."""
-    from .cycle import base_cycle, transitions_chart
-    from .geometry import family_shape
-    from .summary import analyse_cycle, section_data
+    from ..cycle import base_cycle, transitions_chart
+    from ..geometry import family_shape
+    from ..summary import analyse_cycle, section_data
 
     cycles, summaries, statics, transitions = {}, {}, {}, {}
     table1 = {mu_key(r["mu"]): r for r in _tables()["table_1_60sym_resultant_distance"]["rows"]}
@@ -131,7 +131,7 @@ def compute_cases(shapes, mus, contacts, load, progress=None):
 
 
 def _tables():
-    from .geometry import paper_tables
+    from ..geometry import paper_tables
 
     return paper_tables()
 
@@ -185,8 +185,8 @@ def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[d
     """Every figure of the study as PNG; returns [{file, caption, section}] (paths relative to out/..)."""
     import matplotlib.pyplot as plt
 
-    from . import plotting as P
-    from .geometry import family_shape
+    from .. import plotting as P
+    from ..geometry import family_shape
 
     out.mkdir(parents=True, exist_ok=True)
     figs = []
@@ -240,9 +240,9 @@ def key_figure(bc, summary):
     """The README's figure: Fig. 14 and Fig. 15 of the paper side by side for one cycle."""
     import matplotlib.pyplot as plt
 
-    from . import plotting as P
+    from .. import plotting as P
 
-    from .summary import stiffness_at
+    from ..summary import stiffness_at
 
     fig, (a, b) = plt.subplots(1, 2, figsize=(15, 6.6), layout="constrained")
     P.plot_stretched_cycles(bc, ax=a)
@@ -266,7 +266,7 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     import jax
     from tqdm import tqdm
 
-    from .params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase, validate_contacts, validate_mu
+    from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase, validate_contacts, validate_mu
     from .report import build_report
     from .scoring import qualitative_findings, score_table
 
@@ -357,8 +357,8 @@ def cmd_study(args):
 
 
 def cmd_section(args):
-    from .cli import shape_from_args
-    from .plotting import plot_section
+    from ..cli import shape_from_args
+    from ..plotting import plot_section
 
     out = Path(args.out)
     if out.suffix.lower() not in (".png", ".pdf", ".svg"):
@@ -369,7 +369,7 @@ def cmd_section(args):
 
 
 def register_cli(sub):
-    from .cli import add_shape_args
+    from ..cli import add_shape_args
 
     p = sub.add_parser("section", help="plot the section with pads, D, R and full-slip lines of action (Fig. 7)")
     add_shape_args(p)

@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .batch import SweepResult
+from ..batch import SweepResult
 
 HEATMAPS = (("psi_bc", "psi_BC (mrad)"), ("k_im_bc", "k_Im,BC (N mm/mrad)"), ("w_M", "w_M"))
 STATUS = ("valid", "liftoff", "not converged", "b_R undefined")
@@ -34,7 +34,7 @@ def _edges(v):
 
 
 def _family(res: SweepResult):
-    from .geometry import paper_tables
+    from ..geometry import paper_tables
 
     shapes = paper_tables()["shapes"]
     lo_l, hi_l = res.theta_l.min(), res.theta_l.max()

@@ -19,15 +19,15 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_int, check_range
-from .geometry import DamperShape
+from .._validate import check_int, check_range
+from ..conventions import CENTRIFUGAL_LOAD, travel_mm
+from ..geometry import DamperShape
 from .hbm import PERIODIC_TOL, HBMResult, first_harmonic
-from .params import Contacts, LoadCase, prepare_inputs
+from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of, newton
 
 LOCAL_ITERS = 80  # bound on the safeguarded Newton iterations of the per-contact slip equation
 MAX_NEWTON_REG = 20
-_E_Y = jnp.array([0.0, 1.0, 0.0])
 
 
 def _local_tanh(T_tr, muN, c):
@@ -89,16 +89,16 @@ def respond_tanh(m: MarchModel, q, dv, p_old, c_reg):
     dT_dN = c_reg * th / (jnp.maximum(N, 1e-300) * sech2) / denom
     dN = jnp.where(closed, m.kn, 0.0)[:, None] * m.a
     dT = jnp.where(closed[:, None], (-m.kt * dT_dTtr)[:, None] * m.c + dT_dN[:, None] * dN, 0.0)
-    R = -m.a.T @ N + m.c.T @ T + _E_Y
+    R = -m.a.T @ N + m.c.T @ T + CENTRIFUGAL_LOAD
     J = -m.a.T @ dN + m.c.T @ dT
     return RegResponse(N, T, p, R, J)
 
 
 @partial(jax.jit, static_argnames=("n_time", "n_periods", "max_newton"))
-def _regularized_aft(shape, mu, contacts, load, psi_a_mrad, eps, n_time: int, n_periods: int = 3,
+def regularized_aft_kernel(shape, mu, contacts, load, psi_a_mrad, eps, n_time: int, n_periods: int = 3,
                      max_newton: int = MAX_NEWTON_REG) -> HBMResult:
     m, lift0 = march_model(shape, mu, contacts, load)
-    amp = psi_a_mrad * m.q_star / 1e3
+    amp = travel_mm(psi_a_mrad, m.q_star)
     dtau = 2.0 * jnp.pi / n_time
     c_reg = m.kt * eps * amp * dtau
     tau = dtau * jnp.arange(1, n_time * n_periods + 1, dtype=float)
@@ -138,7 +138,7 @@ def regularized_aft(shape: DamperShape, mu, psi_a_mrad, eps, contacts: Contacts 
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
     check_range("eps", eps, 0.0, np.inf, lo_open=True)
-    return _regularized_aft(shape, mu, contacts, load,
+    return regularized_aft_kernel(shape, mu, contacts, load,
                             jnp.asarray(psi_a_mrad, float), jnp.asarray(eps, float),
                             n_time=check_int("n_time", n_time, 4), n_periods=check_int("n_periods", n_periods, 1),
                             max_newton=check_int("max_newton", max_newton, 1))

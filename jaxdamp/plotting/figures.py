@@ -9,24 +9,18 @@
 - `plot_energy`: dissipated energy per contact (work shape factors, Appendix B/C).
 - `plot_family_comparison`: the five numbers and w_M of the family, side by side (Table 11).
 
-Headless use (no DISPLAY, outside Jupyter) switches matplotlib to the Agg backend at import.
+Importing this module chooses no matplotlib backend: the CLI picks Agg, notebooks and scripts keep
+whatever matplotlib chose for them.
 """
 
 from __future__ import annotations
 
-import os
-import sys
 from collections.abc import Mapping
 
-import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
 
-if "ipykernel" not in sys.modules and not os.environ.get("DISPLAY") and "MPLBACKEND" not in os.environ:
-    matplotlib.use("Agg")
-
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
-
-from .geometry import CONTACT_NAMES  # noqa: E402
+from ..geometry import CONTACT_NAMES
 
 MU_COLORS = {0.7: "tab:blue", 0.5: "tab:orange", 0.3: "tab:green"}
 CONTACT_COLORS = {"R1": "tab:red", "L1": "tab:blue", "L2": "tab:cyan"}
@@ -101,7 +95,7 @@ def _cycle_panel(ax, bc, title_suffix, xlabel, ylabel) -> bool:
 
 
 def _shape_name(shape):
-    from .geometry import paper_tables
+    from ..geometry import paper_tables
 
     for name, s in paper_tables()["shapes"].items():
         if (np.isclose(float(shape.theta_l), s["theta_l"]) and np.isclose(float(shape.theta_r), s["theta_r"])
@@ -127,7 +121,7 @@ def section_lines_of_action(shape, mu, end="start"):
     Returns a dict: R1 point and force, the left resultant's application point on L1-L2 and force,
     and their intersection (which lies on F_D's line of action, the vertical through D).
     """
-    from .summary import section_data
+    from ..summary import section_data
 
     geo, st = section_data(shape, mu)
     s = st.start if end == "start" else st.mid
@@ -251,8 +245,8 @@ def force_track(bc):
     Returns (track, secondary, labels): the tip of F_R1 (= tail of F_L = -F_L) and the tail of F_L1
     (= -F_L1, with F_L = F_L2 + F_L1 ending at the origin) at every tract end, and point names.
     """
-    from .geometry import section_geometry
-    from .summary import force_points, point_names
+    from ..geometry import section_geometry
+    from ..summary import force_points, point_names
 
     geo = section_geometry(bc.shape)
     n, t = _np(geo.normals), _np(geo.tangents)
@@ -269,7 +263,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
     per cycle: the path of the tip of F_R1 / tail of F_L (solid) and of the tail of F_L1 (thin dashed,
     the secondary loop), with the friction-cone boundaries of the left contacts (through the origin)
     and of R1 (through the tip of F_D). Cycles that lift off get a labelled empty panel."""
-    from .geometry import section_geometry
+    from ..geometry import section_geometry
 
     cycles = _as_cycles(cycles)
     created = axes is None
@@ -368,7 +362,7 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
     """Moment Base-Cycles M_P (N mm) versus platform rotation psi_P - psi_c (mrad), one curve per
     cycle (the paper's Fig. 13); the top axis gives the relative platform displacement (µm).
     labels: optional legend label per cycle (default: its mu)."""
-    from .summary import moment_polyline
+    from ..summary import moment_polyline
 
     cycles = _as_cycles(cycles)
     fig, (ax,) = _axes_row(ax, 1, size=(7.5, 5.4))
@@ -403,7 +397,7 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
 # ---------------------------------------------------------------- Fig. 14: stretched cycles
 def default_amplitudes(bc):
     """psi_BC and three stretched amplitudes, 1.2, 1.6 and 2.4 psi_BC (3, 4, 6 mrad for 60sym at 0.7)."""
-    from .harmonics import base_cycle_amplitude
+    from ..harmonics import base_cycle_amplitude
 
     psi_bc = float(base_cycle_amplitude(bc))
 
@@ -418,7 +412,7 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
     """The moment Base-Cycle and stretched cycles at larger amplitudes (solid) with their
     first-harmonic ellipses M = M_0 + psi_a (k_Re cos tau - k_Im sin tau) versus psi_a cos tau
     (dotted), as in the paper's Fig. 14. k from `complex_stiffness`; M_0 is the cycle's mean moment."""
-    from .summary import moment_polyline, sample_cycle, stiffness_at
+    from ..summary import moment_polyline, sample_cycle, stiffness_at
 
     fig, (ax,) = _axes_row(ax, 1, size=(7.5, 6.6))
     if _cycle_panel(ax, bc, ": stretched cycles and first harmonics",
@@ -454,7 +448,7 @@ def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels
     psi_fs (circle) and psi_BC (square) marked; the microslip range between them is the paper's
     linear interpolation (Fig. 15, Appendix B). `summaries`: optional precomputed CycleSummary list;
     labels: optional legend label per cycle (default: its mu)."""
-    from .summary import analyse_cycle, psi_grid
+    from ..summary import analyse_cycle, psi_grid
 
     cycles = _as_cycles(cycles)
     fig, (ax,) = _axes_row(ax, 1, size=(8.0, 5.4))

@@ -1,4 +1,4 @@
-"""Closed-form 3x3 solves with a guarded determinant (no NaN in values or gradients)."""
+"""Small linear algebra: closed-form 3x3 solves with a guarded determinant (no NaN in values or gradients)."""
 
 from __future__ import annotations
 

@@ -29,11 +29,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._linalg import solve3
-from ._validate import check_int, check_range
-from .geometry import DamperShape
-from .params import Contacts, LoadCase, prepare_inputs
-from .statics import START_FRICTION_SIGNS, contact_columns, full_slip_state
+from ..linalg import solve3
+from .._validate import check_int, check_range
+from ..geometry import DamperShape
+from ..params import Contacts, LoadCase, prepare_inputs
+from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, PLATFORM_MOTION, START_FRICTION_SIGNS, moment_coefficients,
+                           psi_mrad, travel_mm)
+from ..statics import contact_columns, full_slip_state
 
 NEWTON_TOL = 1e-12  # equilibrium residual, units of F_D
 GROSS_TOL = 1e-9  # incremental force rate (per mm) below which the damper is in gross slip, x k/F_D
@@ -41,7 +43,6 @@ CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
 MAX_PAIRS = 10
 MAX_NEWTON = 12
 MIN_ALPHA = 1.0 / 64.0  # smallest line-search step fraction
-_E_Y = jnp.array([0.0, 1.0, 0.0])
 
 
 class MarchModel(NamedTuple):
@@ -65,8 +66,6 @@ class MarchModel(NamedTuple):
 def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
     """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip."""
     a, c, geo = contact_columns(shape)
-    # The right platform (R1) moves radially by dv; the left one (L1, L2) is the reference.
-    w = jnp.array([1.0, 0.0, 0.0])
     kn, kt = contacts.per_contact()
     F_D = jnp.asarray(load.F_D, float)
     mu = jnp.asarray(mu, float)
@@ -74,12 +73,10 @@ def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
     lift0 = (start.min_normal <= 0.0) | ~start.solvable
     N_ref = jnp.where(lift0, jnp.ones(3), start.N)  # keep the masked computation finite
     T_ref = START_FRICTION_SIGNS * mu * N_ref
-    # M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta) with F the forces on the damper.
-    arm = jnp.asarray(load.q_star, float) / 2.0 + jnp.asarray(load.r_sin_beta, float)
-    side = jnp.array([1.0, -1.0, -1.0])
-    fn = -geo.normals[:, 1] * side * arm * F_D
-    ft = geo.tangents[:, 1] * side * arm * F_D
-    model = MarchModel(a, c, geo.normals[:, 1] * w, geo.tangents[:, 1] * w, kn / F_D, kt / F_D, mu,
+    fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], F_D, load.q_star,
+                                 load.r_sin_beta)
+    model = MarchModel(a, c, geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION,
+                       kn / F_D, kt / F_D, mu,
                        N_ref, T_ref, fn, ft, jnp.asarray(load.q_star, float), F_D)
     return model, lift0
 
@@ -109,7 +106,7 @@ def respond(m: MarchModel, q, dv, p_old) -> Response:
     slip = closed & (jnp.abs(T_tr) > m.mu * N)
     T = jnp.where(closed, jnp.where(slip, sign * m.mu * N, T_tr), 0.0)
     p = gt - (m.T_ref - T) / m.kt
-    R = -m.a.T @ N + m.c.T @ T + _E_Y
+    R = -m.a.T @ N + m.c.T @ T + CENTRIFUGAL_LOAD
     dN = jnp.where(closed, m.kn, 0.0)[:, None] * m.a
     dT = jnp.where((closed & slip)[:, None], (sign * m.mu * m.kn)[:, None] * m.a,
                    jnp.where(closed, -m.kt, 0.0)[:, None] * m.c)
@@ -308,7 +305,7 @@ def _dissipated(smp: Sample, K, F_D):
 
 
 @partial(jax.jit, static_argnames=("n_steps", "max_pairs", "max_newton"))
-def _time_march(shape, mu, contacts, load, h, n_steps: int, max_pairs: int = MAX_PAIRS,
+def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int = MAX_PAIRS,
                 max_newton: int = MAX_NEWTON) -> TimeMarchResult:
     m, lift0 = march_model(shape, mu, contacts, load)
     h = jnp.asarray(h, float)
@@ -349,10 +346,10 @@ def _time_march(shape, mu, contacts, load, h, n_steps: int, max_pairs: int = MAX
     K = jnp.maximum(fwd.gross_step, bwd.gross_step)
     Kf = jnp.maximum(K, 1).astype(float)
     span_f, span_b = fwd.gross_step * h, bwd.gross_step * h
-    psi_bc = Kf * h / (2.0 * m.q_star) * 1e3
+    psi_bc = psi_mrad(Kf * h / 2.0, m.q_star)
     k_re_bc, k_im_bc, work_m = loop_harmonics(fwd.samples.M, bwd.samples.M, Kf, psi_bc)
     work_c = _dissipated(fwd.samples, K, m.F_D) + _dissipated(bwd.samples, K, m.F_D)
-    k_im_energy = jnp.sum(work_c) * 1e3 / (jnp.pi * psi_bc ** 2)
+    k_im_energy = jnp.sum(work_c) * MRAD_PER_RAD / (jnp.pi * psi_bc ** 2)
 
     # psi_fs: the first tract ends in the first step whose contact states differ from those of step 1;
     # take the middle of that step. k_Re,fs: the slope of the first step.
@@ -360,9 +357,9 @@ def _time_march(shape, mu, contacts, load, h, n_steps: int, max_pairs: int = MAX
     idx = jnp.arange(code.shape[0])
     changed = jnp.any(code != code[1], axis=1) & (idx > 1)
     j = jnp.min(jnp.where(changed | (idx == fwd.gross_step), idx, n_steps + 1))
-    psi_fs = (j - 0.5) * h / (2.0 * m.q_star) * 1e3
+    psi_fs = psi_mrad((j - 0.5) * h / 2.0, m.q_star)
     M = fwd.samples.M
-    k_re_fs = (M[1] - M[0]) / (-h) * m.q_star / 1e3
+    k_re_fs = (M[1] - M[0]) / (-h) * travel_mm(1.0, m.q_star)
 
     newton_fail = jnp.where(out["k"] > 0, jnp.sum(~fwd.samples.converged)
                             + jnp.sum(~bwd.samples.converged), 0)
@@ -390,7 +387,7 @@ def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: Lo
     """
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("h", h, 0.0, np.inf, lo_open=True, unit="mm")
-    return _time_march(shape, mu, contacts, load, jnp.asarray(h, float),
+    return time_march_kernel(shape, mu, contacts, load, jnp.asarray(h, float),
                        n_steps=check_int("n_steps", n_steps, 2), max_pairs=check_int("max_pairs", max_pairs, 1),
                        max_newton=check_int("max_newton", max_newton, 1))
 

@@ -21,9 +21,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_int, check_range
-from .geometry import DamperShape
-from .params import Contacts, LoadCase, prepare_inputs
+from .._validate import check_int, check_range
+from ..conventions import stiffness_from_rfft, travel_mm
+from ..geometry import DamperShape
+from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import MAX_NEWTON, initial_state, march, march_model
 
 PERIODIC_TOL = 1e-9  # change of the moment between the last two periods, relative to max |M|
@@ -41,16 +42,14 @@ class HBMResult(NamedTuple):
 
 def first_harmonic(M, psi_a_mrad):
     """(k_Re, k_Im) from one period of samples M at tau_k = 2 pi k / Nt, k = 0..Nt-1, by FFT."""
-    n = M.shape[-1]
-    X1 = jnp.fft.rfft(M, axis=-1)[..., 1]
-    return 2.0 * jnp.real(X1) / (n * psi_a_mrad), 2.0 * jnp.imag(X1) / (n * psi_a_mrad)
+    return stiffness_from_rfft(jnp.fft.rfft(M, axis=-1)[..., 1], M.shape[-1], psi_a_mrad)
 
 
 @partial(jax.jit, static_argnames=("n_time", "n_periods", "max_newton"))
-def _hbm_aft(shape, mu, contacts, load, psi_a_mrad, n_time: int, n_periods: int = 3,
+def hbm_aft_kernel(shape, mu, contacts, load, psi_a_mrad, n_time: int, n_periods: int = 3,
              max_newton: int = MAX_NEWTON) -> HBMResult:
     m, lift0 = march_model(shape, mu, contacts, load)
-    amp = psi_a_mrad * m.q_star / 1e3  # mm of relative platform motion
+    amp = travel_mm(psi_a_mrad, m.q_star)
     tau = 2.0 * jnp.pi / n_time * jnp.arange(1, n_time * n_periods + 1, dtype=float)
     _, smp = march(m, initial_state(m), amp * (jnp.cos(tau) - 1.0), max_newton)
     M = smp.M.reshape(n_periods, n_time)
@@ -74,7 +73,7 @@ def hbm_aft(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     period by FFT. Non-periodicity, Newton failures and liftoff are flags."""
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
-    return _hbm_aft(shape, mu, contacts, load, jnp.asarray(psi_a_mrad, float),
+    return hbm_aft_kernel(shape, mu, contacts, load, jnp.asarray(psi_a_mrad, float),
                     n_time=check_int("n_time", n_time, 4), n_periods=check_int("n_periods", n_periods, 1),
                     max_newton=check_int("max_newton", max_newton, 1))
 

@@ -1,0 +1,18 @@
+"""The conventional ways to get a damper's numbers, as public functions: quasi-static time marching
+with incremental return mapping, HBM-AFT at a prescribed amplitude, and a tanh-regularised friction
+law evaluated the HBM-AFT way. They check the direct method and are timed against it
+(`benchmarks/`). They import the core; the core never imports them.
+"""
+
+from .hbm import HBMResult as HBMResult
+from .hbm import first_harmonic as first_harmonic
+from .hbm import hbm_aft as hbm_aft
+from .regularized import regularized_aft as regularized_aft
+from .timemarch import MarchModel as MarchModel
+from .timemarch import TimeMarchResult as TimeMarchResult
+from .timemarch import march as march
+from .timemarch import march_model as march_model
+from .timemarch import time_march as time_march
+from .hbm import hbm_aft_kernel as hbm_aft_kernel
+from .regularized import regularized_aft_kernel as regularized_aft_kernel
+from .timemarch import time_march_kernel as time_march_kernel

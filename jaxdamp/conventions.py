@@ -1,0 +1,79 @@
+"""The model's sign and unit conventions, stated once (MODEL.md; the paper's Fig. 3 and §5).
+
+Every solver (direct method, time marching, HBM-AFT, amplitude cycles) and every derived quantity
+(moment, first harmonic, energy) takes these from here.
+
+Kinematics
+    Parallel blades: only the relative radial platform motion dv = v_PR - v_PL (mm) matters. The
+    right platform carries R1 and moves by dv; the left platform (L1, L2) is the reference.
+    psi = dv / q* is the platform rotation; it is reported in mrad.
+    Cycle start (state 0) is full slip after the left platform moved down relative to the right one
+    (dv increasing): state 0 is the top of the travel, and the forward half runs with dv decreasing.
+
+Forces
+    Contact forces are those the platforms exert on the damper, normalised to F_D inside the solvers:
+    N > 0 in compression along the outward normal, T along the up-flank tangent. At state 0 the
+    damper slides down the right flank and up the left one, so friction points up the right flank
+    (+) and down the left one (-): T_i = s_i mu N_i with s = START_FRICTION_SIGNS.
+
+Moment and complex stiffness
+    M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta) in N mm: the moment that imposes psi, so the stick
+    stiffness is positive and the loop is traversed with positive work oint M dpsi.
+    For psi = psi_c + psi_a cos(tau): M ~ psi_a (k_Re cos tau - k_Im sin tau), i.e. the phasor
+    relation M = (k_Re + i k_Im) psi with k_Im = W / (pi psi_a^2) > 0 for a dissipative loop.
+    Units: psi in mrad, M in N mm, k in N mm/mrad, energy in N mm per cycle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+MRAD_PER_RAD = 1e3
+CONTACT_NAMES = ("R1", "L1", "L2")
+
+# Friction direction s_i at cycle start (T_i = s_i mu N_i along the up-flank tangent), (R1, L1, L2).
+START_FRICTION_SIGNS = np.array([1.0, -1.0, -1.0])
+
+# Radial motion of each contact's platform per unit dv: R1 moves with the right platform, the left
+# platform (L1, L2) is the reference.
+PLATFORM_MOTION = np.array([1.0, 0.0, 0.0])
+
+# Generalised force (Fx, Fy, Mz about D) of F_D = 1: radially outward ("up"), applied at D.
+CENTRIFUGAL_LOAD = np.array([0.0, 1.0, 0.0])
+
+# M_P takes +F_R1,v and -F_L,v.
+MOMENT_SIDE = np.array([1.0, -1.0, -1.0])
+
+
+def psi_mrad(dv_mm, q_star_mm):
+    """Platform rotation (mrad) of a relative platform displacement dv (mm)."""
+    return dv_mm / q_star_mm * MRAD_PER_RAD
+
+
+def travel_mm(psi_mrad_value, q_star_mm):
+    """Relative platform displacement (mm) of a platform rotation (mrad)."""
+    return psi_mrad_value * q_star_mm / MRAD_PER_RAD
+
+
+def platform_arm(q_star_mm, r_sin_beta_mm):
+    """Arm (mm) that turns the vertical force difference into the platform moment."""
+    return q_star_mm / 2.0 + r_sin_beta_mm
+
+
+def moment_coefficients(normals_y, tangents_y, F_D, q_star_mm, r_sin_beta_mm):
+    """(fn, ft): platform moment M_P in N mm per unit normal / tangential force (units of F_D) of
+    each contact, from the vertical components of the contact normals and tangents."""
+    arm = platform_arm(q_star_mm, r_sin_beta_mm) * F_D
+    return -normals_y * MOMENT_SIDE * arm, tangents_y * MOMENT_SIDE * arm
+
+
+def stiffness_from_fourier(cos_integral, sin_integral, psi_a_mrad):
+    """(k_Re, k_Im) in N mm/mrad from int M cos(tau) dtau and int M sin(tau) dtau over a period."""
+    return cos_integral / (np.pi * psi_a_mrad), -sin_integral / (np.pi * psi_a_mrad)
+
+
+def stiffness_from_rfft(first_bin, n_samples, psi_a_mrad):
+    """(k_Re, k_Im) from the first rfft bin of n samples of M at tau_k = 2 pi k / n (the discrete
+    form of `stiffness_from_fourier`: sum M e^(-i tau) = n/2 psi_a (k_Re + i k_Im))."""
+    scale = 2.0 / (n_samples * psi_a_mrad)
+    return first_bin.real * scale, first_bin.imag * scale

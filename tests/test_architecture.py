@@ -1,0 +1,151 @@
+"""The layers of docs/architecture.md, checked on the source (ast): no module imports another
+module's underscore name, nothing outside jaxdamp/cli imports argparse, the library never imports
+upward (core -> baselines/paper -> plotting -> cli -> optimize), and the import graph has no cycle.
+Also: importing jaxdamp changes no JAX configuration and imports no matplotlib."""
+
+import ast
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGES = ("jaxdamp", "optimize")
+# Layer of each part; an import may only point to the same or a lower layer.
+LAYERS = {"core": 0, "baselines": 1, "paper": 1, "plotting": 2, "cli": 3, "optimize": 4}
+
+
+def modules():
+    for pkg in PACKAGES:
+        for path in sorted((ROOT / pkg).rglob("*.py")):
+            rel = path.relative_to(ROOT).with_suffix("")
+            parts = list(rel.parts)
+            if parts[-1] == "__init__":
+                parts = parts[:-1]
+            yield ".".join(parts), path
+
+
+def layer(module: str) -> int:
+    parts = module.split(".")
+    if parts[0] == "optimize":
+        return LAYERS["optimize"]
+    if len(parts) > 1 and parts[1] in LAYERS:
+        return LAYERS[parts[1]]
+    return LAYERS["core"]
+
+
+def imports(module: str, path: Path):
+    """(imported module, imported names) for every import statement, relative ones resolved."""
+    tree = ast.parse(path.read_text())
+    package = module if path.name == "__init__.py" else module.rpartition(".")[0]
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            for a in node.names:
+                yield a.name, []
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                pkg = package.split(".")
+                pkg = pkg[: len(pkg) - node.level + 1]
+                base = ".".join(pkg + ([base] if base else []))
+            yield base, [a.name for a in node.names]
+
+
+def own(target: str) -> bool:
+    return target.split(".")[0] in PACKAGES
+
+
+def test_no_module_imports_another_modules_underscore_name():
+    bad = []
+    for module, path in modules():
+        for target, names in imports(module, path):
+            if not own(target) or target == module:
+                continue
+            bad += [f"{module}: from {target} import {n}" for n in names
+                    if n.startswith("_") and not n.startswith("__")]
+    assert not bad, "\n".join(bad)
+
+
+def test_argparse_only_in_cli():
+    bad = [module for module, path in modules()
+           if not module.startswith(("jaxdamp.cli", "optimize.cli"))
+           and any(t == "argparse" for t, _ in imports(module, path))]
+    assert not bad, bad
+
+
+def test_no_import_points_up_a_layer():
+    bad = []
+    for module, path in modules():
+        if module == "jaxdamp":  # the facade re-exports the core only (checked below)
+            continue
+        for target, names in imports(module, path):
+            if not own(target):
+                continue
+            targets = [target] + [f"{target}.{n}" for n in names]
+            for t in targets:
+                known = any(t == m for m, _ in modules())
+                if known and layer(t) > layer(module):
+                    bad.append(f"{module} -> {t}")
+    assert not bad, "\n".join(bad)
+
+
+def test_facade_reexports_the_core_only():
+    path = ROOT / "jaxdamp" / "__init__.py"
+    for target, _ in imports("jaxdamp", path):
+        if own(target):
+            assert layer(target) == LAYERS["core"], target
+
+
+def test_import_graph_has_no_cycle():
+    names = {m for m, _ in modules()}
+    graph = {}
+    for module, path in modules():
+        deps = set()
+        for target, imported in imports(module, path):
+            for t in [target] + [f"{target}.{n}" for n in imported]:
+                if t in names and t != module:
+                    deps.add(t)
+        # A package's __init__ is imported with any of its submodules: not a dependency edge back.
+        graph[module] = {d for d in deps if not module.startswith(d + ".")}
+    state = {}
+
+    def visit(node, stack):
+        state[node] = 1
+        for nxt in graph[node]:
+            if state.get(nxt) == 1:
+                raise AssertionError("cycle: " + " -> ".join(stack + [node, nxt]))
+            if not state.get(nxt):
+                visit(nxt, stack + [node])
+        state[node] = 2
+
+    for node in graph:
+        if not state.get(node):
+            visit(node, [])
+
+
+def test_import_jaxdamp_is_side_effect_free():
+    code = """
+import json, sys
+import jax
+before = {k: getattr(jax.config, k) for k in ("jax_enable_x64", "jax_numpy_rank_promotion",
+                                               "jax_compilation_cache_dir")}
+import jaxdamp, jaxdamp.baselines, jaxdamp.paper
+after = {k: getattr(jax.config, k) for k in before}
+print(json.dumps({"same": before == after, "mpl": "matplotlib" in sys.modules,
+                  "backend_started": jax._src.xla_bridge._backends != {}}))
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    res = json.loads(out.stdout)
+    assert res == {"same": True, "mpl": False, "backend_started": False}, res
+
+
+def test_float32_is_refused_with_instructions():
+    code = """
+import jaxdamp as jd
+try:
+    jd.base_cycle(jd.family_shape("60sym"), 0.5)
+except jd.Float64Required as exc:
+    print("refused:", exc)
+"""
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.startswith("refused:") and "enable_x64" in out.stdout
