@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import math
+
 import jax
 import jax.numpy as jnp
 import numpy as np
@@ -59,16 +61,45 @@ def validate_load(load: LoadCase) -> LoadCase:
     return load
 
 
+# (lower, upper, lower bound open) of the scalar inputs in _fast_ok's order: theta_l, theta_r,
+# br_over_hr, bl2_over_hl, mu, F_D, q_star, r_sin_beta. The same ranges as the per-parameter
+# checks, whose messages are used when this fast path fails.
+_RANGES = ((0.0, 90.0, True), (0.0, 90.0, True), (-0.5, 0.5, False), (0.0, 1.0, True),
+           (0.0, 5.0, True), (0.0, math.inf, True), (0.0, math.inf, True), (-1e9, 1e9, False))
+
+
+def _fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
+    """True when every input is a plain Python number (kn, kt may also be numpy (3,) arrays) inside
+    its range: plain comparisons, no array work. Anything else goes through the full checks."""
+    vals = (shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl, mu, *load)
+    if shape.x_d is not None:
+        return False
+    for v, (lo, hi, lo_open) in zip(vals, _RANGES):
+        if type(v) not in (float, int) or not ((v > lo) if lo_open else (v >= lo)) or not v <= hi \
+                or v == math.inf:
+            return False
+    for k in contacts:
+        if type(k) in (float, int):
+            if not 0.0 < k < math.inf:
+                return False
+        elif not (isinstance(k, np.ndarray) and k.shape == (3,) and bool(np.all(k > 0.0))
+                  and bool(np.all(np.isfinite(k)))):
+            return False
+    return True
+
+
 def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
-    """Validate a solver's inputs (ValueError naming the parameter and its range) and convert them
-    to float arrays, so that every entry point compiles the same program."""
+    """Validate a solver's inputs (ValueError naming the parameter and its range; Float64Required
+    in float32) and convert them to float arrays with kn, kt per contact, so that every entry point
+    compiles the same program. Plain numbers take a one-comparison fast path."""
     from .geometry import DamperShape, validate_shape
 
     require_x64()
-    validate_shape(shape)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
+    if not _fast_ok(shape, mu, contacts, load):
+        validate_shape(shape)
+        validate_mu(mu)
+        validate_contacts(contacts)
+        validate_load(load)
     shape = DamperShape(*(None if v is None else _float_array(v) for v in shape))
     # A shared stiffness runs as three equal ones: one compiled program for both forms.
     contacts = Contacts(*(_per_contact(_float_array(k)) for k in contacts))
@@ -79,6 +110,8 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
 def _float_array(v):
     """Concrete host values stay numpy arrays (jit takes them without a per-leaf device dispatch,
     which dominated a single call's Python overhead); JAX arrays and tracers stay JAX's."""
+    if isinstance(v, float):
+        return np.float64(v)
     if isinstance(v, jax.Array):
         return v if v.dtype == jnp.result_type(float) else jnp.asarray(v, float)
     return np.asarray(v, dtype=float)
@@ -86,5 +119,5 @@ def _float_array(v):
 
 def _per_contact(k):
     if np.ndim(k) == 0:
-        return np.full(3, k) if isinstance(k, np.ndarray) else jnp.broadcast_to(k, (3,))
+        return np.full(3, k) if isinstance(k, (np.ndarray, np.generic)) else jnp.broadcast_to(k, (3,))
     return k
