@@ -14,7 +14,7 @@ import jax.numpy as jnp
 
 from .design import Design, as_design
 from .geometry import DamperShape
-from .status import RESULTS, ok_status
+from .status import from_flags
 from .params import Contacts, LoadCase, prepare_inputs
 from .conventions import PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state
@@ -162,11 +162,8 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
     liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
     failed = ~liftoff0 & (fwd.failed | bwd.failed)
     converged = conv & ~liftoff
-    status = RESULTS.promote(ok_status(), liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
-    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
     return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
-                     status)
+                     from_flags(liftoff, failed, converged))
 
 
 def _aitken(mech: Mechanics, s0, s1, s2, have_history):

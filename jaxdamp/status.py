@@ -56,6 +56,14 @@ _MESSAGES = {
 }
 
 
+def from_flags(liftoff, failed=False, converged=True):
+    """The status of a result that reports liftoff / failed / converged flags: liftoff first, then
+    a singular or failed solve, then non-convergence."""
+    status = RESULTS.promote(ok_status(jnp.shape(liftoff)), liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, failed, RESULTS.singular)
+    return RESULTS.promote(status, ~jnp.asarray(converged), RESULTS.not_converged)
+
+
 def ok_status(shape=()):
     """An array of `ok` codes (int32)."""
     return jnp.zeros(shape, jnp.int32)

@@ -24,6 +24,7 @@ import numpy as np
 from .._validate import check_int, check_range
 from ..conventions import stiffness_from_rfft, travel_mm
 from ..geometry import DamperShape
+from ..status import from_flags
 from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import MAX_NEWTON, initial_state, march, march_model
 
@@ -38,6 +39,7 @@ class HBMResult(NamedTuple):
     converged: jnp.ndarray  # periodic to PERIODIC_TOL, Newton converged at every sample
     liftoff: jnp.ndarray
     newton_failures: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code: liftoff, or not_converged (not periodic / Newton failed)
 
 
 def first_harmonic(M, psi_a_mrad):
@@ -62,7 +64,8 @@ def hbm_aft_kernel(shape, mu, contacts, load, psi_a_mrad, n_time: int, n_periods
     fails = jnp.sum(~smp.converged)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
     work = jnp.pi * psi_a_mrad ** 2 * k_im * 1e-3
-    return HBMResult(k_re, k_im, work, periodicity, converged, liftoff, fails)
+    return HBMResult(k_re, k_im, work, periodicity, converged, liftoff, fails,
+                     from_flags(liftoff, False, converged))
 
 
 def hbm_aft(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

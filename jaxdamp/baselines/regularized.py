@@ -20,8 +20,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_int, check_range
-from ..conventions import CENTRIFUGAL_LOAD, travel_mm
+from ..conventions import CENTRIFUGAL_LOAD, MRAD_PER_RAD, travel_mm
 from ..geometry import DamperShape
+from ..status import from_flags
 from .hbm import PERIODIC_TOL, HBMResult, first_harmonic
 from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of, newton
@@ -126,8 +127,8 @@ def regularized_aft_kernel(shape, mu, contacts, load, psi_a_mrad, eps, n_time: i
     liftoff = lift0 | jnp.any(n_min <= 0.0)
     fails = jnp.sum(~conv)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
-    return HBMResult(k_re, k_im, jnp.pi * psi_a_mrad ** 2 * k_im * 1e-3, periodicity, converged,
-                     liftoff, fails)
+    return HBMResult(k_re, k_im, jnp.pi * psi_a_mrad ** 2 * k_im / MRAD_PER_RAD, periodicity,
+                     converged, liftoff, fails, from_flags(liftoff, False, converged))
 
 
 def regularized_aft(shape: DamperShape, mu, psi_a_mrad, eps, contacts: Contacts = Contacts(),

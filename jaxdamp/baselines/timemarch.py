@@ -36,6 +36,7 @@ from ..params import Contacts, LoadCase, prepare_inputs
 from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, PLATFORM_MOTION, START_FRICTION_SIGNS, moment_coefficients,
                            psi_mrad, travel_mm)
 from ..statics import contact_columns, full_slip_state
+from ..status import from_flags
 
 NEWTON_TOL = 1e-12  # equilibrium residual, units of F_D
 GROSS_TOL = 1e-9  # incremental force rate (per mm) below which the damper is in gross slip, x k/F_D
@@ -260,6 +261,7 @@ class TimeMarchResult(NamedTuple):
     failed: jnp.ndarray  # Newton did not converge, or gross slip was not reached in n_steps
     half_cycles: jnp.ndarray
     newton_failures: jnp.ndarray  # steps whose Newton iterations did not reach the tolerance
+    status: jnp.ndarray  # RESULTS code from liftoff / failed / converged
 
 
 def loop_harmonics(M_fwd, M_bwd, K, psi_a_mrad):
@@ -367,7 +369,7 @@ def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int
     return TimeMarchResult(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, k_im_energy, work_c, work_m,
                            span_f, span_b, fwd.samples.N[-1], fwd.samples.T[-1], bwd.samples.N[-1],
                            bwd.samples.T[-1], out["closed"] & ~liftoff, liftoff, failed, 2 * out["k"],
-                           newton_fail)
+                           newton_fail, from_flags(liftoff, failed, out["closed"] & ~liftoff))
 
 
 def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
