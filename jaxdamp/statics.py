@@ -106,7 +106,7 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     (cycle start) and L2 (mid-cycle) at mu_max, by bisection. `inside` is False where no b_R keeps
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
     validate_shape(shape)
-    validate_mu(mu_max)
+    validate_mu(mu_max, "mu_max")
     return _design_br(shape, mu_max, lo, hi)
 
 
