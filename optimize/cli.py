@@ -6,7 +6,8 @@ A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.com
 from __future__ import annotations
 
 from jaxdamp.cli import (CliError, add_contact_args, add_json_arg, add_progress_arg,
-                         check_output_file, contacts_echo, document, emit, load_echo)
+                         check_output_file, contacts_echo, document, emit, load_echo,
+                         progress_bar)
 
 from .design import VARIABLES
 
@@ -62,7 +63,12 @@ def payload_of(args) -> dict:
         raise CliError(f"--grid-points must be an integer >= 2; got {args.grid_points}")
     if args.plot:
         check_output_file("--plot", args.plot, (".png", ".pdf", ".svg"))
-    res = optimize(args.objective, problem, config=config, weights=weights)
+    bar = progress_bar(args, total=config.rounds, desc="optimize", unit="round")
+    try:
+        res = optimize(args.objective, problem, config=config, weights=weights,
+                       progress=lambda rnd: bar.update(1))
+    finally:
+        bar.close()
     payload = {**res.shape, "objective_name": res.objective_name, "objective": res.objective,
                "units": res.units, "baseline": res.baseline, "feasible": res.feasible,
                "min_margin_pct": res.min_margin_pct, "margin_pct": problem.margin_pct,

@@ -168,3 +168,13 @@ def test_status_from_result_fields_or_flags():
     assert C.status_from_flags(failed=True) == "singular"
     assert C.status_from_flags(converged=False) == "not_converged"
     assert C.status_name(SimpleNamespace(status=RESULTS.ill_conditioned, converged=True)) == "ill_conditioned"
+
+
+def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):
+    from importlib.metadata import EntryPoint
+
+    broken = EntryPoint("broken", "no_such_module_xyz:register", cli.ENTRY_POINT_GROUP)
+    monkeypatch.setattr(cli, "_entry_point_registers", lambda: [cli._loader(broken)])
+    assert run_cli(capsys, "statics", "--shape", "60sym", "--mu", "0.5")[0] == 0
+    code, _, err = run_cli(capsys, "broken")
+    assert code == 2 and "failed to load" in one_error_line(err)

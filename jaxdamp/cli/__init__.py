@@ -75,7 +75,30 @@ def _builtin_registers():
 def _entry_point_registers():
     from importlib.metadata import entry_points
 
-    return [ep.load for ep in entry_points(group=ENTRY_POINT_GROUP)]
+    return [_loader(ep) for ep in entry_points(group=ENTRY_POINT_GROUP)]
+
+
+def _loader(ep):
+    """ep.load, except that a plugin that fails to import does not break the other commands: its
+    command is still listed and, when run, says in one line why it cannot load (exit 2)."""
+
+    def load():
+        try:
+            return ep.load()
+        except Exception as exc:  # noqa: BLE001 - any import-time error of third-party code
+            reason = f"command {ep.name!r} ({ep.value}) failed to load: {type(exc).__name__}: {exc}"
+
+            def unavailable(args):
+                raise CliError(reason)
+
+            def register(sub):
+                p = sub.add_parser(ep.name, help=f"(unavailable: {reason})", add_help=False)
+                p.add_argument("rest", nargs="*")
+                p.set_defaults(func=unavailable)
+
+            return register
+
+    return load
 
 
 def build_parser(extra_commands=()):
