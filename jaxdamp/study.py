@@ -261,6 +261,26 @@ def key_figure(bc, summary):
     return fig
 
 
+def check_study_inputs(shapes, mus, kn=None, kt=None):
+    """ValueError naming the parameter unless the study's inputs are valid (nothing is computed);
+    returns the Contacts (kn, kt default to the reference pair). `run_study` calls it first."""
+    from .params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts, validate_mu
+
+    if not shapes:
+        raise ValueError("give at least one shape")
+    if not mus:
+        raise ValueError("give at least one friction coefficient")
+    known = _tables()["shapes"]
+    unknown = [s for s in shapes if s not in known]
+    if unknown:
+        raise ValueError(f"unknown shape(s) {', '.join(unknown)}; choose from {', '.join(known)}")
+    for mu in mus:
+        validate_mu(float(mu))
+    kn = REFERENCE_KN if kn is None else kn
+    kt = REFERENCE_KT if kt is None else kt
+    return validate_contacts(Contacts(float(kn), float(kt)))
+
+
 def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=True,
               figures=True) -> dict:
     """Compute every shape x mu Base-Cycle; write study.json, tables, figures and the report into out.
@@ -270,25 +290,15 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     import jax
     from tqdm import tqdm
 
-    from .params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase, validate_contacts, validate_mu
+    from .params import LoadCase
     from .report import build_report
     from .scoring import qualitative_findings, score_table
 
     t0 = time.perf_counter()
     out = Path(out)
-    if not shapes:
-        raise ValueError("give at least one shape")
-    if not mus:
-        raise ValueError("give at least one friction coefficient")
+    contacts = check_study_inputs(shapes, mus, kn, kt)
+    kn, kt = contacts
     tables = _tables()
-    unknown = [s for s in shapes if s not in tables["shapes"]]
-    if unknown:
-        raise ValueError(f"unknown shape(s) {', '.join(unknown)}; choose from {', '.join(tables['shapes'])}")
-    for mu in mus:
-        validate_mu(float(mu))
-    kn = REFERENCE_KN if kn is None else kn
-    kt = REFERENCE_KT if kt is None else kt
-    contacts = validate_contacts(Contacts(float(kn), float(kt)))
     ref = tables["reference_case"]
     load = LoadCase(ref["F_D"], ref["q_star"], ref["r_sin_beta"])
     out.mkdir(parents=True, exist_ok=True)

@@ -33,6 +33,7 @@ def test_cli_study_json_and_liftoff_case(tmp_path, capsys):
     entry = d["results"]["74L"]["0.7"]
     assert entry["status"] == "liftoff" and entry["psi_bc_mrad"] is None
     assert d["status"] == "ok" and d["shapes"] == ["74L"] and d["mu"] == [0.7]
+    assert d["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -23,23 +23,12 @@ def register(sub) -> None:
 
 
 def run(args) -> int:
-    from ..geometry import paper_tables
-    from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts, validate_mu
-    from ..study import run_study
+    from ..params import Contacts, LoadCase
+    from ..study import check_study_inputs, run_study
 
     shapes = tuple(s.strip() for s in args.shapes.split(",") if s.strip())
     mus = C.float_list(args.mu, "--mu")
-    # the library's checks, before the output path is touched and before any work
-    known = paper_tables()["shapes"]
-    unknown = [s for s in shapes if s not in known]
-    if not shapes or unknown:
-        raise ValueError(f"unknown shape(s) {', '.join(unknown) or '(none given)'}; choose from "
-                         f"{', '.join(known)}")
-    for mu in mus:
-        validate_mu(mu)
-    kn = REFERENCE_KN if args.kn is None else args.kn
-    kt = REFERENCE_KT if args.kt is None else args.kt
-    validate_contacts(Contacts(kn, kt))
+    kn, kt = check_study_inputs(shapes, mus, args.kn, args.kt)  # before the output path and any work
     out = C.check_output_dir("--out", args.out)
     summary = run_study(out, shapes, mus, kn, kt, progress=C.show_progress(args),
                         figures=not args.no_figures)
@@ -57,6 +46,6 @@ def run(args) -> int:
         "results": summary["results"], "criterion": crit, "files": [str(f) for f in files],
         "runtime_s": summary["meta"]["runtime_s"]},
         shapes=list(shapes), mu=list(mus), contacts=C.contacts_echo(Contacts(kn, kt)),
-        load=summary["load"])
+        load=C.load_echo(LoadCase(*(summary["load"][k] for k in ("F_D", "q_star", "r_sin_beta")))))
     C.emit(args, doc, "\n".join(lines))
     return 0
