@@ -49,7 +49,7 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
 
 
 def check_positive(name, value, unit=""):
-    """0 < value < inf (a positive, finite number)."""
+    """value in (0, inf): infinity is not a stiffness, force or length the solver can use."""
     check_range(name, value, 0.0, np.inf, lo_open=True, hi_open=True, unit=unit)
 
 

@@ -6,7 +6,8 @@
 XLA_FLAGS=--xla_force_host_platform_device_count=N): the batch is padded to a multiple of the
 device count, split along its leading axis by a `NamedSharding`, and each device runs its share.
 `sweep` evaluates a theta_L x theta_R grid at several mu, with b_R fixed or chosen by the paper's
-centring rule, and flags liftoff and non-converged points. `jaxdamp sweep` writes heatmaps and data.
+centring rule, and flags liftoff and non-converged points (`jaxdamp sweep`, in jaxdamp.cli.sweep,
+writes heatmaps and data).
 """
 
 from __future__ import annotations
@@ -143,8 +144,27 @@ def device_mesh(devices=None) -> Mesh:
 
 def shard(batched, mesh: Mesh):
     """Place a batched pytree on the mesh, split along its leading axis (a multiple of the mesh
-    size) by a NamedSharding: what `map_batched` does with every chunk."""
-    return jax.device_put(batched, NamedSharding(mesh, PartitionSpec(AXIS)))
+    size) by a NamedSharding: what `map_batched` does with every chunk.
+
+    Under `jax.distributed` the mesh spans every process's devices: each process holds the whole
+    (host) batch and hands each of its own devices that device's rows."""
+    sharding = NamedSharding(mesh, PartitionSpec(AXIS))
+    if mesh.is_multi_process:
+        return jax.tree_util.tree_map(
+            lambda x: jax.make_array_from_callback(np.shape(x), sharding,
+                                                   lambda idx, x=np.asarray(x): x[idx]), batched)
+    return jax.device_put(batched, sharding)
+
+
+def gather(out) -> object:
+    """A sharded result as numpy on this host; under `jax.distributed`, every process gets the
+    whole result (an all-gather over processes)."""
+    leaves = jax.tree_util.tree_leaves(out)
+    if leaves and not all(getattr(x, "is_fully_addressable", True) for x in leaves):
+        from jax.experimental import multihost_utils
+
+        out = multihost_utils.process_allgather(out, tiled=True)
+    return jax.tree_util.tree_map(np.asarray, out)
 
 
 # ---------------------------------------------------------------- the one batching path
@@ -236,7 +256,7 @@ def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = Non
         pending.append((count, run(shard(take(batched, idx), mesh), *shared)))
     parts = []
     for count, out in pending:
-        parts.append(jax.tree_util.tree_map(lambda x, k=count: np.asarray(x)[:k], out))
+        parts.append(jax.tree_util.tree_map(lambda x, k=count: x[:k], gather(out)))
         if progress is not None:
             progress(count)
     return jax.tree_util.tree_map(lambda *xs: np.concatenate(xs, 0), *parts)
@@ -347,10 +367,40 @@ def centred_br(theta_l, theta_r, mu_max=0.7, bl2_over_hl=0.8):
     """The paper's centring rule (jaxdamp.design_br) for arrays of angles: (br, found, inside)."""
     tl, tr = np.broadcast_arrays(np.asarray(theta_l, float), np.asarray(theta_r, float))
     validate_shape(DamperShape(tl, tr, 0.0, bl2_over_hl))
-    validate_mu(mu_max)
+    validate_mu(mu_max, "mu_max")
     res = _centring(jnp.asarray(tl.ravel()), jnp.asarray(tr.ravel()), jnp.asarray(bl2_over_hl, float),
                     jnp.asarray(mu_max, float))
     return tuple(np.asarray(a).reshape(tl.shape) for a in (res.br_over_hr, res.found, res.inside))
+
+
+def check_sweep_inputs(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None,
+                       bl2_over_hl=0.8, contacts: Contacts = Contacts(),
+                       load: LoadCase = LoadCase()):
+    """Validate a sweep's inputs without computing anything (ValueError naming the parameter and
+    its range); returns (theta_l, theta_r, mu) as 1-D float arrays. `sweep` calls it first."""
+    try:
+        tl, tr, mus = (np.atleast_1d(np.asarray(v, float)) for v in (theta_l, theta_r, mu))
+    except (TypeError, ValueError):
+        raise ValueError("theta_l, theta_r and mu must be sequences of numbers") from None
+    for name, v in (("theta_l", tl), ("theta_r", tr), ("mu", mus)):
+        if v.ndim != 1 or v.size == 0:
+            raise ValueError(f"{name} must be a non-empty 1-D sequence")
+    validate_mu(mus)
+    if isinstance(br_over_hr, str):
+        if br_over_hr not in ("centred", "centered"):
+            raise ValueError(f"br_over_hr must be a number in [-0.5, 0.5] or 'centred'; "
+                             f"got {br_over_hr!r}")
+        br = 0.0
+        if mu_max is not None:
+            validate_mu(mu_max, "mu_max")
+    else:
+        br = br_over_hr  # a fixed b_R is checked, never clipped into range
+    validate_shape(DamperShape(tl[:, None], tr[None, :], br, bl2_over_hl))
+    if np.ndim(contacts.kn) or np.ndim(contacts.kt):
+        raise ValueError("sweep takes scalar kn, kt (shared by R1, L1, L2)")
+    validate_contacts(contacts)
+    validate_load(load)
+    return tl, tr, mus
 
 
 def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_hl=0.8,
@@ -358,22 +408,15 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
           chunk_size: int | None = None, progress=None) -> SweepResult:
     """Evaluate every (mu, theta_l, theta_r) of a grid.
 
-    br_over_hr: a number (fixed b_R/h_R) or "centred": the paper's rule, which puts the left resultant
-    equidistant from L1 and L2 at mu_max (default: the largest mu of the sweep).
+    br_over_hr: a number (fixed b_R/h_R, in [-0.5, 0.5]) or "centred": the paper's rule, which puts
+    the left resultant equidistant from L1 and L2 at mu_max (default: the largest mu of the sweep).
+    Every input is validated (`check_sweep_inputs`) before anything is computed.
+    progress: passed to `evaluate_designs`.
     """
-    tl = np.atleast_1d(np.asarray(theta_l, float))
-    tr = np.atleast_1d(np.asarray(theta_r, float))
-    mus = np.atleast_1d(np.asarray(mu, float))
-    for name, v in (("theta_l", tl), ("theta_r", tr), ("mu", mus)):
-        if v.ndim != 1 or v.size == 0:
-            raise ValueError(f"{name} must be a non-empty 1-D sequence")
-    validate_mu(mus)
-    if np.ndim(contacts.kn) or np.ndim(contacts.kt):
-        raise ValueError("sweep takes scalar kn, kt (shared by R1, L1, L2)")
+    tl, tr, mus = check_sweep_inputs(theta_l, theta_r, mu, br_over_hr, mu_max=mu_max,
+                                     bl2_over_hl=bl2_over_hl, contacts=contacts, load=load)
     L, R = np.meshgrid(tl, tr, indexing="ij")
     if isinstance(br_over_hr, str):
-        if br_over_hr not in ("centred", "centered"):
-            raise ValueError(f"br_over_hr must be a number or 'centred'; got {br_over_hr!r}")
         mu_max = float(mus.max()) if mu_max is None else float(mu_max)
         br, found, inside = centred_br(L, R, mu_max, bl2_over_hl)
     else:
@@ -388,64 +431,3 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
     out = DesignSummary(*(a.reshape((mus.size,) + L.shape) for a in out))
     return SweepResult(tl, tr, mus, br, found, inside, mu_max, float(bl2_over_hl),
                        float(contacts.kn), float(contacts.kt), out)
-
-
-# ---------------------------------------------------------------- CLI: jaxdamp sweep
-def parse_values(text: str, name: str) -> np.ndarray:
-    """'a,b,c' or 'start:stop:count' (inclusive linspace)."""
-    try:
-        if ":" in text:
-            start, stop, count = text.split(":")
-            if int(count) < 1:
-                raise ValueError
-            return np.linspace(float(start), float(stop), int(count))
-        return np.array([float(v) for v in text.split(",") if v.strip()])
-    except ValueError:
-        raise ValueError(f"{name} must be 'a,b,c' or 'start:stop:count'; got {text!r}") from None
-
-
-def cmd_sweep(args):
-    from pathlib import Path
-
-    from .cli import emit
-    from .plotting.sweep import write_sweep
-
-    br = args.br if args.br in ("centred", "centered") else None
-    if br is None:
-        try:
-            br = float(args.br)
-        except ValueError:
-            raise ValueError(f"--br must be a number or 'centred'; got {args.br!r}") from None
-    res = sweep(parse_values(args.theta_l, "--theta-l"), parse_values(args.theta_r, "--theta-r"),
-                parse_values(args.mu, "--mu"), br, mu_max=args.mu_max, bl2_over_hl=args.bl2,
-                contacts=Contacts(args.kn, args.kt))
-    files = write_sweep(res, Path(args.out))
-    s = res.summary
-    payload = {"points": int(s.psi_bc.size), "liftoff": int(s.liftoff.sum()),
-               "not_converged": int((~s.converged & ~s.liftoff).sum()), "failed": int(s.failed.sum()),
-               "br_undefined": int((~res.br_found).sum()) * int(res.mu.size),
-               "valid": int(res.valid.sum()), "files": [str(f) for f in files]}
-    text = (f"{payload['points']} designs: {payload['valid']} valid, {payload['liftoff']} liftoff, "
-            f"{payload['not_converged']} not converged ({payload['failed']} failed)\n"
-            + "\n".join(f"wrote {f}" for f in files))
-    emit(args, payload, text)
-
-
-def register_cli(sub) -> None:
-    from .cli import add_contact_args
-
-    p = sub.add_parser("sweep", help="theta_L x theta_R x mu grid: heatmaps of psi_BC, k_Im,BC, w_M "
-                                     "and the liftoff region, plus a data file")
-    p.add_argument("--theta-l", default="40:90:11", help="theta_L values, deg: 'a,b,c' or "
-                   "'start:stop:count' (default 40:90:11)")
-    p.add_argument("--theta-r", default="40:90:11", help="theta_R values, deg (default 40:90:11)")
-    p.add_argument("--mu", default="0.3,0.5,0.7", help="friction coefficients (default 0.3,0.5,0.7)")
-    p.add_argument("--br", default="centred", help="b_R/h_R: a number, or 'centred' (the paper's "
-                   "rule at --mu-max; default)")
-    p.add_argument("--mu-max", type=float, default=None,
-                   help="mu of the centring rule (default: the largest --mu)")
-    p.add_argument("--bl2", type=float, default=0.8, help="2b_L/h_L, in (0, 1] (default 0.8)")
-    add_contact_args(p)
-    p.add_argument("--out", required=True, help="output directory")
-    p.add_argument("--json", action="store_true", help="machine-readable summary")
-    p.set_defaults(func=cmd_sweep)

@@ -128,7 +128,7 @@ def _check_mode(mode):
         raise ValueError(f"mode must be one of {', '.join(MODES)}; got {mode!r}")
 
 
-def _check_psi_a(psi_a_mrad):
+def validate_psi_a(psi_a_mrad):
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e9, unit="mrad")
 
 
@@ -143,7 +143,7 @@ def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = L
              psi_a_mrad=0.0) -> tuple[Outputs, Flags]:
     """The differentiated outputs and flags of one design (the same program the gradients trace)."""
     design = Design(*prepare_inputs(*as_design(shape, mu, contacts, load)))
-    _check_psi_a(psi_a_mrad)
+    validate_psi_a(psi_a_mrad)
     return _value(design, jnp.asarray(psi_a_mrad, float))
 
 
@@ -151,7 +151,7 @@ def _jac(shape, mu, contacts, load, psi_a, mode):
     _check_mode(mode)
     given = as_design(shape, mu, contacts, load)
     design = Design(*prepare_inputs(*given))
-    _check_psi_a(psi_a)
+    validate_psi_a(psi_a)
     jac, (values, flags) = _jacobian[mode](design, jnp.asarray(psi_a, float))
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
     return values, Outputs(*(_collapse(d, *shared) for d in jac)), flags
@@ -191,75 +191,7 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     prepared = Design(*prepare_inputs(*designs))
     prepared = prepared._replace(contacts=Contacts(
         *(np.broadcast_to(np.reshape(k, (n, -1)), (n, 3)) for k in prepared.contacts)))
-    _check_psi_a(psi_a)
+    validate_psi_a(psi_a)
     jac, aux = map_batched(_BATCHED[mode], prepared, jnp.asarray(psi_a, float), devices=devices,
                            chunk_size=chunk_size, progress=progress)
     return Outputs(*(_collapse(d, *shared) for d in jac)), aux
-
-
-# ---------------------------------------------------------------- CLI: jaxdamp grad
-JSON_OUTPUTS = (("psi_bc_mrad", "psi_bc"), ("k_im_bc", "k_im_bc"), ("k_re_bc", "k_re_bc"),
-                ("psi_fs_mrad", "psi_fs"), ("k_re_fs", "k_re_fs"))
-
-
-def _as_json(d: Design) -> dict:
-    out = {}
-    for name, value in by_name(d).items():
-        arr = np.asarray(value, float)
-        out[name] = float(arr) if arr.ndim == 0 else [float(v) for v in arr]
-    return out
-
-
-def grad_payload(shape, mu, contacts, load=LoadCase(), mode="fwd", psi_a_mrad=None) -> dict:
-    """The `jaxdamp grad --json` document: one dict of derivatives per output, keyed by variable."""
-    jac = five_numbers_jacobian(shape, mu, contacts, load, mode)
-    payload = {key: _as_json(getattr(jac.d, field)) for key, field in JSON_OUTPUTS}
-    payload["values"] = {key: float(getattr(jac.values, field)) for key, field in JSON_OUTPUTS}
-    if psi_a_mrad is not None:
-        g = k_im_gradient_at(psi_a_mrad, shape, mu, contacts, load, mode)
-        payload["k_im_at_psi_a"] = _as_json(g.d)
-        payload["values"]["k_im_at_psi_a"] = float(g.k_im)
-        payload["psi_a_mrad"] = float(psi_a_mrad)
-    payload.update(mode=mode, converged=bool(jac.converged), liftoff=bool(jac.liftoff),
-                   failed=bool(jac.failed),
-                   units="derivative of the output (psi in mrad, k in N mm/mrad) per unit of the "
-                         "variable: per degree for theta_l/theta_r, per N/mm for kn/kt")
-    return payload
-
-
-def cmd_grad(args):
-    from .cli import emit, shape_from_args
-
-    shape = shape_from_args(args)
-    payload = grad_payload(shape, args.mu, Contacts(args.kn, args.kt),
-                           LoadCase(args.fd, args.q, args.r_sin_beta), args.mode, args.psi_a)
-    rows = [key for key, _ in JSON_OUTPUTS] + (["k_im_at_psi_a"] if args.psi_a is not None else [])
-    head = f"{'d(output)/d(var)':>16}" + "".join(f"{p:>13}" for p in PARAMETERS)
-    lines = [f"Sensitivities ({args.mode}-mode AD), mu = {args.mu:g}, kn = {args.kn:g}, kt = {args.kt:g} "
-             "N/mm; per degree for angles, per N/mm for kn/kt", head]
-    for key in rows:
-        d = payload[key]
-        lines.append(f"{key:>16}" + "".join(f"{d[p]:13.5g}" for p in PARAMETERS))
-    flags = [name for name in ("liftoff", "failed") if payload[name]]
-    if not payload["converged"]:
-        flags.append("not converged")
-    if flags:
-        lines.append("WARNING: " + ", ".join(flags) + ": these derivatives do not describe a damper.")
-    emit(args, payload, "\n".join(lines))
-
-
-def register_cli(sub) -> None:
-    from .cli import add_contact_args, add_load_args, add_shape_args
-
-    p = sub.add_parser("grad", help="derivatives of psi_BC, k_Re,BC, k_Im,BC, psi_fs, k_Re,fs "
-                                    "w.r.t. the angles, b_R/h_R, 2b_L/h_L, mu, kn, kt (AD)")
-    add_shape_args(p)
-    p.add_argument("--mu", type=float, required=True, help="friction coefficient, > 0")
-    add_contact_args(p)
-    add_load_args(p)
-    p.add_argument("--psi-a", type=float, default=None,
-                   help="also differentiate k_Im at this amplitude, mrad")
-    p.add_argument("--mode", choices=MODES, default="fwd",
-                   help="AD mode: fwd (jax.jacfwd, default) or rev (jax.jacrev)")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.set_defaults(func=cmd_grad)

@@ -43,8 +43,9 @@ class LoadCase(NamedTuple):
     r_sin_beta: jnp.ndarray | float = 0.0
 
 
-def validate_mu(mu):
-    check_range("mu", mu, 0.0, 5.0, lo_open=True)
+def validate_mu(mu, name="mu"):
+    """name: how the error names the coefficient (mu, mu_max, mu_set, ...)."""
+    check_range(name, mu, 0.0, 5.0, lo_open=True)
     return mu
 
 

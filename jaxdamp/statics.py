@@ -105,7 +105,7 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
     require_x64()
     validate_shape(shape)
-    validate_mu(mu_max)
+    validate_mu(mu_max, "mu_max")
     return design_br_kernel(shape, mu_max, lo, hi)
 
 

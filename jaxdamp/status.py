@@ -67,3 +67,19 @@ def from_flags(liftoff, failed=False, converged=True):
 def ok_status(shape=()):
     """An array of `ok` codes (int32)."""
     return jnp.zeros(shape, jnp.int32)
+
+
+def status_of(result) -> RESULTS:
+    """The RESULTS code of a concrete result: its `status` field where it has one, otherwise derived
+    from its flags (liftoff first, then failed -> singular, then not converged). Host-side only."""
+    status = getattr(result, "status", None)
+    if status is not None:
+        return RESULTS(int(np.asarray(status)))
+    flag = lambda name, default: bool(np.asarray(getattr(result, name, default)))  # noqa: E731
+    if flag("liftoff", False):
+        return RESULTS.liftoff
+    if flag("failed", False):
+        return RESULTS.singular
+    if not flag("converged", True):
+        return RESULTS.not_converged
+    return RESULTS.ok

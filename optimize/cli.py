@@ -1,10 +1,13 @@
-"""`jaxdamp optimize`: shape optimisation under the no-liftoff constraint."""
+"""`jaxdamp optimize`: shape optimisation under the no-liftoff constraint.
+
+A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.commands`
+(pyproject.toml: `optimize = "optimize.cli:register"`), so jaxdamp itself never names it."""
 
 from __future__ import annotations
 
-import json
-
-from jaxdamp.cli import CliError, add_contact_args, emit
+from jaxdamp.cli import (CliError, add_contact_args, add_json_arg, add_progress_arg,
+                         check_output_file, contacts_echo, document, emit, load_echo,
+                         progress_bar)
 
 from .design import VARIABLES
 
@@ -35,9 +38,10 @@ def _assignments(text: str | None, name: str) -> dict:
     return out
 
 
-def run(args) -> dict:
+def payload_of(args) -> dict:
     """Run the optimisation described by parsed arguments; return the JSON payload."""
     from .design import design_space
+    from .objectives import parse_objective
     from .problem import make_problem
     from .solver import SolverConfig, optimize
 
@@ -54,7 +58,17 @@ def run(args) -> dict:
                            margin_pct=args.margin, min_vertex_deg=args.min_vertex_angle)
     weights = _assignments(args.weights, "--weights") or None
     config = SolverConfig(method=args.method, rounds=args.rounds)
-    res = optimize(args.objective, problem, config=config, weights=weights)
+    parse_objective(args.objective, weights)  # every input is checked before the work starts
+    if args.grid_points < 2:
+        raise CliError(f"--grid-points must be an integer >= 2; got {args.grid_points}")
+    if args.plot:
+        check_output_file("--plot", args.plot, (".png", ".pdf", ".svg"))
+    bar = progress_bar(args, total=config.rounds, desc="optimize", unit="round")
+    try:
+        res = optimize(args.objective, problem, config=config, weights=weights,
+                       progress=lambda rnd: bar.update(1))
+    finally:
+        bar.close()
     payload = {**res.shape, "objective_name": res.objective_name, "objective": res.objective,
                "units": res.units, "baseline": res.baseline, "feasible": res.feasible,
                "min_margin_pct": res.min_margin_pct, "margin_pct": problem.margin_pct,
@@ -66,11 +80,9 @@ def run(args) -> dict:
                            "evaluations": s.evaluations, "pruned": s.pruned} for s in res.starts],
                "history": res.history}
     if args.plot:
-        from .grid import grid_search
-        import matplotlib
+        import matplotlib.pyplot as plt  # the CLI's main() has chosen the Agg backend
 
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
+        from .grid import grid_search
 
         from .plot import plot_paths
 
@@ -115,12 +127,30 @@ def _text(p: dict) -> str:
     return "\n".join(lines)
 
 
-def cmd_optimize(args):
-    payload = run(args)
-    emit(args, json.loads(json.dumps(payload, allow_nan=False, default=float)), _text(payload))
+def run(args) -> int:
+    payload = payload_of(args)
+    # infeasible: no design of the box keeps every normal force positive and the left resultant
+    # inside L1-L2 (with the margin) at every mu of the set, i.e. the no-liftoff constraint fails
+    status = "ok" if payload["feasible"] else "liftoff"
+    doc = document(status, payload, contacts=contacts_echo(_contacts(args)),
+                   load=load_echo(_load()))
+    emit(args, doc, _text(payload))
+    return 0
 
 
-def register_cli(sub):
+def _contacts(args):
+    from jaxdamp.params import Contacts
+
+    return Contacts(args.kn, args.kt)
+
+
+def _load():
+    from jaxdamp.params import LoadCase
+
+    return LoadCase()  # make_problem's default: the reference load case
+
+
+def register(sub):
     from .objectives import DEFAULT_OBJECTIVE
     from .problem import DEFAULT_MIN_VERTEX_DEG
 
@@ -154,5 +184,6 @@ def register_cli(sub):
                    help="also run the grid search and save the path plot over its heatmap")
     p.add_argument("--grid-points", type=int, default=15,
                    help="grid points per axis for --plot (default 15, then refined)")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.set_defaults(func=cmd_optimize)
+    add_json_arg(p)
+    add_progress_arg(p)
+    p.set_defaults(func=run)

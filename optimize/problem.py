@@ -17,6 +17,7 @@ import numpy as np
 
 from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
                      five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
+from jaxdamp.params import validate_contacts, validate_load, validate_mu
 
 from .constraints import Margins, margins
 from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit
@@ -54,21 +55,17 @@ def make_problem(space: DesignSpace | None = None, mus=DEFAULT_MU_SET, kn=REFERE
     mus = tuple(float(m) for m in np.atleast_1d(np.asarray(mus, float)))
     if not mus:
         raise ValueError("mu_set must contain at least one friction coefficient")
+    # The library's validators: one message for the same parameter in the library, the CLI and here.
     for m in mus:
-        if not (np.isfinite(m) and 0.0 < m <= 5.0):
-            raise ValueError(f"mu_set values must be in (0, 5]; got {m:g}")
+        validate_mu(m, "mu_set")
     if len(set(mus)) != len(mus):
         raise ValueError(f"mu_set values must be distinct; got {mus}")
     for name, k in (("kn", kn), ("kt", kt)):
-        if not (np.isfinite(k) and k > 0):
-            raise ValueError(f"{name} must be a finite number in (0, inf] N/mm; got {k!r}")
+        if np.ndim(k) != 0:
+            raise ValueError(f"{name} must be one number (shared by R1, L1, L2); got {k!r}")
+    validate_contacts(Contacts(float(kn), float(kt)))
     load = tuple(float(v) for v in load)
-    if not (np.isfinite(load[0]) and load[0] > 0):
-        raise ValueError(f"F_D must be in (0, inf] N; got {load[0]!r}")
-    if not (np.isfinite(load[1]) and load[1] > 0):
-        raise ValueError(f"q_star must be in (0, inf] mm; got {load[1]!r}")
-    if not np.isfinite(load[2]):
-        raise ValueError(f"r_sin_beta must be finite; got {load[2]!r}")
+    validate_load(LoadCase(*load))
     if not (np.isfinite(margin_pct) and 0.0 <= margin_pct < 50.0):
         raise ValueError(f"margin must be in [0, 50) % of L1-L2; got {margin_pct!r}")
     if not (np.isfinite(min_normal) and 0.0 <= min_normal < 1.0):

@@ -149,6 +149,7 @@ class _Tracker:
         self.least = {n: None for n in names}  # (violation, x, dg)
         self.evals = {n: 0 for n in names}
         self.total = 0
+        self.on_round = None  # progress(round) callback, called at the start of every round
 
     def seen(self, idx, z, ev, s, dg):
         """Record evaluated points (all of them count and may become the optimum)."""
@@ -189,11 +190,13 @@ def _select(mask, new, old):
 
 
 def optimize(objective: str | Objective = DEFAULT_OBJECTIVE, problem: Problem | None = None,
-             starts=None, config: SolverConfig = SolverConfig(), weights=None) -> OptimizationResult:
+             starts=None, config: SolverConfig = SolverConfig(), weights=None,
+             progress=None) -> OptimizationResult:
     """Optimise the damper shape under the no-liftoff constraint over the problem's mu set.
 
     objective: NAME[:AGG] (see optimize.objectives), default robust worst-case k_Im,BC.
     starts: names of family shapes and/or (name, x0) pairs; default the paper's family.
+    progress: None or progress(round) called at the start of each of the config.rounds rounds.
     """
     problem = make_problem() if problem is None else problem
     obj = objective if isinstance(objective, Objective) else parse_objective(objective, weights)
@@ -211,6 +214,7 @@ def optimize(objective: str | Objective = DEFAULT_OBJECTIVE, problem: Problem | 
     scorer, n_baseline = make_scorer(problem, obj)
     names = [n for n, _ in starts]
     track = _Tracker(names, problem, scorer)
+    track.on_round = progress
     track.total += n_baseline
     z0 = np.stack([np.asarray(to_unit(space, x)) for _, x in starts])
     run = _run_lbfgs if config.method == "lbfgs" else _run_adam
@@ -304,6 +308,8 @@ def _run_lbfgs(problem, scorer, z0, track, config):
     done = np.zeros(B, bool)
     pruned = np.zeros(B, bool)  # stopped by the screening (arrays keep their size: no recompiles)
     for rnd in range(config.rounds):
+        if track.on_round is not None:
+            track.on_round(rnd)
         if need_dir.any():
             first = np.asarray(lb.count) == 0
             upd, lb_new = update(jnp.asarray(gf), lb, jnp.asarray(pt.z))
@@ -383,6 +389,8 @@ def _run_adam(problem, scorer, z0, track, config):
     state = init(jnp.asarray(z))
     al = None
     for rnd in range(config.rounds):
+        if track.on_round is not None:
+            track.on_round(rnd)
         ev, pt = _evaluate(problem, scorer, z[alive])
         if al is None:
             al = al_init(len(z0), pt.g.shape[1], config.al)

@@ -56,13 +56,21 @@ def own(target: str) -> bool:
 
 
 def test_no_module_imports_another_modules_underscore_name():
+    """Private functions, classes and constants stay in their module. A package's private helper
+    modules (`jaxdamp._validate`, `jaxdamp.cli._common`) may be imported inside that package."""
+    known = {m for m, _ in modules()}
     bad = []
     for module, path in modules():
         for target, names in imports(module, path):
             if not own(target) or target == module:
                 continue
+            parent = target.rpartition(".")[0]
+            inside = module == parent or module.startswith(parent + ".")
+            if target.rpartition(".")[2].startswith("_") and not inside:
+                bad.append(f"{module}: import of the private module {target}")
             bad += [f"{module}: from {target} import {n}" for n in names
-                    if n.startswith("_") and not n.startswith("__")]
+                    if n.startswith("_") and not n.startswith("__")
+                    and f"{target}.{n}" not in known]
     assert not bad, "\n".join(bad)
 
 

@@ -253,32 +253,3 @@ def test_sweep_rejects_bad_input():
         B.sweep([60.0], [], [0.5])
     with pytest.raises(ValueError, match="mu"):
         B.sweep([60.0], [60.0], [0.5, -0.2])
-
-
-def test_cli_sweep_writes_heatmaps_and_data(tmp_path, capsys):
-    from jaxdamp.cli import main
-
-    out = tmp_path / "sw"
-    assert main(["sweep", "--theta-l", "40,60,90", "--theta-r", "45:75:3", "--mu", "0.5,0.7",
-                 "--out", str(out), "--json"]) == 0
-    summary = json.loads(capsys.readouterr().out)
-    assert summary["points"] == 18
-    data = np.load(out / "sweep.npz")
-    assert data["psi_bc"].shape == (2, 3, 3) and data["status"].shape == (2, 3, 3)
-    np.testing.assert_array_equal(data["theta_r"], [45.0, 60.0, 75.0])
-    assert int(data["liftoff"].sum()) == summary["liftoff"] and int(data["valid"].sum()) == summary["valid"]
-    meta = json.loads((out / "sweep.json").read_text())
-    assert meta["data"]["k_im_bc"] == data["k_im_bc"].tolist()
-    assert (out / "sweep.png").read_bytes()[:4] == b"\x89PNG"
-
-
-@pytest.mark.parametrize("argv,needle", [
-    (["--theta-l", "40:90"], "--theta-l"),
-    (["--br", "middle"], "--br"),
-    (["--mu", "0.5,-1"], "mu"),
-])
-def test_cli_sweep_errors(tmp_path, capsys, argv, needle):
-    from jaxdamp.cli import main
-
-    assert main(["sweep", "--out", str(tmp_path), "--theta-l", "60", "--theta-r", "60"] + argv) == 2
-    assert needle in capsys.readouterr().err

@@ -1,13 +1,10 @@
 """Calibration of kn, kt against the paper's Tables B3.1 / B4.1 (issue 4, part 3)."""
 
-import json
-
 import numpy as np
 import pytest
 
 import jaxdamp as jd
 from jaxdamp.paper import calibration as cal
-from jaxdamp.cli import main
 
 KN0, KT0 = jd.REFERENCE_KN, jd.REFERENCE_KT
 FITTED = {"60sym": "B3.1", "74R": "B4.1"}
@@ -106,24 +103,6 @@ def test_unknown_table_raises():
         cal.paper_targets(("60sym", "45sym"))
     with pytest.raises(ValueError, match="numbers"):
         cal.paper_targets(("60sym",), ("psi_max",))
-
-
-def test_cli_json_contract(capsys, paper):
-    assert main(["calibrate", "--json", "--start-kn", str(3 * KN0), "--start-kt", str(KT0 / 3)]) == 0
-    d = json.loads(capsys.readouterr().out)
-    assert {"kn", "kt", "residuals_pct", "iterations", "residuals_90R_pct"} <= set(d)
-    assert isinstance(d["kn"], float) and isinstance(d["kt"], float) and d["kn"] > 0 and d["kt"] > 0
-    assert isinstance(d["iterations"], int) and d["iterations"] >= 1
-    keys = {f"{s}/{row[0]:g}/{n}" for s in FITTED for row in paper["table_B"][s] for n in cal.NUMBERS}
-    assert set(d["residuals_pct"]) == keys
-    assert max(abs(v) for v in d["residuals_pct"].values()) <= 2.0
-    assert all(k.startswith("90R/") and not k.endswith("k_im_bc") for k in d["residuals_90R_pct"])
-    assert len(d["residuals_90R_pct"]) == 12
-
-
-def test_cli_rejects_bad_start(capsys):
-    assert main(["calibrate", "--start-kn", "-5"]) == 2
-    assert "start" in capsys.readouterr().err
 
 
 def test_comparison_table_lists_paper_numbers(fits, paper):

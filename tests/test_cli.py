@@ -1,94 +1,180 @@
+"""The CLI as a whole: parser, one-line usage errors, entry-point commands, runtime configuration,
+output-path checks, and the JSON document helpers. Commands have their own tests/test_cli_*.py."""
+
 import json
+import os
+import tomllib
+from pathlib import Path
 
 import pytest
 
-from jaxdamp.cli import main
+import jaxdamp.cli as cli
+from jaxdamp.cli import _common as C
 
+from helpers import one_error_line, run_cli
 
-def run(capsys, *argv):
-    code = main(list(argv))
-    out = capsys.readouterr()
-    return code, out.out, out.err
-
-
-def test_statics_json_contract(capsys):
-    code, out, _ = run(capsys, "statics", "--shape", "60sym", "--mu", "0.7", "--json")
-    assert code == 0
-    d = json.loads(out)
-    assert set(d) == {"start", "mid", "liftoff", "min_normal_over_fd"}
-    for end in ("start", "mid"):
-        assert set(d[end]) == {"N", "T", "resultant_pos_pct"}
-        assert set(d[end]["N"]) == {"R1", "L1", "L2"} == set(d[end]["T"])
-    assert abs(d["start"]["resultant_pos_pct"] - 6.6) <= 0.1
-    assert abs(100 - d["mid"]["resultant_pos_pct"] - 6.5) <= 0.1
-    assert d["liftoff"] is False
-
-
-def test_statics_liftoff_is_a_result_not_an_error(capsys):
-    code, out, _ = run(capsys, "statics", "--theta-l", "45", "--theta-r", "45", "--br", "-0.2",
-                       "--mu", "0.7", "--json")
-    assert code == 0
-    d = json.loads(out)
-    assert d["liftoff"] is True and abs(d["start"]["resultant_pos_pct"] - 2.94) < 0.01
-
-
-def test_statics_table(capsys):
-    code, out, _ = run(capsys, "statics", "--shape", "74R", "--mu", "0.5")
-    assert code == 0 and "cycle start" in out and "liftoff" in out
-
-
-@pytest.mark.parametrize("argv,needle", [
-    (["statics", "--theta-l", "95", "--theta-r", "60", "--br", "0.1", "--mu", "0.5"], "theta_l"),
-    (["statics", "--shape", "60sym", "--mu", "0"], "mu"),
-    (["statics", "--shape", "60sym", "--mu", "nan"], "mu"),
-    (["statics", "--shape", "60sym", "--bl2", "1.5", "--mu", "0.5"], "bl2_over_hl"),
-    (["statics", "--theta-l", "60", "--mu", "0.5"], "--theta-r"),
-    (["cycle", "--shape", "60sym", "--mu", "0.5", "--kn", "-1"], "kn"),
-])
-def test_bad_input_exits_2_with_one_line(capsys, argv, needle):
-    code, _, err = run(capsys, *argv)
-    assert code == 2
-    lines = [ln for ln in err.strip().splitlines() if ln]
-    assert len(lines) == 1 and needle in lines[0]
-
-
-def test_design_br_json(capsys):
-    code, out, _ = run(capsys, "design-br", "--shape", "60sym", "--mu-max", "0.7", "--json")
-    assert code == 0
-    assert abs(json.loads(out)["br_over_hr"] - 0.14) <= 0.01
+ROOT = Path(__file__).resolve().parents[1]
 
 
 def test_help_explains_units(capsys):
     with pytest.raises(SystemExit):
-        main(["--help"])
+        cli.main(["--help"])
     out = capsys.readouterr().out
     assert "N/mm" in out and "mrad" in out and "degrees" in out
 
 
-def test_cycle_json_contract(capsys):
-    code, out, _ = run(capsys, "cycle", "--shape", "74R", "--mu", "0.7", "--kn", "17900", "--kt", "3600",
-                       "--json")
-    assert code == 0
-    d = json.loads(out)
-    for key in ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "converged", "liftoff",
-                "half_cycles"):
-        assert key in d
-    assert set(d["spans_mm"]) == {"forward", "backward"}
-    assert set(d["energy_Nmm"]) == {"R1", "L1", "L2", "moment"}
-    assert set(d["work_shape_factors"]) == {"w_R1", "w_L1", "w_L2", "w_M"}
-    states = {"stick", "slip", "backslide", "open"}
-    for half in ("forward", "backward"):
-        for t in d["tracts"][half]:
-            assert {t["R1"], t["L1"], t["L2"]} <= states and t["dv_mm"] >= 0
-    # 74R, mu = 0.7: L1 back-slides in 0-A (Table 8) and the forward half needs the C-C2 stretch.
-    assert d["tracts"]["forward"][0]["L1"] == "backslide"
-    assert d["tracts"]["forward"][-1].get("stretch") is True
-    assert d["spans_mm"]["forward"] < d["spans_mm"]["backward"]
-    assert abs(sum(d["energy_Nmm"][c] for c in ("R1", "L1", "L2")) - d["energy_Nmm"]["moment"]) < 1e-9 * d["energy_Nmm"]["moment"]
-    # psi_BC within 2 % of Table B4.1 (3.270 mrad)
-    assert abs(d["psi_bc_mrad"] / 3.270 - 1) < 0.02
+@pytest.mark.parametrize("argv, needle", [
+    ([], "COMMAND"),
+    (["no-such-command"], "invalid choice"),
+    (["statics", "--shape", "60sym", "--mu", "abc"], "--mu"),
+    (["statics", "--shape", "60sym"], "--mu"),
+    (["cycle", "--shape", "60sym", "--mu", "0.5", "--bogus"], "--bogus"),
+    (["grad", "--shape", "60sym", "--mu", "0.5", "--mode", "sideways"], "--mode"),
+])
+def test_usage_errors_are_one_line_exit_2(capsys, argv, needle):
+    code, out, err = run_cli(capsys, *argv)
+    assert code == 2 and out == ""
+    assert needle in one_error_line(err)
 
 
-def test_cycle_liftoff_reported(capsys):
-    code, out, _ = run(capsys, "cycle", "--shape", "74L", "--mu", "0.7", "--json")
-    assert code == 0 and json.loads(out)["liftoff"] is True
+def test_every_builtin_command_is_a_module_with_register_and_run():
+    import importlib
+
+    parser = cli.build_parser()
+    sub = next(a for a in parser._actions if a.dest == "command")
+    for name in cli.COMMANDS:
+        mod = importlib.import_module(f"jaxdamp.cli.{name}")
+        assert callable(mod.register) and callable(mod.run)
+        assert name.replace("_", "-") in sub.choices
+
+
+def test_pyproject_declares_the_console_script_and_the_optimize_entry_point():
+    meta = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
+    assert meta["scripts"]["jaxdamp"] == "jaxdamp.cli:main"
+    group = meta["entry-points"][cli.ENTRY_POINT_GROUP]
+    assert group == {"optimize": "optimize.cli:register"}
+    # the declared object loads and registers the command
+    import importlib
+    from importlib.metadata import EntryPoint
+
+    ep = EntryPoint("optimize", group["optimize"], cli.ENTRY_POINT_GROUP)
+    register = ep.load()
+    assert register is importlib.import_module("optimize.cli").register
+    parser = cli.build_parser((register,))
+    args = parser.parse_args(["optimize", "--mu-set", "0.5"])
+    assert args.func.__module__ == "optimize.cli" and args.mu_set == "0.5"
+
+
+def test_jaxdamp_never_names_optimize():
+    for path in (ROOT / "jaxdamp").rglob("*.py"):
+        text = path.read_text()
+        assert "import optimize" not in text and "from optimize" not in text, path
+
+
+def test_no_library_module_parses_arguments_or_prints():
+    import re
+
+    for path in (ROOT / "jaxdamp").rglob("*.py"):
+        if "cli" in path.relative_to(ROOT / "jaxdamp").parts:
+            continue
+        text = path.read_text()
+        assert "argparse" not in text, path
+        assert not re.search(r"(?<![\w.])print\(", text), path
+
+
+def test_extra_commands_are_added_once(capsys):
+    calls = []
+
+    def register(sub):
+        p = sub.add_parser("hello")
+        p.set_defaults(func=lambda args: calls.append(args.command) or 0)
+
+    assert cli.main(["hello"], extra_commands=[register]) == 0
+    assert calls == ["hello"]
+
+
+def test_cache_dir_env(monkeypatch, tmp_path):
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
+    assert cli.cache_dir() is None
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path / "c"))
+    assert cli.cache_dir() == str(tmp_path / "c")
+    monkeypatch.delenv("JAXDAMP_CACHE_DIR")
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "x"))
+    assert cli.cache_dir() == str(tmp_path / "x" / "jaxdamp" / "jax")
+
+
+def test_main_enables_float64_and_agg(capsys):
+    import jax
+
+    assert run_cli(capsys, "statics", "--shape", "60sym", "--mu", "0.5")[0] == 0
+    assert jax.config.jax_enable_x64
+    assert os.environ.get("MPLBACKEND") == "Agg" or __import__("matplotlib").get_backend().lower() == "agg"
+
+
+# ---------------------------------------------------------------- output paths
+def test_output_dir_checks(tmp_path):
+    assert C.check_output_dir("--out", tmp_path / "new" / "deeper") == tmp_path / "new" / "deeper"
+    assert not (tmp_path / "new").exists()  # nothing is created by the check
+    f = tmp_path / "file.txt"
+    f.write_text("x")
+    with pytest.raises(C.CliError, match="not a directory"):
+        C.check_output_dir("--out", f)
+    with pytest.raises(C.CliError, match="--out"):
+        C.check_output_dir("--out", f / "sub")
+
+
+def test_output_file_checks(tmp_path):
+    assert C.check_output_file("--plot", tmp_path / "a.png", (".png",)) == tmp_path / "a.png"
+    with pytest.raises(C.CliError, match="does not exist"):
+        C.check_output_file("--plot", tmp_path / "missing" / "a.png")
+    with pytest.raises(C.CliError, match="is a directory"):
+        C.check_output_file("--markdown", tmp_path)
+    with pytest.raises(C.CliError, match="must end in"):
+        C.check_output_file("--out", tmp_path / "a.txt", (".png", ".svg"))
+
+
+@pytest.mark.skipif(os.geteuid() == 0, reason="root may write anywhere")
+def test_unwritable_dir(tmp_path):
+    ro = tmp_path / "ro"
+    ro.mkdir()
+    ro.chmod(0o500)
+    try:
+        with pytest.raises(C.CliError, match="not writable"):
+            C.check_output_dir("--out", ro / "x")
+    finally:
+        ro.chmod(0o700)
+
+
+# ---------------------------------------------------------------- JSON helpers
+def test_numbers_that_do_not_exist_are_null():
+    import numpy as np
+
+    assert C.number(float("nan")) is None and C.number(np.inf) is None
+    assert str(C.number(-0.0)) == "0.0"
+    doc = C.document("ok", {"a": np.array([1.0, np.nan]), "b": np.float32(-0.0)}, mu=0.5)
+    text = C.dumps(doc)
+    assert json.loads(text)["a"] == [1.0, None] and "-0.0" not in text
+    assert list(doc)[:3] == ["status", "schema_version", "jaxdamp_version"]
+    assert doc["schema_version"] == 2 and doc["mu"] == 0.5
+
+
+def test_status_from_result_fields_or_flags():
+    from types import SimpleNamespace
+
+    from jaxdamp.status import RESULTS
+
+    assert C.status_from_flags() == "ok"
+    assert C.status_from_flags(liftoff=True, failed=True) == "liftoff"
+    assert C.status_from_flags(failed=True) == "singular"
+    assert C.status_from_flags(converged=False) == "not_converged"
+    assert C.status_name(SimpleNamespace(status=RESULTS.ill_conditioned, converged=True)) == "ill_conditioned"
+
+
+def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):
+    from importlib.metadata import EntryPoint
+
+    broken = EntryPoint("broken", "no_such_module_xyz:register", cli.ENTRY_POINT_GROUP)
+    monkeypatch.setattr(cli, "_entry_point_registers", lambda: [cli._loader(broken)])
+    assert run_cli(capsys, "statics", "--shape", "60sym", "--mu", "0.5")[0] == 0
+    code, _, err = run_cli(capsys, "broken")
+    assert code == 2 and "failed to load" in one_error_line(err)

@@ -317,33 +317,3 @@ def test_bad_inputs_raise_value_error_naming_the_parameter():
         G.k_im_gradient_at(1.0, s, 0.5, jd.Contacts(1e4, -1.0))
     with pytest.raises(ValueError, match="psi_a"):
         G.k_im_gradient_at(-1.0, s, 0.5)
-
-
-def test_cli_grad_json_contract(capsys):
-    import json
-
-    from jaxdamp.cli import main
-
-    assert main(["grad", "--shape", "74R", "--mu", "0.5", "--kn", "17900", "--kt", "3600",
-                 "--json"]) == 0
-    d = json.loads(capsys.readouterr().out)
-    for key in ("psi_bc_mrad", "k_im_bc", "k_re_bc"):
-        assert set(d[key]) == set(P)
-        assert all(np.isfinite(v) for v in d[key].values())
-    jac = G.five_numbers_jacobian(jd.family_shape("74R"), 0.5, jd.Contacts(17900.0, 3600.0))
-    assert d["psi_bc_mrad"]["theta_l"] == pytest.approx(float(jac.d.psi_bc.shape.theta_l), rel=1e-12)
-    assert d["k_im_bc"]["kt"] == pytest.approx(float(jac.d.k_im_bc.contacts.kt), rel=1e-12)
-    assert d["converged"] is True and d["liftoff"] is False
-
-
-def test_cli_grad_text_and_errors(capsys):
-    from jaxdamp.cli import main
-
-    assert main(["grad", "--theta-l", "60", "--theta-r", "60", "--br", "0.14", "--mu", "0.3",
-                 "--psi-a", "2.5"]) == 0
-    out = capsys.readouterr().out
-    assert "psi_bc_mrad" in out and "k_im_at_psi_a" in out and "theta_l" in out
-    assert main(["grad", "--shape", "60sym", "--mu", "0"]) == 2
-    assert "mu" in capsys.readouterr().err
-    assert main(["grad", "--shape", "74L", "--mu", "0.7"]) == 0
-    assert "liftoff" in capsys.readouterr().out

@@ -6,6 +6,9 @@ import pytest
 
 import jaxdamp as jd
 from jaxdamp.cli import main
+from optimize.cli import register
+
+from helpers import one_error_line
 
 CONTRACT = {"theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "objective_name", "objective",
             "baseline", "feasible", "min_margin_pct", "mu_set", "kn", "kt", "evaluations",
@@ -13,7 +16,9 @@ CONTRACT = {"theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "objective_name",
 
 
 def run(capsys, *argv):
-    code = main(["optimize", *argv])
+    # optimize is an entry point of jaxdamp.commands; passing its register function makes the test
+    # independent of whether the installed metadata already lists it (added once either way)
+    code = main(["optimize", *argv], extra_commands=[register])
     out = capsys.readouterr()
     return code, out.out, out.err
 
@@ -23,7 +28,8 @@ def test_json_contract_default_objective(capsys):
     assert code == 0
     d = json.loads(out)
     assert CONTRACT <= set(d)
-    assert d["objective_name"] == "k_im_bc:worst"
+    assert d["objective_name"] == "k_im_bc:worst" and d["status"] == "ok"
+    assert d["contacts"] == {"kn_n_per_mm": 20000.0, "kt_n_per_mm": 4000.0}
     assert d["baseline"]["shape"] == "60sym" and isinstance(d["baseline"]["objective"], float)
     assert d["feasible"] is True and d["reason"] is None
     assert d["mu_set"] == [0.3, 0.5, 0.7] and d["kn"] == 20000.0 and d["kt"] == 4000.0
@@ -45,7 +51,7 @@ def test_45sym_at_mu_07_is_infeasible_not_an_optimum(capsys):
     code, out, _ = run(capsys, "--fix", "theta_l=45,theta_r=45", "--mu-set", "0.7", "--json")
     assert code == 0
     d = json.loads(out)
-    assert d["feasible"] is False and d["free"] == ["br_over_hr"]
+    assert d["feasible"] is False and d["free"] == ["br_over_hr"] and d["status"] == "liftoff"
     assert "no feasible design" in d["reason"] and "mid-cycle" in d["reason"]
     assert d["theta_l"] == 45.0 and d["active_constraints"] == []
     code, text, _ = run(capsys, "--fix", "theta_l=45,theta_r=45", "--mu-set", "0.7")
@@ -70,7 +76,10 @@ def test_text_output(capsys):
     (("--kn", "-1"), "kn"),
     (("--min-vertex-angle", "200"), "min_vertex_deg"),
     (("--weights", "psi_bc=1"), "combined"),
+    (("--kt", "inf"), "kt"),
+    (("--plot", "/nonexistent-dir/paths.png"), "--plot"),
+    (("--plot", "paths.txt"), "--plot"),
 ])
 def test_bad_input_is_an_error_naming_the_parameter(capsys, argv, needle):
     code, _, err = run(capsys, *argv)
-    assert code == 2 and needle in err
+    assert code == 2 and needle in one_error_line(err)

@@ -5,7 +5,6 @@ import struct
 
 import pytest
 
-from jaxdamp.cli import main
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT
 from jaxdamp.paper.scoring import qualitative_findings, rank_indicator, score_table
 from jaxdamp.paper.study import CONTRACT_KEYS, DEFAULT_SHAPES, run_study
@@ -212,32 +211,3 @@ def test_report_html_and_markdown_reference_every_figure(with_figures):
         assert f"]({f['file']})" in md
         assert f'src="{f["file"]}"' in html
     assert "60sym" in md and "Table B3.1" in md
-
-
-# ---------------------------------------------------------------- CLI
-def test_cli_study_subset(tmp_path, capsys):
-    assert main(["study", "--out", str(tmp_path), "--shapes", "60sym", "--mu", "0.5",
-                 "--no-progress", "--no-figures"]) == 0
-    s = json.loads((tmp_path / "study.json").read_text())
-    assert list(s["results"]) == ["60sym"] and list(s["results"]["60sym"]) == ["0.5"]
-    assert (tmp_path / "report.html").exists()
-    assert "study.json" in capsys.readouterr().out
-
-
-@pytest.mark.parametrize("argv, message", [
-    (["--shapes", "61sym"], "unknown shape"),
-    (["--mu", "0.5,abc"], "--mu must be"),
-    (["--mu", "-0.5"], "mu must be in"),
-])
-def test_cli_study_errors(tmp_path, capsys, argv, message):
-    assert main(["study", "--out", str(tmp_path), "--no-progress", "--no-figures", *argv]) == 2
-    assert message in capsys.readouterr().err
-
-
-def test_cli_section(tmp_path, capsys):
-    out = tmp_path / "s.png"
-    assert main(["section", "--shape", "74R", "--mu", "0.7", "--out", str(out)]) == 0
-    nbytes, w, h = _png_size(out)
-    assert nbytes > 20_000 and w > h
-    assert main(["section", "--shape", "74R", "--mu", "0.7", "--out", str(tmp_path / "s.txt")]) == 2
-    assert "--out must end" in capsys.readouterr().err

@@ -299,7 +299,8 @@ class CalibrationResult(NamedTuple):
 
 def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: bool = False,
               method: str = "lbfgs", max_iter: int | None = None, gtol: float | None = None,
-              learning_rate: float = 0.3, report: CalibrationTargets | None = None) -> CalibrationResult:
+              learning_rate: float = 0.3, report: CalibrationTargets | None = None,
+              callback=None) -> CalibrationResult:
     """Fit the contact stiffness to five-number targets by least squares on relative residuals.
 
     Minimises 0.5 mean(r^2), r = ours / target - 1, over theta = log k.
@@ -314,6 +315,7 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
         100 for lbfgs, 1000 for adam; per stage).
     report: targets evaluated at the optimum but not fitted (default: Table B5.1 without k_Im
         when targets is None, else none).
+    callback: None or callback(iteration, loss), called after every accepted iteration (progress).
     """
     from ..params import REFERENCE_KN, REFERENCE_KT
 
@@ -339,13 +341,15 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
     history, iterations = [], 0
     if theta0.size == 2:
         shared = _Problem(targets, report, False)
-        theta, count = _minimize(shared, theta0, method, max_iter, gtol, learning_rate, history)
+        theta, count = _minimize(shared, theta0, method, max_iter, gtol, learning_rate, history,
+                                 callback)
         iterations += count
         if split:  # continue from the shared optimum
             theta0 = np.asarray(theta)[[0, 0, 1, 1]]
     problem = shared if not split else _Problem(targets, report, True)
     if split:
-        theta, count = _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history)
+        theta, count = _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history,
+                                 callback)
         iterations += count
 
     loss, grad, r, ok = problem.loss_parts(np.asarray(theta))
@@ -364,7 +368,7 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
                              converged, tuple(history), gnorm, method, bool(split))
 
 
-def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history):
+def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, callback=None):
     """Run init/update until |grad| <= gtol, no progress, or max_iter. Appends losses to history."""
     init, update = _solver(problem, method, float(learning_rate))
     state = init(jnp.asarray(theta0))
@@ -375,12 +379,22 @@ def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history):
             break  # no admissible step (line search exhausted): keep the last iterate
         state = new
         history.append(float(state.loss))
+        if callback is not None:
+            callback(int(state.count), float(state.loss))
     return np.asarray(state.theta), int(state.count)
 
 
 def _named_residuals(targets: CalibrationTargets, pct) -> dict:
     keep = np.isfinite(np.asarray(targets.values, dtype=float))
     return dict(zip(targets.keys(), np.asarray(pct)[keep].tolist()))
+
+
+def validate_start(start):
+    """ValueError naming `start` unless it is (kn, kt) or (kn_R1, kn_L, kt_R1, kt_L) in (0, inf) N/mm."""
+    from .params import REFERENCE_KN, REFERENCE_KT
+
+    _start_theta(start, REFERENCE_KN, REFERENCE_KT)
+    return start
 
 
 def _start_theta(start, kn0, kt0):
@@ -500,56 +514,3 @@ def _fmt_k(k):
     if k.ndim == 0:
         return f"{float(k):.1f}"
     return "(" + ", ".join(f"{float(v):.1f}" for v in k) + ")"
-
-
-# ---------------------------------------------------------------------------- CLI
-def result_payload(res: CalibrationResult) -> dict:
-    from ..cli import _named
-
-    def k(v):
-        return float(v) if np.ndim(v) == 0 else _named(v)
-
-    return {"kn": k(res.kn), "kt": k(res.kt), "residuals_pct": res.residuals,
-            "residuals_90R_pct": res.reported, "iterations": res.iterations,
-            "converged": res.converged, "max_abs_residual_pct": res.max_abs_residual_pct,
-            "loss": res.loss_history[-1], "grad_norm": res.grad_norm, "method": res.method,
-            "split": res.split}
-
-
-def cmd_calibrate(args):
-    from ..cli import emit
-
-    start = None
-    if args.start_kn is not None or args.start_kt is not None:
-        from ..params import REFERENCE_KN, REFERENCE_KT
-
-        start = (REFERENCE_KN if args.start_kn is None else args.start_kn,
-                 REFERENCE_KT if args.start_kt is None else args.start_kt)
-    res = calibrate(None, start, split=args.split, method=args.method, max_iter=args.max_iter)
-    payload = result_payload(res)
-    lines = [f"Calibration ({res.method}, {'R1 / L pads' if res.split else 'shared pair'}): "
-             f"kn = {_fmt_k(res.kn)} N/mm, kt = {_fmt_k(res.kt)} N/mm after {res.iterations} iterations"
-             + ("" if res.converged else "   [NOT CONVERGED]"),
-             f"  max |residual| over Tables B3.1/B4.1: {res.max_abs_residual_pct:.2f} %"]
-    for key, v in res.residuals.items():
-        lines.append(f"    {key:24} {v:+7.2f} %")
-    lines.append("  Table B5.1 (90R, reported, not fitted; k_Im not comparable):")
-    for key, v in res.reported.items():
-        lines.append(f"    {key:24} {v:+7.2f} %")
-    emit(args, payload, "\n".join(lines))
-    if args.markdown:
-        from pathlib import Path
-
-        Path(args.markdown).write_text(comparison_document(res))
-
-
-def register_cli(sub):
-    p = sub.add_parser("calibrate", help="fit kn, kt to the paper's Tables B3.1/B4.1 (least squares)")
-    p.add_argument("--start-kn", type=float, default=None, help="start kn, N/mm (default: reference)")
-    p.add_argument("--start-kt", type=float, default=None, help="start kt, N/mm (default: reference)")
-    p.add_argument("--split", action="store_true", help="separate (kn, kt) for R1 and the L pads")
-    p.add_argument("--method", choices=("lbfgs", "adam"), default="lbfgs", help="optimiser (default lbfgs)")
-    p.add_argument("--max-iter", type=int, default=None, help="iteration limit")
-    p.add_argument("--markdown", default=None, help="also write the paper comparison table to this file")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
-    p.set_defaults(func=cmd_calibrate)

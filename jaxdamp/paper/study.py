@@ -17,6 +17,9 @@ import json
 import time
 from pathlib import Path
 
+from ..status import status_of
+
+SCHEMA_VERSION = 2  # study.json: 2 adds "status", "schema_version", "jaxdamp_version"
 DEFAULT_SHAPES = ("90L", "74L", "60sym", "74R", "90R")
 DEFAULT_MU = (0.7, 0.5, 0.3)
 CONTRACT_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -141,6 +144,7 @@ def result_entry(s) -> dict:
     entry = {k: (None if s.liftoff else s.numbers[k]) for k in CONTRACT_KEYS}
     entry["liftoff"] = s.liftoff
     entry["converged"] = s.converged and not s.liftoff
+    entry["status"] = status_of(s).name
     return entry
 
 
@@ -257,6 +261,26 @@ def key_figure(bc, summary):
     return fig
 
 
+def check_study_inputs(shapes, mus, kn=None, kt=None):
+    """ValueError naming the parameter unless the study's inputs are valid (nothing is computed);
+    returns the Contacts (kn, kt default to the reference pair). `run_study` calls it first."""
+    from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts, validate_mu
+
+    if not shapes:
+        raise ValueError("give at least one shape")
+    if not mus:
+        raise ValueError("give at least one friction coefficient")
+    known = _tables()["shapes"]
+    unknown = [s for s in shapes if s not in known]
+    if unknown:
+        raise ValueError(f"unknown shape(s) {', '.join(unknown)}; choose from {', '.join(known)}")
+    for mu in mus:
+        validate_mu(float(mu))
+    kn = REFERENCE_KN if kn is None else kn
+    kt = REFERENCE_KT if kt is None else kt
+    return validate_contacts(Contacts(float(kn), float(kt)))
+
+
 def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=True,
               figures=True) -> dict:
     """Compute every shape x mu Base-Cycle; write study.json, tables, figures and the report into out.
@@ -266,25 +290,15 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     import jax
     from tqdm import tqdm
 
-    from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase, validate_contacts, validate_mu
+    from ..params import LoadCase
     from .report import build_report
     from .scoring import qualitative_findings, score_table
 
     t0 = time.perf_counter()
     out = Path(out)
-    if not shapes:
-        raise ValueError("give at least one shape")
-    if not mus:
-        raise ValueError("give at least one friction coefficient")
+    contacts = check_study_inputs(shapes, mus, kn, kt)
+    kn, kt = contacts
     tables = _tables()
-    unknown = [s for s in shapes if s not in tables["shapes"]]
-    if unknown:
-        raise ValueError(f"unknown shape(s) {', '.join(unknown)}; choose from {', '.join(tables['shapes'])}")
-    for mu in mus:
-        validate_mu(float(mu))
-    kn = REFERENCE_KN if kn is None else kn
-    kt = REFERENCE_KT if kt is None else kt
-    contacts = validate_contacts(Contacts(float(kn), float(kt)))
     ref = tables["reference_case"]
     load = LoadCase(ref["F_D"], ref["q_star"], ref["r_sin_beta"])
     out.mkdir(parents=True, exist_ok=True)
@@ -296,7 +310,12 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
+    worst = [e["status"] for per in results.values() for e in per.values()
+             if e["status"] not in ("ok", "liftoff")]  # liftoff is a finding of the study, not a failure
     summary = {
+        "status": worst[0] if worst else "ok",
+        "schema_version": SCHEMA_VERSION,
+        "jaxdamp_version": _version(),
         "results": results,
         "contacts": {"kn": float(kn), "kt": float(kt)},
         "load": {"F_D": float(load.F_D), "q_star": float(load.q_star), "r_sin_beta": float(load.r_sin_beta)},
@@ -331,61 +350,3 @@ def _version() -> str:
         return md.version("jaxdamp")
     except md.PackageNotFoundError:
         return "unknown"
-
-
-def _floats(text):
-    try:
-        return tuple(float(x) for x in text.split(",") if x.strip())
-    except ValueError as exc:
-        raise ValueError(f"--mu must be comma-separated numbers, e.g. 0.7,0.5,0.3; got {text!r}") from exc
-
-
-def cmd_study(args):
-    out = Path(args.out)
-    shapes = tuple(s.strip() for s in args.shapes.split(",") if s.strip())
-    summary = run_study(out, shapes, _floats(args.mu), args.kn, args.kt, progress=not args.no_progress,
-                        figures=not args.no_figures)
-    crit = summary["paper_comparison"]["criterion"]
-    lift = [f"{s} mu={m}" for s, per in summary["results"].items() for m, e in per.items() if e["liftoff"]]
-    print(f"wrote {out / 'study.json'}, {out / 'report.md'}, {out / 'report.html'} "
-          f"({len(summary['results'])} shapes, {summary['meta']['runtime_s']:.1f} s)")
-    if crit["max_abs_dev_pct"] > 0:
-        print(f"Tables {'/'.join(crit['tables'])}: largest deviation {crit['max_abs_dev_pct']:.2f} % "
-              f"({'within' if crit['holds'] else 'OUTSIDE'} {crit['tol_pct']:g} %)")
-    if lift:
-        print("LIFTOFF: " + ", ".join(lift))
-
-
-def cmd_section(args):
-    from ..cli import shape_from_args
-    from ..plotting import plot_section
-
-    out = Path(args.out)
-    if out.suffix.lower() not in (".png", ".pdf", ".svg"):
-        raise ValueError(f"--out must end in .png, .pdf or .svg; got {args.out!r}")
-    fig = plot_section(shape_from_args(args), args.mu, end=args.end)
-    fig.savefig(out, dpi=110)
-    print(f"wrote {out}")
-
-
-def register_cli(sub):
-    from ..cli import add_shape_args
-
-    p = sub.add_parser("section", help="plot the section with pads, D, R and full-slip lines of action (Fig. 7)")
-    add_shape_args(p)
-    p.add_argument("--mu", type=float, required=True, help="friction coefficient, > 0")
-    p.add_argument("--end", choices=("start", "mid", "both"), default="both",
-                   help="cycle start, mid-cycle or both panels (default both)")
-    p.add_argument("--out", default="section.png", help="image file (.png, .pdf, .svg; default section.png)")
-    p.set_defaults(func=cmd_section)
-
-    p = sub.add_parser("study", help="the paper's 60sym-family study: figures, tables, report")
-    p.add_argument("--out", default="study_out", help="output directory (default study_out)")
-    p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
-                   help=f"comma-separated shape names (default {','.join(DEFAULT_SHAPES)})")
-    p.add_argument("--mu", default="0.7,0.5,0.3", help="comma-separated friction coefficients (default 0.7,0.5,0.3)")
-    p.add_argument("--kn", type=float, default=None, help="normal stiffness, N/mm (default: reference pair)")
-    p.add_argument("--kt", type=float, default=None, help="tangential stiffness, N/mm (default: reference pair)")
-    p.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    p.add_argument("--no-figures", action="store_true", help="skip the figures (numbers, tables, report only)")
-    p.set_defaults(func=cmd_study)

@@ -99,21 +99,43 @@ def sweep_arrays(res: SweepResult) -> dict:
     return arrays
 
 
-def write_sweep(res: SweepResult, out: Path) -> list[Path]:
-    """Write sweep.npz, sweep.json and sweep.png into out; return the paths."""
+def _json_values(arrays: dict) -> dict:
+    """Per-point arrays as JSON lists. A number of a point that is not a valid damper (liftoff, not
+    converged, no b_R) does not exist: null, as are non-finite values; the npz keeps the raw arrays."""
+    from .batch import DesignSummary
+
+    valid = np.asarray(arrays["valid"], bool)
+    numbers = {f for f in DesignSummary._fields if f not in ("converged", "liftoff", "failed",
+                                                             "half_cycles")}
+    out = {}
+    for k, v in arrays.items():
+        a = np.asarray(v)
+        if a.dtype.kind == "f":
+            keep = np.isfinite(a) & (valid if k in numbers else True)
+            out[k] = np.where(keep, a, None).tolist()
+        else:
+            out[k] = a.tolist()
+    return out
+
+
+def write_sweep(res: SweepResult, out: Path, extra: dict | None = None) -> list[Path]:
+    """Write sweep.npz, sweep.json and sweep.png into out; return the paths.
+
+    extra: more top-level entries of sweep.json (the CLI's status, inputs and summary)."""
     out.mkdir(parents=True, exist_ok=True)
     arrays = sweep_arrays(res)
     npz = out / "sweep.npz"
     np.savez_compressed(npz, **arrays)
-    meta = {"axes": "per-point arrays are indexed [mu, theta_l, theta_r]",
-            "units": {"theta": "deg", "psi": "mrad", "k": "N mm/mrad", "kn_kt": "N/mm",
-                      "w": "dimensionless (Appendix C work shape factors)"},
-            "status_codes": dict(enumerate(STATUS)), "mu_max": res.mu_max,
-            "bl2_over_hl": res.bl2_over_hl, "kn": res.kn, "kt": res.kt,
-            "counts": {s: int((arrays["status"] == i).sum()) for i, s in enumerate(STATUS)}}
-    meta["data"] = {k: np.asarray(v).tolist() for k, v in arrays.items()}
+    meta = dict(extra or {})
+    meta.update({"axes": "per-point arrays are indexed [mu, theta_l, theta_r]",
+                 "units": {"theta": "deg", "psi": "mrad", "k": "N mm/mrad", "kn_kt": "N/mm",
+                           "w": "dimensionless (Appendix C work shape factors)"},
+                 "status_codes": dict(enumerate(STATUS)), "mu_max": res.mu_max,
+                 "bl2_over_hl": res.bl2_over_hl, "kn": res.kn, "kt": res.kt,
+                 "counts": {s: int((arrays["status"] == i).sum()) for i, s in enumerate(STATUS)}})
+    meta["data"] = _json_values(arrays)
     js = out / "sweep.json"
-    js.write_text(json.dumps(meta))
+    js.write_text(json.dumps(meta, allow_nan=False))
     png = out / "sweep.png"
     heatmap_figure(res).savefig(png, dpi=110)
     return [npz, js, png]

@@ -1,0 +1,152 @@
+"""Command-line interface: `jaxdamp <command> ...`.
+
+Units: angles in degrees, b_R/h_R and 2b_L/h_L dimensionless (fractions of the flank lengths),
+forces normalised to the centrifugal force F_D (statics) or in N, stiffness in N/mm, q* in mm,
+platform rotation psi in mrad, rotational stiffness k in N mm/mrad, energy in N mm per cycle.
+
+Exit codes: 0 with a result (whose "status" says whether it is a working damper), 2 for bad input
+(one line on stderr naming the parameter and its valid range, before any computing).
+Compiled programs are cached in $JAXDAMP_CACHE_DIR (default $XDG_CACHE_HOME/jaxdamp/jax or
+~/.cache/jaxdamp/jax; JAXDAMP_CACHE_DIR=off disables the cache, deleting the folder clears it).
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+
+# The helpers a command module outside jaxdamp (an entry point) may use.
+from ._common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
+                      add_progress_arg, add_shape_args, check_output_dir, check_output_file,
+                      contacts_echo, document, emit, load_echo, progress_bar)
+
+UNITS = __doc__.split("\n\n", 1)[1]
+
+# Built-in commands, one module each, every one exposing register(sub) and run(args) -> int.
+COMMANDS = ("statics", "design_br", "cycle", "grad", "sweep", "calibrate", "study", "section")
+# Third-party commands: entry points of this group load a register(sub) function
+# (pyproject.toml declares `optimize = "optimize.cli:register"`).
+ENTRY_POINT_GROUP = "jaxdamp.commands"
+CACHE_ENV = "JAXDAMP_CACHE_DIR"
+# Programs compiling faster than this are not cached (the solver's take seconds; tiny eager ops
+# would only fill the cache folder).
+CACHE_MIN_COMPILE_S = 0.1
+
+
+def cache_dir() -> str | None:
+    """The persistent compilation cache folder, or None where JAXDAMP_CACHE_DIR=off."""
+    env = os.environ.get(CACHE_ENV)
+    if env is not None and env.strip().lower() in ("off", "0", "none", "false", ""):
+        return None
+    if env:
+        return os.path.expanduser(env)
+    base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
+    return os.path.join(base, "jaxdamp", "jax")
+
+
+def configure_runtime() -> None:
+    """What the CLI (not the library) decides for the process: float64, a headless matplotlib
+    backend, and the persistent compilation cache (second runs skip XLA compilation)."""
+    if "matplotlib" in sys.modules:
+        import matplotlib
+
+        matplotlib.use("Agg")
+    else:
+        os.environ["MPLBACKEND"] = "Agg"  # read by matplotlib when (if) it is imported
+    import jax
+
+    jax.config.update("jax_enable_x64", True)
+    path = cache_dir()
+    if path is not None and not jax.config.jax_compilation_cache_dir:
+        try:
+            os.makedirs(path, exist_ok=True)
+        except OSError:
+            return  # an unusable cache folder only costs compile time
+        jax.config.update("jax_compilation_cache_dir", path)
+        jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
+
+
+def _builtin_registers():
+    import importlib
+
+    return [importlib.import_module(f"{__name__}.{name}").register for name in COMMANDS]
+
+
+def _entry_point_registers():
+    from importlib.metadata import entry_points
+
+    return [_loader(ep) for ep in entry_points(group=ENTRY_POINT_GROUP)]
+
+
+def _loader(ep):
+    """ep.load, except that a plugin that fails to import does not break the other commands: its
+    command is still listed and, when run, says in one line why it cannot load (exit 2)."""
+
+    def load():
+        try:
+            return ep.load()
+        except Exception as exc:  # noqa: BLE001 - any import-time error of third-party code
+            reason = f"command {ep.name!r} ({ep.value}) failed to load: {type(exc).__name__}: {exc}"
+
+            def unavailable(args):
+                raise CliError(reason)
+
+            def register(sub):
+                p = sub.add_parser(ep.name, help=f"(unavailable: {reason})", add_help=False)
+                p.add_argument("rest", nargs="*")
+                p.set_defaults(func=unavailable)
+
+            return register
+
+    return load
+
+
+def build_parser(extra_commands=()):
+    """The parser: built-in commands, then entry points of `jaxdamp.commands`, then extra_commands
+    (register functions, for tests and embedding)."""
+    import argparse
+
+    from ._common import Parser
+
+    parser = Parser(prog="jaxdamp",
+                    description="Underplatform damper Base-Cycles by the direct method.\n\n" + UNITS,
+                    formatter_class=argparse.RawDescriptionHelpFormatter)
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    registers = _builtin_registers()
+    for load in _entry_point_registers():
+        registers.append(load())
+    # An extra register function that is also an entry point (the same object) is added once.
+    registers += [r for r in extra_commands if r not in registers]
+    for register in registers:
+        register(sub)
+    return parser
+
+
+def main(argv=None, extra_commands=()) -> int:
+    """Run one command; returns the exit code (0 result, 2 bad input). extra_commands: register
+    functions added after the built-in and entry-point commands."""
+    configure_runtime()
+    command = "jaxdamp"
+    try:
+        parser = build_parser(tuple(extra_commands))
+        args = parser.parse_args(argv)
+        command = f"jaxdamp {args.command}"
+        return int(args.func(args) or 0)
+    except UsageError as exc:
+        print(str(exc), file=sys.stderr)
+        return 2
+    except (ValueError, CliError) as exc:
+        print(f"{command}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # `jaxdamp ... | head`: the reader left; not an error of ours
+        try:
+            os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        except (OSError, ValueError):
+            pass
+        return 0
+
+
+__all__ = ["COMMANDS", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
+           "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
+           "check_output_dir", "check_output_file", "contacts_echo", "document", "emit", "load_echo",
+           "main", "progress_bar"]

@@ -1,0 +1,90 @@
+"""`jaxdamp cycle`: the Base-Cycle of one design: five numbers, transitions, energies."""
+
+from __future__ import annotations
+
+from . import _common as C
+
+NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
+
+
+def register(sub) -> None:
+    p = sub.add_parser("cycle", help="the Base-Cycle: five numbers, transitions, energies")
+    C.add_shape_args(p)
+    p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
+    C.add_contact_args(p)
+    C.add_load_args(p)
+    C.add_json_arg(p)
+    p.set_defaults(func=run)
+
+
+def cycle_payload(bc) -> dict:
+    """The numbers of a BaseCycle; those that do not exist (liftoff, singular) are None."""
+    from ..cycle import transitions_chart
+    from ..energy import contact_energies, work_shape_factors
+    from ..harmonics import five_numbers
+
+    status = C.status_name(bc)
+    exists = status not in ("liftoff", "singular")
+    nums = five_numbers(bc)
+    p = {k: (C.number(v) if exists else None) for k, v in zip(NUMBER_KEYS, nums)}
+    p["spans_mm"] = {"forward": C.number(bc.forward.span) if exists else None,
+                     "backward": C.number(bc.backward.span) if exists else None}
+    p.update(converged=bool(bc.converged), liftoff=bool(bc.liftoff), failed=bool(bc.failed),
+             half_cycles=int(bc.half_cycles))
+    if exists:
+        tracts = {"forward": [], "backward": []}
+        for row in transitions_chart(bc):
+            entry = {c: row[c] for c in ("R1", "L1", "L2")}
+            entry["dv_mm"] = C.number(row["dv_mm"])
+            if row.get("stretch"):
+                entry["stretch"] = True
+            tracts[row["half"]].append(entry)
+        energy = contact_energies(bc)
+        p["tracts"] = tracts
+        p["energy_Nmm"] = {**C.named(energy.contacts), "moment": C.number(energy.moment)}
+        p["work_shape_factors"] = {k: C.number(v) for k, v in work_shape_factors(bc)._asdict().items()}
+    else:
+        p["tracts"] = None
+        p["energy_Nmm"] = dict.fromkeys(("R1", "L1", "L2", "moment"))
+        p["work_shape_factors"] = dict.fromkeys(("w_R1", "w_L1", "w_L2", "w_M"))
+    return p
+
+
+def run(args) -> int:
+    from ..cycle import base_cycle
+    from ..params import validate_mu
+
+    shape = C.shape_from_args(args)
+    validate_mu(args.mu)
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
+    bc = base_cycle(shape, args.mu, contacts, load)
+    status = C.status_name(bc)
+    p = cycle_payload(bc)
+    doc = C.document(status, p, shape=C.shape_echo(shape), mu=args.mu,
+                     contacts=C.contacts_echo(contacts), load=C.load_echo(load))
+    head = (f"Base-Cycle, mu = {args.mu:g}, kn = {args.kn:g} N/mm, kt = {args.kt:g} N/mm, "
+            f"F_D = {args.fd:g} N, q* = {args.q:g} mm")
+    if p["psi_bc_mrad"] is None:
+        from ..status import RESULTS
+
+        C.emit(args, doc, head + f"\n  no cycle: {RESULTS.message(RESULTS[status])}")
+        return 0
+    fmt = lambda v, f: "n/a" if v is None else format(v, f)  # noqa: E731
+    lines = [head,
+             f"  psi_fs = {fmt(p['psi_fs_mrad'], '.4f')} mrad   k_Re,fs = {fmt(p['k_re_fs'], '.1f')} N mm/mrad",
+             f"  psi_BC = {fmt(p['psi_bc_mrad'], '.4f')} mrad   k_Re,BC = {fmt(p['k_re_bc'], '.1f')}   "
+             f"k_Im,BC = {fmt(p['k_im_bc'], '.1f')} N mm/mrad",
+             f"  spans: forward {fmt(p['spans_mm']['forward'], '.5f')} mm, backward "
+             f"{fmt(p['spans_mm']['backward'], '.5f')} mm, half-cycles run: {p['half_cycles']}",
+             "  transitions:"]
+    for half in ("forward", "backward"):
+        for t in p["tracts"][half]:
+            lines.append(f"    {half:8} dv = {fmt(t['dv_mm'], '.5f')} mm   R1 {t['R1']:9} L1 {t['L1']:9} "
+                         f"L2 {t['L2']:9}" + ("  (full-slip stretch)" if t.get("stretch") else ""))
+    e = p["energy_Nmm"]
+    lines.append("  energy per cycle (N mm): "
+                 + "  ".join(f"{k} {fmt(e[k], '.3f')}" for k in ("R1", "L1", "L2", "moment")))
+    w = p["work_shape_factors"]
+    lines.append("  work shape factors: " + "  ".join(f"{k} {fmt(v, '.4f')}" for k, v in w.items()))
+    C.emit(args, doc, "\n".join(lines))
+    return 0

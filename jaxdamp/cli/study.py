@@ -1,0 +1,51 @@
+"""`jaxdamp study`: the paper's 60sym-family study (figures, tables, report, study.json)."""
+
+from __future__ import annotations
+
+
+from . import _common as C
+
+
+def register(sub) -> None:
+    from ..paper.study import DEFAULT_SHAPES
+
+    p = sub.add_parser("study", help="the paper's 60sym-family study: figures, tables, report")
+    p.add_argument("--out", default="study_out", help="output directory (default study_out)")
+    p.add_argument("--shapes", default=",".join(DEFAULT_SHAPES),
+                   help=f"comma-separated shape names (default {','.join(DEFAULT_SHAPES)})")
+    p.add_argument("--mu", default="0.7,0.5,0.3", help="comma-separated friction coefficients (default 0.7,0.5,0.3)")
+    p.add_argument("--kn", type=float, default=None, help="normal stiffness, N/mm (default: reference pair)")
+    p.add_argument("--kt", type=float, default=None, help="tangential stiffness, N/mm (default: reference pair)")
+    C.add_progress_arg(p)
+    p.add_argument("--no-figures", action="store_true", help="skip the figures (numbers, tables, report only)")
+    C.add_json_arg(p)
+    p.set_defaults(func=run)
+
+
+def run(args) -> int:
+    from ..params import Contacts, LoadCase
+    from ..paper.study import check_study_inputs, run_study
+
+    shapes = tuple(s.strip() for s in args.shapes.split(",") if s.strip())
+    mus = C.float_list(args.mu, "--mu")
+    kn, kt = check_study_inputs(shapes, mus, args.kn, args.kt)  # before the output path and any work
+    out = C.check_output_dir("--out", args.out)
+    summary = run_study(out, shapes, mus, kn, kt, progress=C.show_progress(args),
+                        figures=not args.no_figures)
+    crit = summary["paper_comparison"]["criterion"]
+    lift = [f"{s} mu={m}" for s, per in summary["results"].items() for m, e in per.items() if e["liftoff"]]
+    files = [out / "study.json", out / "report.md", out / "report.html"]
+    lines = [f"wrote {', '.join(map(str, files))} ({len(summary['results'])} shapes, "
+             f"{summary['meta']['runtime_s']:.1f} s)"]
+    if crit["max_abs_dev_pct"] > 0:
+        lines.append(f"Tables {'/'.join(crit['tables'])}: largest deviation {crit['max_abs_dev_pct']:.2f} % "
+                     f"({'within' if crit['holds'] else 'OUTSIDE'} {crit['tol_pct']:g} %)")
+    if lift:
+        lines.append("LIFTOFF: " + ", ".join(lift))
+    doc = C.document(summary["status"], {
+        "results": summary["results"], "criterion": crit, "files": [str(f) for f in files],
+        "runtime_s": summary["meta"]["runtime_s"]},
+        shapes=list(shapes), mu=list(mus), contacts=C.contacts_echo(Contacts(kn, kt)),
+        load=C.load_echo(LoadCase(*(summary["load"][k] for k in ("F_D", "q_star", "r_sin_beta")))))
+    C.emit(args, doc, "\n".join(lines))
+    return 0

@@ -1,0 +1,62 @@
+"""`jaxdamp cycle`: the JSON contract, null numbers at liftoff, echoed inputs, errors."""
+
+import pytest
+
+import jaxdamp as jd
+
+from helpers import one_error_line, run_cli, strict_json
+
+
+def test_cycle_json_contract(capsys):
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "74R", "--mu", "0.7", "--kn", "17900", "--kt", "3600",
+                           "--json")
+    assert code == 0
+    d = strict_json(out)
+    for key in ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "converged", "liftoff",
+                "half_cycles", "status", "schema_version", "jaxdamp_version"):
+        assert key in d
+    assert d["status"] == "ok"
+    assert d["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
+    assert d["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
+    assert d["mu"] == 0.7 and d["shape"]["theta_r_deg"] == jd.family_shape("74R").theta_r
+    assert set(d["spans_mm"]) == {"forward", "backward"}
+    assert set(d["energy_Nmm"]) == {"R1", "L1", "L2", "moment"}
+    assert set(d["work_shape_factors"]) == {"w_R1", "w_L1", "w_L2", "w_M"}
+    states = {"stick", "slip", "backslide", "open"}
+    for half in ("forward", "backward"):
+        for t in d["tracts"][half]:
+            assert {t["R1"], t["L1"], t["L2"]} <= states and t["dv_mm"] >= 0
+    # 74R, mu = 0.7: L1 back-slides in 0-A (Table 8) and the forward half needs the C-C2 stretch.
+    assert d["tracts"]["forward"][0]["L1"] == "backslide"
+    assert d["tracts"]["forward"][-1].get("stretch") is True
+    assert d["spans_mm"]["forward"] < d["spans_mm"]["backward"]
+    # energy identity: the contacts dissipate what the moment does
+    assert abs(sum(d["energy_Nmm"][c] for c in ("R1", "L1", "L2")) - d["energy_Nmm"]["moment"]) < 1e-9 * d["energy_Nmm"]["moment"]
+    # psi_BC within 2 % of Table B4.1 (3.270 mrad)
+    assert abs(d["psi_bc_mrad"] / 3.270 - 1) < 0.02
+
+
+def test_cycle_liftoff_numbers_are_null(capsys):
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "74L", "--mu", "0.7", "--json")
+    assert code == 0
+    d = strict_json(out)
+    assert d["liftoff"] is True and d["status"] == "liftoff"
+    for key in ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc"):
+        assert d[key] is None
+    assert d["tracts"] is None and set(d["energy_Nmm"].values()) == {None}
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "74L", "--mu", "0.7")
+    assert code == 0 and "[status: liftoff]" in out.splitlines()[0] and "liftoff" in out
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["--kn", "-1"], "kn"),
+    (["--kt", "inf"], "kt"),
+    (["--fd", "0"], "F_D"),
+    (["--q", "nan"], "q_star"),
+    (["--r-sin-beta", "1e12"], "r_sin_beta"),
+])
+def test_errors(capsys, argv, needle):
+    code, _, err = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv)
+    assert code == 2
+    line = one_error_line(err)
+    assert needle in line and "inf]" not in line
