@@ -40,10 +40,13 @@ from .gradients import KImGradient as KImGradient
 from .gradients import batch_jacobian as batch_jacobian
 from .gradients import five_numbers_jacobian as five_numbers_jacobian
 from .gradients import k_im_gradient_at as k_im_gradient_at
+from .harmonics import SMALL_ROTATION_MRAD as SMALL_ROTATION_MRAD
 from .harmonics import FiveNumbers as FiveNumbers
+from .harmonics import SmallRotationWarning as SmallRotationWarning
 from .harmonics import complex_stiffness as complex_stiffness
 from .harmonics import cycle_work as cycle_work
 from .harmonics import five_numbers as five_numbers
+from .harmonics import five_numbers_kernel as five_numbers_kernel
 from .harmonics import moment as moment
 from .params import REFERENCE_KN as REFERENCE_KN
 from .params import REFERENCE_KT as REFERENCE_KT

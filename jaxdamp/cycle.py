@@ -16,7 +16,7 @@ from .design import Design, as_design
 from .geometry import DamperShape
 from .status import from_flags
 from .params import Contacts, LoadCase, prepare_inputs
-from .conventions import PLATFORM_MOTION, START_FRICTION_SIGNS
+from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     make_mechanics, next_event)
@@ -24,6 +24,10 @@ from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics
 MAX_TRACTS = 6  # per half-cycle; the paper's cases need at most 4, random designs at most 5
 MAX_PAIRS = 4  # forward+backward iterations: 1 usually; frozen mechanisms need 3 with Aitken
 CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
+# Equilibrium residual (forces in units of F_D; rates relative to the largest rate) above which a
+# cycle is reported ill-conditioned. A well-posed cycle has residuals of 1e-15; stiffness pairs far
+# outside the validated range (docs/model.md) give 5e-8 (kn = 1e12 N/mm) to 1 (kn = 1e30 N/mm).
+EQUILIBRIUM_TOL = 1e-8
 
 
 class HalfCycle(NamedTuple):
@@ -162,8 +166,30 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
     liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
     failed = ~liftoff0 & (fwd.failed | bwd.failed)
     converged = conv & ~liftoff
+    residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
+    # A Base-Cycle of zero span means the contacts behave as rigid to working precision (their
+    # stiffness over F_D is numerically infinite): its numbers are meaningless too.
+    rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
+    ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
     return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
-                     from_flags(liftoff, failed, converged))
+                     from_flags(liftoff, failed, converged, ill))
+
+
+def equilibrium_residual(mech: Mechanics, half: HalfCycle):
+    """Largest equilibrium residual of a half-cycle: of the forces at every tract start and at its
+    end (units of F_D), and of every tract's force rates (relative to the largest rate). The damper
+    is rigid and massless, so sum_i (-N_i a_i + T_i c_i) + F_D e_y = 0 and the rates balance; a
+    residual above rounding means the linear solves lost their digits (ill-conditioning)."""
+    def imbalance(N, T, load):
+        return jnp.abs(-N @ mech.a + T @ mech.c + load)
+
+    active = half.active[:, None]
+    forces = jnp.max(jnp.where(active, imbalance(half.N0, half.T0, CENTRIFUGAL_LOAD[None]), 0.0))
+    end = jnp.max(imbalance(half.N_end, half.T_end, CENTRIFUGAL_LOAD))
+    rates = jnp.where(active, imbalance(half.dN, half.dT, 0.0), 0.0)
+    scale = jnp.max(jnp.where(active, jnp.maximum(jnp.abs(half.dN), jnp.abs(half.dT)), 0.0))
+    rate_res = jnp.max(rates) / jnp.where(scale > 0.0, scale, 1.0)
+    return jnp.maximum(jnp.maximum(forces, end), rate_res)
 
 
 def _aitken(mech: Mechanics, s0, s1, s2, have_history):

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .harmonics import base_cycle_amplitude, moment
-from .statics import full_slip_work_shape_factors
+from .statics import WorkShapeFactors, full_slip_work_shape_factors
 
 
 def _half_energy(half: HalfCycle, total_dv, F_D):
@@ -40,19 +40,11 @@ def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     return CycleEnergy(w, cycle_work(bc, psi))
 
 
-class WorkShapeFactors(NamedTuple):
-    """Appendix C: W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch dpsi traversed both ways."""
-
-    w_R1: jnp.ndarray
-    w_L1: jnp.ndarray
-    w_L2: jnp.ndarray
-    w_M: jnp.ndarray
-
-
 @jax.jit
 def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
-    """Work shape factors from the cycle's own gross-slip states (equal to the full-slip statics
-    values when gross slip is full slip; they differ for frozen mechanisms such as 90L)."""
+    """Work shape factors of the Base-Cycle, from its own gross-slip end states (see
+    `WorkShapeFactors`: equal to `full_slip_work_shape_factors` when gross slip is full slip; they
+    differ for frozen mechanisms such as 90L)."""
     f, b = bc.forward, bc.backward
     # Energy per mm of relative travel in the two gross-slip states, times 2 for the per-platform dv.
     w = -2.0 * (f.T_end * f.gross_dslip + b.T_end * b.gross_dslip)
@@ -62,5 +54,3 @@ def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
     return WorkShapeFactors(w[0], w[1], w[2], w_m)
 
 
-__all__ = ["contact_energies", "work_shape_factors", "full_slip_work_shape_factors", "CycleEnergy",
-           "WorkShapeFactors"]

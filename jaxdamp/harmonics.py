@@ -12,8 +12,11 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import warnings
+
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from .conventions import moment_coefficients, psi_mrad, stiffness_from_fourier, travel_mm
 from .cycle import BaseCycle, HalfCycle
@@ -120,9 +123,34 @@ class FiveNumbers(NamedTuple):
     k_im_bc: jnp.ndarray
 
 
-@jax.jit
+# The model is a small-rotation one (linearised kinematics of a rigid damper between parallel
+# platforms). Beyond this platform rotation the numbers are the model's, not a damper's: warn.
+SMALL_ROTATION_MRAD = 50.0
+
+
+class SmallRotationWarning(UserWarning):
+    """A Base-Cycle's amplitude exceeds the small-rotation limit SMALL_ROTATION_MRAD."""
+
+
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
-    """psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC; all zero where the damper lifts off."""
+    """psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC; all zero where the damper lifts off.
+
+    Called on concrete values, warns (SmallRotationWarning) when psi_BC exceeds the small-rotation
+    limit SMALL_ROTATION_MRAD (e.g. kt = 1 N/mm gives psi_BC ~ 7000 mrad). Traceable: inside
+    jit/vmap/grad it is `five_numbers_kernel`."""
+    nums = five_numbers_kernel(bc)
+    psi = nums.psi_bc
+    if not isinstance(psi, jax.core.Tracer) and np.any(np.asarray(psi) > SMALL_ROTATION_MRAD):
+        warnings.warn(f"psi_BC = {float(np.max(np.asarray(psi))):.4g} mrad exceeds the small-rotation "
+                      f"limit of {SMALL_ROTATION_MRAD:g} mrad: the contact stiffness is too low for "
+                      "the load (see docs/model.md, validated range)", SmallRotationWarning,
+                      stacklevel=2)
+    return nums
+
+
+@jax.jit
+def five_numbers_kernel(bc: BaseCycle) -> FiveNumbers:
+    """`five_numbers` without the warning check, for use inside jit/vmap/grad."""
     q = bc.load.q_star
     psi_fs = psi_mrad(bc.forward.dv[0] / 2.0, q)
     # Moment rate per mm of travel, with the forward half's travel running in -dv.

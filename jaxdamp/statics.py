@@ -71,8 +71,24 @@ def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
     return statics_kernel(shape, mu)
 
 
+class WorkShapeFactors(NamedTuple):
+    """Appendix C: W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch dpsi traversed both ways,
+    and w_M for the platform moment (w_M = w_R1 + w_L1 + w_L2).
+
+    One definition, evaluated on two different pairs of end states, so keep them apart:
+    `full_slip_work_shape_factors` (statics) takes both ends at full slip (Appendix C as printed);
+    `jaxdamp.work_shape_factors` (energy) takes the Base-Cycle's own gross-slip end states. They
+    agree when gross slip is full slip and differ for frozen mechanisms (vertical flanks: 90L, 90R),
+    where one contact stays stuck in gross slip."""
+
+    w_R1: jnp.ndarray
+    w_L1: jnp.ndarray
+    w_L2: jnp.ndarray
+    w_M: jnp.ndarray
+
+
 @jax.jit
-def full_slip_work_shape_factors(shape: DamperShape, mu) -> jnp.ndarray:
+def full_slip_work_shape_factors(shape: DamperShape, mu) -> WorkShapeFactors:
     """Work shape factors (w_R1, w_L1, w_L2, w_M) from the full-slip forces (Appendix C, C.11-C.14).
 
     W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch of platform rotation dpsi traversed forward
@@ -84,7 +100,7 @@ def full_slip_work_shape_factors(shape: DamperShape, mu) -> jnp.ndarray:
     w = 2.0 * mu * (st.start.N + st.mid.N) * rates
     _, _, geo = contact_columns(shape)
     w_m = jnp.abs(_left_minus_right_v(st.start, geo) - _left_minus_right_v(st.mid, geo))
-    return jnp.concatenate([w, w_m[None]])
+    return WorkShapeFactors(w[0], w[1], w[2], w_m)
 
 
 def _left_minus_right_v(state: FullSlipState, geo) -> jnp.ndarray:

@@ -56,10 +56,12 @@ _MESSAGES = {
 }
 
 
-def from_flags(liftoff, failed=False, converged=True):
-    """The status of a result that reports liftoff / failed / converged flags: liftoff first, then
-    a singular or failed solve, then non-convergence."""
-    status = RESULTS.promote(ok_status(jnp.shape(liftoff)), liftoff, RESULTS.liftoff)
+def from_flags(liftoff, failed=False, converged=True, ill_conditioned=False):
+    """The status of a result that reports liftoff / failed / converged flags. Ill-conditioning
+    comes first (it makes the other flags meaningless too), then liftoff, then a singular or failed
+    solve, then non-convergence."""
+    status = RESULTS.promote(ok_status(jnp.shape(liftoff)), ill_conditioned, RESULTS.ill_conditioned)
+    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
     status = RESULTS.promote(status, failed, RESULTS.singular)
     return RESULTS.promote(status, ~jnp.asarray(converged), RESULTS.not_converged)
 

@@ -66,7 +66,7 @@ def _derived(st, bc, margin_pct, min_normal):
     from jaxdamp import five_numbers, full_slip_work_shape_factors
 
     nums = five_numbers(bc)
-    w_m = full_slip_work_shape_factors(bc.shape, bc.mu)[3]
+    w_m = full_slip_work_shape_factors(bc.shape, bc.mu).w_M
     return margins(st, bc, margin_pct, min_normal), nums.k_im_bc, nums.psi_bc, w_m
 
 

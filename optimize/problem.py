@@ -91,7 +91,7 @@ def _one_mu(design: Design, margin_pct, min_normal):
     st = statics_kernel(design.shape, design.mu)
     bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
-    w_m = full_slip_work_shape_factors(design.shape, design.mu)[3]
+    w_m = full_slip_work_shape_factors(design.shape, design.mu).w_M
     metrics = jnp.stack([nums.k_im_bc, nums.psi_bc, w_m])
     return metrics, margins(st, bc, margin_pct, min_normal), bc.liftoff, bc.converged, bc.failed
 

@@ -23,10 +23,16 @@ def cycle_payload(bc) -> dict:
     from ..energy import contact_energies, work_shape_factors
     from ..harmonics import five_numbers
 
+    import warnings
+
     status = C.status_name(bc)
-    exists = status not in ("liftoff", "singular")
-    nums = five_numbers(bc)
+    # Ill-conditioned numbers are wrong numbers: they are not shown (null), only the status.
+    exists = status not in ("liftoff", "singular", "ill_conditioned")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        nums = five_numbers(bc)
     p = {k: (C.number(v) if exists else None) for k, v in zip(NUMBER_KEYS, nums)}
+    p["warnings"] = [str(w.message) for w in caught] if exists else []
     p["spans_mm"] = {"forward": C.number(bc.forward.span) if exists else None,
                      "backward": C.number(bc.backward.span) if exists else None}
     p.update(converged=bool(bc.converged), liftoff=bool(bc.liftoff), failed=bool(bc.failed),
@@ -76,6 +82,7 @@ def run(args) -> int:
              f"k_Im,BC = {fmt(p['k_im_bc'], '.1f')} N mm/mrad",
              f"  spans: forward {fmt(p['spans_mm']['forward'], '.5f')} mm, backward "
              f"{fmt(p['spans_mm']['backward'], '.5f')} mm, half-cycles run: {p['half_cycles']}",
+             *(f"  WARNING: {w}" for w in p["warnings"]),
              "  transitions:"]
     for half in ("forward", "backward"):
         for t in p["tracts"][half]:

@@ -55,7 +55,7 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
         validate_psi_a(psi_a_mrad)  # before the first Jacobian is computed
     jac = five_numbers_jacobian(shape, mu, contacts, load, mode)
     status = C.status_name(jac)
-    exists = status not in ("liftoff", "singular")
+    exists = status not in ("liftoff", "singular", "ill_conditioned")
     payload = {key: _variables(getattr(jac.d, field), exists) for key, field in JSON_OUTPUTS}
     payload["values"] = {key: C.number(getattr(jac.values, field)) if exists else None
                          for key, field in JSON_OUTPUTS}
