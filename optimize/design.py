@@ -100,13 +100,15 @@ def _lo_span(space: DesignSpace):
 def to_unit(space: DesignSpace, x):
     """Physical design vector(s) (..., d) -> unit-box coordinates."""
     lo, span = _lo_span(space)
-    return (jnp.asarray(x, dtype=float) - lo) / span
+    x = jnp.asarray(x, dtype=float)
+    return (x - jnp.broadcast_to(lo, x.shape)) / jnp.broadcast_to(span, x.shape)
 
 
 def from_unit(space: DesignSpace, z):
     """Unit-box coordinates (..., d) -> physical design vector(s)."""
     lo, span = _lo_span(space)
-    return lo + jnp.asarray(z, dtype=float) * span
+    z = jnp.asarray(z, dtype=float)
+    return jnp.broadcast_to(lo, z.shape) + z * jnp.broadcast_to(span, z.shape)
 
 
 def project(z):

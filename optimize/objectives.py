@@ -117,7 +117,7 @@ def per_mu_scores(objective: Objective, metrics, refs=None):
         return SENSE[objective.metric] * metrics[..., METRICS.index(objective.metric)]
     w = jnp.asarray([dict(objective.weights)[k] * SENSE[k] for k in METRICS])
     refs = jnp.ones(len(METRICS)) if refs is None else jnp.abs(jnp.asarray(refs))
-    return jnp.sum(metrics * (w / refs), axis=-1)
+    return jnp.sum(metrics * jnp.broadcast_to(w / refs, metrics.shape), axis=-1)
 
 
 def aggregate(objective: Objective, scores, mus):

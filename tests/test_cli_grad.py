@@ -17,11 +17,12 @@ def test_cli_grad_json_contract(capsys):
     assert code == 0
     d = strict_json(out)
     for key in ("psi_bc_mrad", "k_im_bc", "k_re_bc"):
-        assert set(d[key]) == set(P)
+        # Derivatives with respect to every leaf of the Design: the shape, mu, contacts and load.
+        assert set(d[key]) == set(P) | {"F_D", "q_star", "r_sin_beta"}
         assert all(np.isfinite(v) for v in d[key].values())
     jac = G.five_numbers_jacobian(jd.family_shape("74R"), 0.5, jd.Contacts(17900.0, 3600.0))
-    assert d["psi_bc_mrad"]["theta_l"] == pytest.approx(float(jac.d.psi_bc.theta_l), rel=1e-12)
-    assert d["k_im_bc"]["kt"] == pytest.approx(float(jac.d.k_im_bc.kt), rel=1e-12)
+    assert d["psi_bc_mrad"]["theta_l"] == pytest.approx(float(jac.d.psi_bc.shape.theta_l), rel=1e-12)
+    assert d["k_im_bc"]["kt"] == pytest.approx(float(jac.d.k_im_bc.contacts.kt), rel=1e-12)
     assert d["converged"] is True and d["liftoff"] is False and d["status"] == "ok"
     assert d["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
 

@@ -84,7 +84,7 @@ def test_select_min_gradient_is_finite_under_jit():
     a = jnp.array([[0.3, 0.1, 0.1], [0.2, 0.5, 0.2]])
 
     def f(x):
-        return jnp.sum(select_min(x * jnp.array([1.0, 1.0, 1.0]), -1))
+        return jnp.sum(select_min(x * jnp.array([[1.0, 1.0, 1.0]]), -1))
 
     g = jax.jit(jax.grad(f))(a)
     assert np.all(np.isfinite(np.asarray(g)))

@@ -43,7 +43,7 @@ def test_full_slip_forces_balance_F_D():
         f = -end.N[:, None] * g.normals + end.T[:, None] * g.tangents
         total = np.asarray(jnp.sum(f, 0)) + np.array([0.0, 1.0])
         assert np.allclose(total, 0.0, atol=1e-13)
-        r = np.asarray(g.points - g.D)
+        r = np.asarray(g.points) - np.asarray(g.D)
         mom = np.sum(r[:, 0] * np.asarray(f[:, 1]) - r[:, 1] * np.asarray(f[:, 0]))
         assert abs(mom) < 1e-13
         assert np.allclose(np.abs(end.T), 0.5 * end.N)

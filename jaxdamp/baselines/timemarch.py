@@ -357,7 +357,7 @@ def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int
     # take the middle of that step. k_Re,fs: the slope of the first step.
     code = fwd.samples.code
     idx = jnp.arange(code.shape[0])
-    changed = jnp.any(code != code[1], axis=1) & (idx > 1)
+    changed = jnp.any(code != code[1][None], axis=1) & (idx > 1)
     j = jnp.min(jnp.where(changed | (idx == fwd.gross_step), idx, n_steps + 1))
     psi_fs = psi_mrad((j - 0.5) * h / 2.0, m.q_star)
     M = fwd.samples.M

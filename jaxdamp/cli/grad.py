@@ -9,7 +9,8 @@ from . import _common as C
 JSON_OUTPUTS = (("psi_bc_mrad", "psi_bc"), ("k_im_bc", "k_im_bc"), ("k_re_bc", "k_re_bc"),
                 ("psi_fs_mrad", "psi_fs"), ("k_re_fs", "k_re_fs"))
 UNITS = ("derivative of the output (psi in mrad, k in N mm/mrad) per unit of the variable: per "
-         "degree for theta_l/theta_r, per N/mm for kn/kt")
+         "degree for theta_l/theta_r, per N/mm for kn/kt, per N for F_D, per mm for q_star and "
+         "r_sin_beta")
 
 
 def register(sub) -> None:

@@ -391,7 +391,7 @@ def _named_residuals(targets: CalibrationTargets, pct) -> dict:
 
 def validate_start(start):
     """ValueError naming `start` unless it is (kn, kt) or (kn_R1, kn_L, kt_R1, kt_L) in (0, inf) N/mm."""
-    from .params import REFERENCE_KN, REFERENCE_KT
+    from ..params import REFERENCE_KN, REFERENCE_KT
 
     _start_theta(start, REFERENCE_KN, REFERENCE_KT)
     return start

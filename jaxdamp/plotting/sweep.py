@@ -102,7 +102,7 @@ def sweep_arrays(res: SweepResult) -> dict:
 def _json_values(arrays: dict) -> dict:
     """Per-point arrays as JSON lists. A number of a point that is not a valid damper (liftoff, not
     converged, no b_R) does not exist: null, as are non-finite values; the npz keeps the raw arrays."""
-    from .batch import DesignSummary
+    from ..batch import DesignSummary
 
     valid = np.asarray(arrays["valid"], bool)
     numbers = {f for f in DesignSummary._fields if f not in ("converged", "liftoff", "failed",
