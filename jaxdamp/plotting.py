@@ -112,6 +112,82 @@ def _shape_name(shape):
             f"b_R/h_R = {float(shape.br_over_hr):g}")
 
 
+# ---------------------------------------------------------------- labels that avoid what is drawn
+class _AutoLabel(matplotlib.text.Annotation):
+    """A point label that picks its offset when drawn, once the layout is final.
+
+    Candidate offsets (points) run around the anchor, the preferred direction first; the first one
+    whose text box stays inside the axes and meets no line, arrow, legend or other text of the axes
+    is kept (else the least crowded one, on an opaque white box so that the text stays readable).
+    """
+
+    _RADII = (9.0, 15.0, 23.0, 32.0)
+
+    def __init__(self, text, xy, prefer=(0.0, 1.0), **kw):
+        kw.setdefault("ha", "center")
+        kw.setdefault("va", "center")
+        super().__init__(text, xy, xytext=(0.0, 0.0), textcoords="offset points", **kw)
+        d = np.asarray(prefer, float)
+        a0 = float(np.arctan2(d[1], d[0])) if np.hypot(*d) > 0 else np.pi / 2
+        turns = [0.0] + [s * k * np.pi / 8 for k in range(1, 9) for s in (1.0, -1.0)][:-1]
+        self._candidates = [(r * np.cos(a0 + t), r * np.sin(a0 + t)) for r in self._RADII for t in turns]
+        self.set_in_layout(False)
+        self.set_zorder(6)
+
+    def _cost(self, renderer, ax):
+        bb = self.get_window_extent(renderer)
+        if not (ax.bbox.x0 <= bb.x0 and bb.x1 <= ax.bbox.x1 and ax.bbox.y0 <= bb.y0 and bb.y1 <= ax.bbox.y1):
+            return 100.0
+        cost = 0.0
+        for other in ax.texts:
+            if other is not self and other.get_visible() and other.get_text().strip():
+                if bb.overlaps(other.get_window_extent(renderer)):
+                    cost += 10.0
+        leg = ax.get_legend()
+        if leg is not None and bb.overlaps(leg.get_window_extent(renderer)):
+            cost += 10.0
+        for ln in ax.get_lines():
+            if not ln.get_visible() or len(ln.get_xdata()) == 0:
+                continue
+            xy = ln.get_transform().transform(np.column_stack([ln.get_xdata(), ln.get_ydata()]))
+            grown = bb.padded(0.5 * ln.get_markersize() * renderer.points_to_pixels(1.0))
+            if ln.get_marker() not in (None, "None", "", " ") and grown.count_contains(xy) > 0:
+                cost += 3.0
+            elif ln.get_linestyle() not in ("None", "", " ") and len(xy) > 1 and \
+                    matplotlib.path.Path(xy).intersects_bbox(bb, filled=False):
+                cost += 1.0
+        for p in ax.patches + [t.arrow_patch for t in ax.texts
+                               if isinstance(t, matplotlib.text.Annotation) and t.arrow_patch is not None]:
+            if isinstance(p, matplotlib.patches.FancyArrowPatch):
+                if p.get_transform().transform_path(p.get_path()).intersects_bbox(bb, filled=False):
+                    cost += 5.0
+        return cost
+
+    def draw(self, renderer):
+        ax = self.axes
+        if ax is not None and self.get_visible():
+            best, best_cost = None, None
+            for off in self._candidates:
+                self.xyann = off
+                c = self._cost(renderer, ax)
+                if c == 0.0:
+                    best, best_cost = off, c
+                    break
+                if best_cost is None or c < best_cost:
+                    best, best_cost = off, c
+            self.xyann = best
+            if best_cost:
+                self.set_bbox(dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85))
+        super().draw(renderer)
+
+
+def _label(ax, text, xy, prefer=(0.0, 1.0), **kw):
+    """A point label at xy (data) that moves to a free spot next to it when drawn (`_AutoLabel`)."""
+    lab = _AutoLabel(text, xy, prefer=prefer, **kw)
+    ax._add_text(lab)
+    return lab
+
+
 # ---------------------------------------------------------------- Fig. 7: section and lines of action
 def _line_intersection(p1, d1, p2, d2):
     m = np.array([d1, -d2]).T
@@ -165,17 +241,16 @@ def _draw_section(ax, shape, mu, end, scale):
         tail = p[i] - scale * F[i]
         ax.annotate("", xy=p[i], xytext=tail, zorder=4,
                     arrowprops=dict(arrowstyle="-|>", color=c, lw=2.0, mutation_scale=14))
-        off = 0.09 * (n[i] + 0.6 * t[i])
-        ax.annotate(name, p[i] + off, color=c, fontsize=11, fontweight="bold", ha="center", va="center")
+        _label(ax, name, p[i], prefer=n[i] + 0.6 * t[i], color=c, fontsize=11, fontweight="bold")
     # F_D = 1 at D, upward; its line of action is the vertical through D.
     ax.annotate("", xy=D + [0, scale], xytext=D, zorder=4,
                 arrowprops=dict(arrowstyle="-|>", color="k", lw=2.0, mutation_scale=14))
     ax.plot([D[0]], [D[1]], "ko", ms=5, zorder=5)
-    ax.annotate("D", D + [0.04, -0.06], fontsize=11)
-    ax.annotate("$F_D$", D + [0.04, 0.8 * scale], fontsize=11)
-    for P, lab, off in ((R, "R", [0.03, -0.08]), (L, "L", [-0.09, -0.03])):
+    _label(ax, "D", D, prefer=(1.0, -1.0), fontsize=11)
+    _label(ax, "$F_D$", D + [0, 0.6 * scale], prefer=(1.0, 0.0), fontsize=11)
+    for P, lab, pref in ((R, "R", (1.0, -1.0)), (L, "L", (-1.0, -1.0))):
         ax.plot([P[0]], [P[1]], "o", color="0.4", ms=4, zorder=5)
-        ax.annotate(lab, P + off, fontsize=10, color="0.3")
+        _label(ax, lab, P, prefer=pref, fontsize=10, color="0.3")
     # Lines of action (dotted): R1 force, left resultant, F_D; they meet at X.
     X = d["X"]
     ax.plot([d["P_L"][0]], [d["P_L"][1]], "s", color="tab:purple", ms=6, zorder=5,
@@ -286,7 +361,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
         apex_r = np.array([0.0, 1.0])
         ax.annotate("", xy=apex_r, xytext=(0, 0),
                     arrowprops=dict(arrowstyle="-|>", color="k", lw=1.8, mutation_scale=14))
-        ax.annotate("$F_D$", (0.03, 0.5), fontsize=11)
+        _label(ax, "$F_D$", (0.0, 0.5), prefer=(1.0, 0.0), fontsize=11)
         reach = 1.3 * max(np.abs(track).max(), 1.0)
         for sgn in (1.0, -1.0):
             dl = n[1] + sgn * mu * t[1]
@@ -313,9 +388,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
             labs[0] = labs[0] if "≡" in labs[0] else f"{labels[-1]}≡0"
         centre = track.mean(0)
         for p, lab in zip(pts, labs):
-            d = p - centre
-            d = d / (np.linalg.norm(d) + 1e-12)
-            ax.annotate(lab, p + 0.06 * span * d, fontsize=10, ha="center", va="center", color="navy")
+            _label(ax, lab, p, prefer=p - centre, fontsize=10, color="navy")
         allp = np.vstack([track, sec, [[0, 0], [0, 1]]])
         lo, hi = allp.min(0), allp.max(0)
         half = 0.5 * (hi - lo).max() * 1.15
@@ -350,10 +423,7 @@ def _label_vertices(ax, psi, M, labels, color):
         merged, labs = merged[:-1], labs[:-1]
     for (x, y), lab in zip(merged, labs):
         x, y = x * span_x, y * span_y
-        dx, dy = (x - cx) / span_x, (y - cy) / span_y
-        r = np.hypot(dx, dy) + 1e-12
-        ax.annotate(lab, (x, y), xytext=(10 * dx / r, 10 * dy / r), textcoords="offset points",
-                    fontsize=9, color=color, ha="center", va="center")
+        _label(ax, lab, (x, y), prefer=((x - cx) / span_x, (y - cy) / span_y), fontsize=9, color=color)
 
 
 def _style(bc, k, labels):
