@@ -28,6 +28,8 @@ import numpy as np  # noqa: E402
 
 from .geometry import CONTACT_NAMES  # noqa: E402
 
+# psi_c: the centre of the rotation cycle (psi_P runs between psi_c - psi_a and psi_c + psi_a).
+PSI_LABEL = "platform rotation about the cycle centre ψ_c: ψ_P − ψ_c (mrad)"
 MU_COLORS = {0.7: "tab:blue", 0.5: "tab:orange", 0.3: "tab:green"}
 CONTACT_COLORS = {"R1": "tab:red", "L1": "tab:blue", "L2": "tab:cyan"}
 
@@ -407,7 +409,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
 def _psi_dv_axis(ax, q_star):
     """Secondary x axis: relative platform displacement (µm) for the given q*."""
     sec = ax.secondary_xaxis("top", functions=(lambda p: p * q_star, lambda v: v / q_star))
-    sec.set_xlabel(f"relative displacement Δv − Δv_c (µm), q* = {q_star:g} mm")
+    sec.set_xlabel(f"relative platform displacement Δv − Δv_c (µm), q* = {q_star:g} mm")
     return sec
 
 
@@ -459,7 +461,7 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
         ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
     names = sorted({_shape_name(bc.shape) for bc in cycles})
     ax.set_title(f"{', '.join(names)}: moment Base-Cycles")
-    ax.set_xlabel("platform rotation ψ_P − ψ_c (mrad)")
+    ax.set_xlabel(PSI_LABEL)
     ax.set_ylabel("platform moment M_P (N mm)")
     ax.axhline(0, color="0.7", lw=0.6)
     ax.axvline(0, color="0.7", lw=0.6)
@@ -492,7 +494,7 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
 
     fig, (ax,) = _axes_row(ax, 1, size=(7.5, 6.6))
     if _cycle_panel(ax, bc, ": stretched cycles and first harmonics",
-                    "platform rotation ψ_P − ψ_c (mrad)", "platform moment M_P (N mm)"):
+                    PSI_LABEL, "platform moment M_P (N mm)"):
         return fig
     amps = default_amplitudes(bc) if psi_a_mrad is None else [float(a) for a in np.atleast_1d(psi_a_mrad)]
     k_re, k_im = stiffness_at(bc, amps)
@@ -519,38 +521,62 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
 
 
 # ---------------------------------------------------------------- Fig. 15: complex stiffness
-def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels=None):
-    """k_Re (solid) and k_Im (dashed) versus psi_a over 0..psi_max mrad, one colour per cycle, with
-    psi_fs (circle) and psi_BC (square) marked; the microslip range between them is the paper's
-    linear interpolation (Fig. 15, Appendix B). `summaries`: optional precomputed CycleSummary list;
-    labels: optional legend label per cycle (default: its mu)."""
-    from .summary import analyse_cycle, psi_grid
-
-    cycles = _as_cycles(cycles)
-    fig, (ax,) = _axes_row(ax, 1, size=(8.0, 5.4))
-    if summaries is None:
-        summaries = [analyse_cycle(bc, psi_grid(psi_max)) for bc in cycles]
+def _stiffness_curves(ax, cycles, summaries, labels, legend_entries):
     for k, (bc, s) in enumerate(zip(cycles, summaries)):
         name, c = _style(bc, k, labels)
         if s.liftoff:
-            ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
+            if legend_entries:
+                ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
             continue
         nb = s.numbers
-        ax.plot(s.psi, s.k_re, "-", color=c, lw=2,
-                label=f"{name}: k_Re (ψ_fs = {nb['psi_fs_mrad']:.2f}, ψ_BC = {nb['psi_bc_mrad']:.2f} mrad)")
-        ax.plot(s.psi, s.k_im, "--", color=c, lw=2, label=f"{name}: k_Im")
-        ax.plot([nb["psi_fs_mrad"]], [nb["k_re_fs"]], "o", color=c, ms=7, mec="k")
-        ax.plot([nb["psi_bc_mrad"]] * 2, [nb["k_re_bc"], nb["k_im_bc"]], "s", color=c, ms=7, mec="k")
+        ax.plot(s.psi, s.k_re, "-", color=c, lw=2, label=(
+            f"{name}: k_Re (ψ_fs = {nb['psi_fs_mrad']:.2f}, ψ_BC = {nb['psi_bc_mrad']:.2f} mrad)"
+            if legend_entries else None))
+        ax.plot(s.psi, s.k_im, "--", color=c, lw=2, label=f"{name}: k_Im" if legend_entries else None)
+        ax.plot([nb["psi_fs_mrad"]], [nb["k_re_fs"]], "o", color=c, ms=7, mec="k", zorder=4)
+        ax.plot([nb["psi_bc_mrad"]] * 2, [nb["k_re_bc"], nb["k_im_bc"]], "s", color=c, ms=7, mec="k",
+                zorder=4)
+    ax.set_xlabel("platform rotation amplitude ψ_P,a (mrad)")
+    ax.set_ylabel("rotational stiffness k_Re, k_Im (N mm/mrad)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.25)
+
+
+def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels=None, zoom=None):
+    """k_Re (solid) and k_Im (dashed) versus psi_a over 0..psi_max mrad, one colour per cycle, with
+    psi_fs (circle) and psi_BC (square) marked; the microslip range between them is the paper's
+    linear interpolation (Fig. 15, Appendix B). `summaries`: optional precomputed CycleSummary list;
+    labels: optional legend label per cycle (default: its mu).
+
+    zoom: add a second panel over 0..1.6 max(psi_BC), where psi_fs and psi_BC lie (for shapes such as
+    90R whose psi_BC is a small fraction of psi_max the markers would otherwise bunch at the left
+    edge). Default: True when this function creates the figure, False when `ax` is given.
+    """
+    from .summary import analyse_cycle, psi_grid
+
+    cycles = _as_cycles(cycles)
+    zoom = (ax is None) if zoom is None else bool(zoom)
+    fig, axes = _axes_row(ax, 2 if zoom else 1, size=(7.0, 5.4))
+    if summaries is None:
+        summaries = [analyse_cycle(bc, psi_grid(psi_max)) for bc in cycles]
+    ax = axes[0]
+    _stiffness_curves(ax, cycles, summaries, labels, True)
     ax.plot([], [], "o", color="w", mec="k", label="ψ_fs (end of full stick)")
     ax.plot([], [], "s", color="w", mec="k", label="ψ_BC (Base-Cycle)")
     names = sorted({_shape_name(bc.shape) for bc in cycles})
     ax.set_title(f"{', '.join(names)}: complex stiffness of the platform")
-    ax.set_xlabel("platform rotation amplitude ψ_P,a (mrad)")
-    ax.set_ylabel("rotational stiffness k_Re, k_Im (N mm/mrad)")
     ax.set_xlim(0, psi_max)
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.25)
     ax.legend(loc="upper right", fontsize=8, ncol=1)
+    valid = [s.numbers["psi_bc_mrad"] for s in summaries if not s.liftoff]
+    if zoom:
+        z = axes[1]
+        z_max = 1.6 * max(valid) if valid else psi_max
+        # The same grid length as the full panel: the jit-compiled analysis is reused.
+        fine = [analyse_cycle(bc, psi_grid(z_max, len(s.psi))) if not s.liftoff else s
+                for bc, s in zip(cycles, summaries)]
+        _stiffness_curves(z, cycles, fine, labels, False)
+        z.set_xlim(0, z_max)
+        z.set_title(f"zoom on 0 – {z_max:.2f} mrad (ψ_fs, ψ_BC)")
     return _finish(fig)
 
 

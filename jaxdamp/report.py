@@ -275,7 +275,7 @@ def _transitions(doc, trans, paper):
         return
     doc.h(1, "Transitions charts (Tables 2, 5, 7, 8, 10)")
     doc.p("Contacts in slip per tract ('bs' = back-slide, Appendix A; '—' = all stick); 'full slip' marks the "
-          "constant-force stretch that completes the shorter half (C-C2 at mid-cycle, F-0 at the end). "
+          "constant-force stretch that completes the shorter half (C–C′ at mid-cycle, F–0 at the end). "
           "Tract lengths in µm of relative platform displacement. The paper's chart, where its text "
           "gives one, is in the last column.")
     for s, per in trans.items():

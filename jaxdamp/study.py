@@ -263,9 +263,11 @@ def key_figure(bc, summary):
     amps = P.default_amplitudes(bc)
     k_re, k_im = stiffness_at(bc, amps)
     colors = [line.get_color() for line in a.get_lines() if line.get_linestyle() == "-"][: len(amps)]
-    for psi, kr, ki, c in zip(amps, k_re, k_im, colors):
+    # The first amplitude is psi_BC itself: its point is the psi_BC square already drawn (a diamond
+    # on top of it would hide it), so only the stretched cycles get diamonds.
+    for psi, kr, ki, c in list(zip(amps, k_re, k_im, colors))[1:]:
         b.plot([psi, psi], [kr, ki], "D", color=c, mec="k", ms=7)
-    b.plot([], [], "D", color="w", mec="k", label="the cycles on the left")
+    b.plot([], [], "D", color="w", mec="k", label="the stretched cycles on the left")
     b.legend(loc="upper right", fontsize=8)
     return fig
 
