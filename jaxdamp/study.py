@@ -17,6 +17,8 @@ import json
 import time
 from pathlib import Path
 
+from .report import KEY_FIGURE_SECTION
+
 DEFAULT_SHAPES = ("90L", "74L", "60sym", "74R", "90R")
 DEFAULT_MU = (0.7, 0.5, 0.3)
 CONTRACT_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -231,7 +233,6 @@ def study_figures(cycles, summaries, summary):
                "stiffness they give (right). " + psi_c, KEY_FIGURE_SECTION)
 
 
-KEY_FIGURE_SECTION = "Key figure: 60sym at μ = 0.7"
 
 
 def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[dict]:
@@ -243,7 +244,8 @@ def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[d
     for fig, name, caption, section in study_figures(cycles, summaries, summary):
         fig.savefig(out / name, dpi=110)
         plt.close(fig)
-        figs.append({"file": f"{out.name}/{name}", "caption": caption, "section": section})
+        shape = name[:-4].split("_", 1)[1] if name[:-4].split("_", 1)[-1] in cycles else None
+        figs.append({"file": f"{out.name}/{name}", "caption": caption, "section": section, "shape": shape})
         if progress is not None:
             progress.update(1)
     return figs
