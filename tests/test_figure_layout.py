@@ -189,3 +189,17 @@ def test_the_checker_sees_overlaps_and_clipping():
     found = "\n".join(layout_problems(fig))
     plt.close(fig)
     assert "'first' overlaps" in found and "leaves the figure" in found and "crossed by diagonal" in found
+
+
+def test_sweep_heatmap_has_a_clean_layout():
+    """`jaxdamp sweep`'s heatmap: suptitle inside the figure, the paper's shapes on the map's edges
+    (90L at theta_L = 90, 90R at theta_R = 90) labelled inside their panels."""
+    import numpy as np
+
+    from jaxdamp.batch import sweep
+    from jaxdamp.sweep_plot import heatmap_figure
+
+    # Centred b_R (the longest suptitle), a 4 x 4 grid with the family's corners.
+    res = sweep(np.linspace(40.0, 90.0, 4), np.linspace(40.0, 90.0, 4), [0.7, 0.3])
+    problems = layout_problems(heatmap_figure(res))
+    assert not problems, "\n".join(problems)
