@@ -576,8 +576,10 @@ def cmd_calibrate(args):
 
 def register_cli(sub):
     p = sub.add_parser("calibrate", help="fit kn, kt to the paper's Tables B3.1/B4.1 (least squares)")
-    p.add_argument("--start-kn", type=float, default=None, help=f"start kn, N/mm (default {DEFAULT_START_KN:g}: a generic guess, see calibration.py)")
-    p.add_argument("--start-kt", type=float, default=None, help=f"start kt, N/mm (default {DEFAULT_START_KT:g}: a generic guess, see calibration.py)")
+    p.add_argument("--start-kn", type=float, default=None,
+                   help=f"start kn, N/mm (default {DEFAULT_START_KN:g}: a generic guess, see calibration.py)")
+    p.add_argument("--start-kt", type=float, default=None,
+                   help=f"start kt, N/mm (default {DEFAULT_START_KT:g}: a generic guess, see calibration.py)")
     p.add_argument("--split", action="store_true", help="separate (kn, kt) for R1 and the L pads")
     p.add_argument("--method", choices=("lbfgs", "adam"), default="lbfgs", help="optimiser (default lbfgs)")
     p.add_argument("--max-iter", type=int, default=None, help="iteration limit")
