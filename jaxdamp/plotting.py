@@ -136,42 +136,70 @@ class _AutoLabel(matplotlib.text.Annotation):
         self.set_in_layout(False)
         self.set_zorder(6)
 
-    def _cost(self, renderer, ax):
-        bb = self.get_window_extent(renderer)
-        if not (ax.bbox.x0 <= bb.x0 and bb.x1 <= ax.bbox.x1 and ax.bbox.y0 <= bb.y0 and bb.y1 <= ax.bbox.y1):
-            return 100.0
-        cost = 0.0
-        for other in ax.texts:
-            if other is not self and other.get_visible() and other.get_text().strip():
-                if bb.overlaps(other.get_window_extent(renderer)):
-                    cost += 10.0
-        leg = ax.get_legend()
-        if leg is not None and bb.overlaps(leg.get_window_extent(renderer)):
-            cost += 10.0
+    @staticmethod
+    def _obstacles(renderer, ax):
+        """What a label must avoid in ax, in pixels, computed once per draw of the axes (the cache key
+        changes with the renderer, the axes' place and the number of artists)."""
+        key = (id(renderer), tuple(ax.bbox.bounds), len(ax.lines), len(ax.texts), len(ax.patches))
+        cached = getattr(ax, "_jaxdamp_label_obstacles", None)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        lines = []
         for ln in ax.get_lines():
             if not ln.get_visible() or len(ln.get_xdata()) == 0:
                 continue
             xy = ln.get_transform().transform(np.column_stack([ln.get_xdata(), ln.get_ydata()]))
-            grown = bb.padded(0.5 * ln.get_markersize() * renderer.points_to_pixels(1.0))
-            if ln.get_marker() not in (None, "None", "", " ") and grown.count_contains(xy) > 0:
+            marker = ln.get_marker() not in (None, "None", "", " ")
+            drawn = ln.get_linestyle() not in ("None", "", " ") and len(xy) > 1
+            r = 0.5 * ln.get_markersize() * renderer.points_to_pixels(1.0)
+            lines.append((xy, marker, r, matplotlib.path.Path(xy) if drawn else None))
+        arrows = [p.get_transform().transform_path(p.get_path())
+                  for p in ax.patches + [t.arrow_patch for t in ax.texts
+                                         if isinstance(t, matplotlib.text.Annotation) and t.arrow_patch is not None]
+                  if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+        fixed = [t.get_window_extent(renderer) for t in ax.texts
+                 if not isinstance(t, _AutoLabel) and t.get_visible() and t.get_text().strip()]
+        leg = ax.get_legend()
+        if leg is not None:
+            fixed.append(leg.get_window_extent(renderer))
+        out = (lines, arrows, fixed)
+        ax._jaxdamp_label_obstacles = (key, out)
+        return out
+
+    @staticmethod
+    def _cost(bb, ax, obstacles, labels):
+        if not (ax.bbox.x0 <= bb.x0 and bb.x1 <= ax.bbox.x1 and ax.bbox.y0 <= bb.y0 and bb.y1 <= ax.bbox.y1):
+            return 100.0
+        lines, arrows, fixed = obstacles
+        cost = 10.0 * sum(bb.overlaps(o) for o in fixed) + 10.0 * sum(bb.overlaps(o) for o in labels)
+        for xy, marker, r, path in lines:
+            if marker and bb.padded(r).count_contains(xy) > 0:
                 cost += 3.0
-            elif ln.get_linestyle() not in ("None", "", " ") and len(xy) > 1 and \
-                    matplotlib.path.Path(xy).intersects_bbox(bb, filled=False):
+            elif path is not None and path.intersects_bbox(bb, filled=False):
                 cost += 1.0
-        for p in ax.patches + [t.arrow_patch for t in ax.texts
-                               if isinstance(t, matplotlib.text.Annotation) and t.arrow_patch is not None]:
-            if isinstance(p, matplotlib.patches.FancyArrowPatch):
-                if p.get_transform().transform_path(p.get_path()).intersects_bbox(bb, filled=False):
-                    cost += 5.0
+        cost += 5.0 * sum(bool(a.intersects_bbox(bb, filled=False)) for a in arrows)
         return cost
+
+    def _extent(self, renderer):
+        """The label's box where it was last placed with this renderer (else where it is now)."""
+        placed = getattr(self, "_jaxdamp_placed", None)
+        if placed is not None and placed[0] == id(renderer):
+            return placed[1]
+        return self.get_window_extent(renderer)
 
     def draw(self, renderer):
         ax = self.axes
         if ax is not None and self.get_visible():
+            obstacles = self._obstacles(renderer, ax)
+            labels = [t._extent(renderer) for t in ax.texts
+                      if isinstance(t, _AutoLabel) and t is not self and t.get_visible()]
+            # The text's box at the anchor, shifted per candidate (one text layout, not one each).
+            self.xyann = (0.0, 0.0)
+            bb0 = self.get_window_extent(renderer)
+            px = renderer.points_to_pixels(1.0)
             best, best_cost = None, None
             for off in self._candidates:
-                self.xyann = off
-                c = self._cost(renderer, ax)
+                c = self._cost(bb0.translated(off[0] * px, off[1] * px), ax, obstacles, labels)
                 if c == 0.0:
                     best, best_cost = off, c
                     break
@@ -180,6 +208,7 @@ class _AutoLabel(matplotlib.text.Annotation):
             self.xyann = best
             if best_cost:
                 self.set_bbox(dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85))
+            self._jaxdamp_placed = (id(renderer), bb0.translated(best[0] * px, best[1] * px))
         super().draw(renderer)
 
 
