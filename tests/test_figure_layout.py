@@ -21,9 +21,10 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import FancyArrowPatch
 from matplotlib.text import Annotation
 
+from jaxdamp.geometry import paper_tables
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase
-from jaxdamp.study import DEFAULT_SHAPES, _paper_values, _tables, compute_cases, result_entry, study_figures
 from jaxdamp.scoring import score_table
+from jaxdamp.study import DEFAULT_SHAPES, compute_cases, result_entry, study_figures
 
 TOL_PX = 1.0  # boxes that merely touch (anti-aliasing) are not an overlap
 
@@ -150,7 +151,7 @@ def layout_problems(fig):
 @pytest.fixture(scope="module")
 def study_inputs():
     """Cycles and summaries of the five shapes at mu = 0.7 and 0.3 (one compilation, reused)."""
-    ref = _tables()["reference_case"]
+    ref = paper_tables()["reference_case"]
     load = LoadCase(ref["F_D"], ref["q_star"], ref["r_sin_beta"])
     mus = (0.7, 0.3)
     cycles, summaries, _, _ = compute_cases(DEFAULT_SHAPES, mus, Contacts(REFERENCE_KN, REFERENCE_KT), load)
