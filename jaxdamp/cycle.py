@@ -239,7 +239,7 @@ def transitions_chart(bc: BaseCycle) -> list[dict]:
 
     Rows carry the tract name (0-A, A-B, ...), dv_mm, and a state per contact. A constant-force
     gross-slip stretch that completes the shorter half is a row with every contact in slip
-    ('C-C2' at mid-cycle or 'F-0' at the end, as in the paper).
+    ('C-C′' at mid-cycle or 'F-0' at the end, as in the paper).
     """
     import numpy as np
 
@@ -260,9 +260,9 @@ def transitions_chart(bc: BaseCycle) -> list[dict]:
         stretch = longest - float(half.span)
         if stretch > 1e-12 * max(longest, 1e-300):
             end = names[k]
-            tail = "0" if label == "backward" else f"{end}2"
+            tail = "0" if label == "backward" else f"{end}\u2032"  # the paper's C′
             rows.append(dict(half=label, tract=f"{end}-{tail}", dv_mm=stretch, stretch=True,
                              **{c: "slip" for c in CONTACT_NAMES}))
             if label == "forward":
-                names[k] = f"{end}2"
+                names[k] = f"{end}\u2032"
     return rows

@@ -125,7 +125,7 @@ def moment_polyline(bc, psi_a_mrad=None):
 
     Returns (psi, M, labels): psi - psi_c in mrad, M in N mm, and the paper's point names. The loop
     starts at point 0 (psi = +psi_a), runs the forward half (psi decreasing) and then the backward
-    half; a half shorter than the longest ends with a constant-moment full-slip stretch (C-C2 at
+    half; a half shorter than the longest ends with a constant-moment full-slip stretch (C-C′ at
     mid-cycle, F-0 at the end), and at psi_a > psi_BC both halves end with one. The last vertex
     closes the loop (psi = +psi_a).
     """
@@ -158,7 +158,7 @@ def moment_polyline(bc, psi_a_mrad=None):
     names, labels, letter = iter(point_names(64)), [], "0"
     for k, kind in enumerate(kinds):
         if kind == "stretch-end":
-            labels.append("0" if k == len(kinds) - 1 else f"{letter}2")
+            labels.append("0" if k == len(kinds) - 1 else f"{letter}\u2032")  # the paper's C′
         else:
             letter = next(names)
             labels.append(letter)

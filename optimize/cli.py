@@ -6,20 +6,10 @@ A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.com
 from __future__ import annotations
 
 from jaxdamp.cli import (CliError, add_contact_args, add_json_arg, add_progress_arg,
-                         check_output_file, contacts_echo, document, emit, load_echo,
+                         check_output_file, contacts_echo, document, emit, float_list, load_echo,
                          progress_bar)
 
 from .design import VARIABLES
-
-
-def _floats(text: str, name: str) -> tuple:
-    try:
-        vals = tuple(float(v) for v in text.split(",") if v.strip())
-    except ValueError:
-        raise CliError(f"{name} must be comma-separated numbers; got {text!r}") from None
-    if not vals:
-        raise CliError(f"{name} must list at least one number")
-    return vals
 
 
 def _assignments(text: str | None, name: str) -> dict:
@@ -54,7 +44,7 @@ def payload_of(args) -> dict:
         raise CliError("every design variable is fixed: nothing to optimise")
     fixed_all = {k: v for k, v in fixed.items()}
     space = design_space(free, fixed=fixed_all)
-    problem = make_problem(space, _floats(args.mu_set, "--mu-set"), args.kn, args.kt,
+    problem = make_problem(space, float_list(args.mu_set, "--mu-set"), args.kn, args.kt,
                            margin_pct=args.margin, min_vertex_deg=args.min_vertex_angle)
     weights = _assignments(args.weights, "--weights") or None
     config = SolverConfig(method=args.method, rounds=args.rounds)

@@ -1,4 +1,6 @@
-"""Write notebooks/03_design_space_and_optimisation.ipynb (outputs stripped).
+"""Write notebooks/03_design_space_and_optimisation.ipynb.
+
+The notebook is written without outputs; scripts/execute_notebooks.py executes it in place.
 
 Run from the repository root: python scripts/make_notebook_03.py
 """
@@ -36,6 +38,7 @@ import jaxdamp as jd
 import optimize as opt
 
 jd.enable_x64()
+plt.rcParams["figure.dpi"] = 56       # modest PNGs in the committed, executed notebook
 problem = opt.make_problem()          # bounds, mu set, contacts, 5 % margin, 20 deg vertex angle
 print(problem.space.bounds(), "mu set", problem.mus, "margin", problem.margin_pct, "%")"""),
     new_markdown_cell("""\

@@ -1,4 +1,6 @@
-"""Write notebooks/04_speed_vs_accuracy.ipynb (outputs stripped).
+"""Write notebooks/04_speed_vs_accuracy.ipynb.
+
+The notebook is written without outputs; scripts/execute_notebooks.py executes it in place.
 
 Run from the repository root: python scripts/make_notebook_04.py
 """
@@ -31,7 +33,6 @@ from pathlib import Path
 import numpy as np
 import jax, jax.numpy as jnp
 import jaxdamp as jd
-from IPython.display import Image, display
 
 jd.enable_x64()
 RESULTS = Path("..") / "benchmarks" / "results"
@@ -47,8 +48,8 @@ print(json.dumps(bench["summary"]["targets_met"], indent=1))"""),
 Each point is a warm (already compiled) call, median of repeats. The direct method is exact (closed
 form), so it sits at the bottom of each panel. The dotted line is the 1e-4 target on k_Im; a
 method's "time to 1e-4" is interpolated where its error falls below the line for good."""),
-    new_code_cell("""\
-display(Image(filename=str(RESULTS / "speed_accuracy.png")))"""),
+    new_markdown_cell("""\
+![Error versus warm wall time per method and case](../benchmarks/results/speed_accuracy.png)"""),
     new_code_cell("""\
 print(f"{'case':10} {'direct (ms)':>12} {'time marching':>16} {'HBM-AFT':>12} {'tanh-reg.':>12}   speedups at 1e-4 on k_Im")
 for key, case in bench["cases"].items():
@@ -66,15 +67,16 @@ print(f"\\nbatched direct method: {b['designs_per_s']:.0f} Base-Cycles + five nu
 
 60sym at μ = 0.5 on this machine: the direct method, the time marcher at two steps and HBM-AFT at
 two sample counts (HBM is given the exact ψ_BC: it cannot find it by itself). The first call of each
-function compiles it; the timings below are warm."""),
+function compiles it; the timings below are warm. Only the public API is used: `jd.base_cycle`, and
+the baselines `time_march` and `hbm_aft` from `jaxdamp.baselines`. Each public function checks its
+inputs on a plain call (microseconds of Python); inside `jax.jit` the inputs are tracers and the
+checks are skipped, so a jitted lambda around it times the solver alone."""),
     new_code_cell("""\
-from jaxdamp.cycle import base_cycle_kernel
-from jaxdamp.baselines.timemarch import time_march_kernel
-from jaxdamp.baselines.hbm import hbm_aft_kernel
+from jaxdamp.baselines import time_march, hbm_aft
 
-contacts = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
-load = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
-shape = jd.DamperShape(*(jnp.asarray(v, float) for v in jd.family_shape("60sym")[:4]))
+contacts = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)   # N/mm
+load = jd.LoadCase(F_D=1000.0, q_star=100.0)               # N, mm
+shape = jd.family_shape("60sym")
 mu = jnp.asarray(0.5)
 
 def warm(fn, *args, repeats=3):
@@ -84,7 +86,7 @@ def warm(fn, *args, repeats=3):
         t = time.perf_counter(); out = jax.block_until_ready(fn(*args)); ts.append(time.perf_counter() - t)
     return float(np.median(ts)), out
 
-direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(base_cycle_kernel(s, m, contacts, load)))))
+direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(jd.base_cycle(s, m, contacts, load)))))
 t_d, five = warm(direct, shape, mu, repeats=20)
 psi_fs, k_re_fs, psi_bc, k_re, k_im = map(float, five)
 bc = jd.base_cycle(jd.family_shape("60sym"), 0.5, contacts, load)
@@ -93,13 +95,13 @@ print(f"direct: {t_d * 1e3:.3f} ms   psi_BC = {psi_bc:.5f} mrad, k_Re = {k_re:.1
 
 for N in (500, 2000):
     # n_steps is static: a little more than N, so that the march stops soon after gross slip.
-    tm = jax.jit(lambda s, m, h, N=N: time_march_kernel(s, m, contacts, load, h, n_steps=int(1.02 * N) + 4))
+    tm = jax.jit(lambda s, m, h, N=N: time_march(s, m, contacts, load, h=h, n_steps=int(1.02 * N) + 4))
     t, r = warm(tm, shape, mu, jnp.asarray(span / (N + 0.5)))
     print(f"time marching N = {N:5d}: {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
           f"errors: psi_BC {abs(float(r.psi_bc) / psi_bc - 1):.1e}, k_Re {abs(float(r.k_re_bc) / k_re - 1):.1e}, "
           f"k_Im {abs(float(r.k_im_bc) / k_im - 1):.1e}")
 for nt in (32, 128):
-    hb = jax.jit(lambda s, m, a, nt=nt: hbm_aft_kernel(s, m, contacts, load, a, n_time=nt))
+    hb = jax.jit(lambda s, m, a, nt=nt: hbm_aft(s, m, a, contacts, load, n_time=nt))
     t, r = warm(hb, shape, mu, jnp.asarray(psi_bc))
     print(f"HBM-AFT Nt = {nt:4d}:      {t * 1e3:8.2f} ms ({t / t_d:6.0f}x)   "
           f"errors: k_Re {abs(float(r.k_re) / k_re - 1):.1e}, k_Im {abs(float(r.k_im) / k_im - 1):.1e}")"""),
@@ -111,8 +113,8 @@ the method's step/sample/ε knob, so accuracy costs time; *wrong*: error > 1e-2 
 liftoff not reported; *flagged*: the method reports liftoff, failure or a non-periodic/non-closed
 cycle. The direct method's numbers are checked on every row against the independent time marcher
 with error bounds that do not depend on the direct method (`tests/test_stability_map.py`)."""),
-    new_code_cell("""\
-display(Image(filename=str(RESULTS / "stability_map.png")))"""),
+    new_markdown_cell("""\
+![Stability map: hard cases by method](../benchmarks/results/stability_map.png)"""),
     new_code_cell("""\
 for row in smap["rows"]:
     c = row["case"]

@@ -1,4 +1,6 @@
-"""Write notebooks/01_tour_60sym.ipynb and notebooks/02_family_comparison.ipynb (outputs stripped).
+"""Write notebooks/01_tour_60sym.ipynb and notebooks/02_family_comparison.ipynb.
+
+They are written without outputs; scripts/execute_notebooks.py executes them in place.
 
 Run from the repository root: python scripts/make_notebooks_01_02.py
 """
@@ -16,6 +18,8 @@ import matplotlib.pyplot as plt
 import jaxdamp as jd
 from jaxdamp import plotting as P
 from jaxdamp.summary import analyse_cycle, moment_polyline, numeric_first_harmonic
+
+plt.rcParams["figure.dpi"] = 56     # modest PNGs in the committed, executed notebook
 
 jd.enable_x64()                     # the library's results are specified in float64
 paper = jd.paper_tables()           # the paper's numbers, shipped with the package
@@ -219,10 +223,10 @@ fig = P.plot_family_comparison(results, paper=ref)"""),
     new_code_cell("""\
 fig = P.plot_complex_stiffness([cycles[(s, 0.5)] for s in names], labels=names,
                                summaries=[summ[(s, 0.5)] for s in names])
-fig.axes[0].set_title("μ = 0.5: complex stiffness of the family")"""),
+fig.axes[0].set_title("μ = 0.5: complex stiffness of the family");"""),
     new_code_cell("""\
 fig = P.plot_moment_cycles([cycles[(s, 0.5)] for s in names], labels=names, label_points=False)
-fig.axes[0].set_title("μ = 0.5: moment Base-Cycles of the family")"""),
+fig.axes[0].set_title("μ = 0.5: moment Base-Cycles of the family");"""),
     new_markdown_cell("""\
 ## Table 11: scores from our numbers
 

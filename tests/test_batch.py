@@ -253,3 +253,49 @@ def test_sweep_rejects_bad_input():
         B.sweep([60.0], [], [0.5])
     with pytest.raises(ValueError, match="mu"):
         B.sweep([60.0], [60.0], [0.5, -0.2])
+
+
+# ------------------------------------------------------------------ the one batching path
+
+def test_batch_sizes_share_bucketed_programs():
+    rng = np.random.default_rng(3)
+
+    def designs(n):
+        return jd.stack_designs(jd.DamperShape(rng.uniform(45, 85, n), rng.uniform(45, 85, n),
+                                               rng.uniform(-0.1, 0.2, n)), 0.5)
+
+    jd.evaluate_designs(designs(20))
+    compiled = {k: f._cache_size() for k, f in B._COMPILED.items()}
+    for n in (17, 25, 32):  # one bucket (32 designs)
+        jd.evaluate_designs(designs(n))
+    assert {k: f._cache_size() for k, f in B._COMPILED.items()} == compiled
+
+
+def test_bucket_sizes():
+    assert B.bucket_size(1, 1, 1024) == B.MIN_BATCH
+    assert B.bucket_size(100, 1, 1024) == 128
+    assert B.bucket_size(5000, 1, 1024) == 1024
+    assert B.bucket_size(37, 2, 1024) == 64
+    assert B.bucket_size(3, 3, 1024) % 3 == 0
+
+
+def test_default_chunk_by_platform_and_memory():
+    assert B.default_chunk("cpu") == 1024
+    assert B.default_chunk("gpu") == 131072
+    # 80 GB free: the platform default stands; 1 GB free: bounded by memory, a power of two.
+    assert B.default_chunk("gpu", free_bytes=80 * 2**30) == 131072
+    small = B.default_chunk("gpu", free_bytes=2**30)
+    assert small * B.BYTES_PER_DESIGN <= B.MEMORY_SHARE * 2**30 and small & (small - 1) == 0
+    assert B.default_chunk("gpu", free_bytes=0) == B.MIN_BATCH
+    assert B.default_chunk("unknown-accelerator") == 1024
+
+
+def test_map_batched_matches_a_loop_and_rejects_bad_chunks():
+    def f(x, y):
+        return x * y
+
+    x = np.arange(37.0)
+    np.testing.assert_array_equal(jd.map_batched(f, x, 2.0, chunk_size=8), 2.0 * x)
+    with pytest.raises(ValueError, match="chunk_size"):
+        jd.map_batched(f, x, 2.0, chunk_size=0)
+

@@ -26,6 +26,33 @@ def test_converges_from_3x_off_to_one_optimum(fits):
     assert a.kn > 0 and a.kt > 0 and np.isfinite(a.kn) and np.isfinite(a.kt)
 
 
+@pytest.fixture(scope="module")
+def default_fit():
+    """The fit a user gets with no start given: from the generic guess, not from the answer."""
+    return cal.calibrate()
+
+
+def test_default_start_is_a_generic_guess_and_reaches_the_calibrated_pair(default_fit):
+    """From kn = 1e4, kt = 5e3 N/mm (kt/kn = 0.5) the fit reaches the calibrated pair of the docs
+    (kn = 20246.3, kt = 3492.1 N/mm, kt/kn = 0.17), its convergence recorded iterate by iterate."""
+    r = default_fit
+    assert (cal.DEFAULT_START_KN, cal.DEFAULT_START_KT) == (1.0e4, 5.0e3)
+    assert r.start == pytest.approx((1.0e4, 5.0e3), rel=1e-12)
+    assert abs(r.start[0] / 20246.3 - 1) > 0.4 and abs(r.start[1] / 3492.1 - 1) > 0.4  # far from the answer
+    assert r.converged and r.iterations >= 5
+    assert r.kn == pytest.approx(20246.3, rel=2e-5) and r.kt == pytest.approx(3492.1, rel=2e-5)
+    assert r.max_abs_residual_pct <= 2.0
+    # History: one entry per iterate (start first), losses non-increasing, ending at the result.
+    assert len(r.param_history) == len(r.loss_history) == r.iterations + 1
+    assert r.param_history[0] == pytest.approx(r.start, rel=1e-12)
+    assert r.param_history[-1] == pytest.approx((r.kn, r.kt), rel=1e-12)
+    assert all(b <= a * (1 + 1e-12) for a, b in zip(r.loss_history, r.loss_history[1:]))
+    assert r.loss_history[-1] < 1e-3 * r.loss_history[0]
+    rows = cal.history_rows(r)
+    assert [row["iterate"] for row in rows] == list(range(r.iterations + 1))
+    assert set(rows[0]) == {"iterate", "loss", "kn", "kt"}
+
+
 def test_every_b31_b41_residual_within_2pct(fits, paper):
     res = fits["high_kn"].residuals
     expected = {f"{s}/{row[0]:g}/{n}" for s in FITTED for row in paper["table_B"][s] for n in cal.NUMBERS}

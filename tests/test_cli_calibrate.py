@@ -1,3 +1,4 @@
+import pytest
 """`jaxdamp calibrate`: the JSON contract; bad start and unusable --markdown fail before work."""
 
 import jaxdamp as jd
@@ -25,6 +26,11 @@ def test_cli_json_contract(capsys, paper, tmp_path):
     assert all(k.startswith("90R/") and not k.endswith("k_im_bc") for k in d["residuals_90R_pct"])
     assert len(d["residuals_90R_pct"]) == 12
     assert "Table B3.1 (60sym)" in md.read_text()
+    # The convergence is shown: iterate 0 is the start, the last row is the result.
+    hist = d["history"]
+    assert len(hist) == d["iterations"] + 1 and hist[0]["iterate"] == 0
+    assert hist[0]["kn"] == pytest.approx(3 * KN0) and hist[-1]["kn"] == pytest.approx(d["kn"])
+    assert hist[-1]["loss"] == pytest.approx(d["loss"])
 
 
 def test_cli_rejects_bad_start(capsys):

@@ -109,11 +109,11 @@ def test_plot_equilibrium_tracks_marks_liftoff(cycles):
 
 
 def test_moment_polyline_point_names_follow_the_paper(cycles):
-    """60sym closes exactly (F = 0), 74R has the mid-cycle stretch C-C2, 74L at 0.5 the F-0 stretch."""
+    """60sym closes exactly (F = 0), 74R has the mid-cycle stretch C-C′, 74L at 0.5 the F-0 stretch."""
     _, _, names = moment_polyline(cycles[("60sym", 0.7)])
     assert names == ["0", "A", "B", "C", "D", "E", "F≡0"]
     _, _, names = moment_polyline(cycles[("74R", 0.7)])
-    assert names[:5] == ["0", "A", "B", "C", "C2"]
+    assert names[:5] == ["0", "A", "B", "C", "C\u2032"]  # the paper's C′, not "C2"
     _, _, names = moment_polyline(cycles[("74L", 0.5)])
     assert names[-2:] == ["F", "0"]
 
@@ -154,8 +154,11 @@ def test_moment_stretched_and_stiffness_figures(cycles):
     fig = P.plot_stretched_cycles(cycles[("74L", 0.7)])
     assert any("LIFTOFF" in t.get_text() for t in fig.axes[0].texts)
     fig = P.plot_complex_stiffness(bcs, labels=["a", "b", "c"])
-    (ax,) = _labelled(fig)
+    ax, zoom = _labelled(fig)
     assert ax.get_xlim() == (0.0, 20.0)
+    # The zoom panel spans the microslip range: up to 1.6 times the largest psi_BC.
+    psi_bc = max(P.default_amplitudes(bc)[0] for bc in bcs)
+    assert zoom.get_xlim() == pytest.approx((0.0, 1.6 * psi_bc))
     assert any(s.startswith("a: k_Re") for s in ax.get_legend_handles_labels()[1])
 
 

@@ -211,3 +211,66 @@ def test_report_html_and_markdown_reference_every_figure(with_figures):
         assert f"]({f['file']})" in md
         assert f'src="{f["file"]}"' in html
     assert "60sym" in md and "Table B3.1" in md
+
+
+def test_report_has_a_contents_list_and_shape_names_in_every_heading(full):
+    out, _ = full
+    md = (out / "report.md").read_text()
+    heads = [line.lstrip("#").strip() for line in md.splitlines() if line.startswith("## ")
+             or line.startswith("### ")]
+    assert len(heads) > 10
+    for h in heads:
+        assert any(s in h for s in SHAPE_NAMES), h
+        assert f"[{h}](#" in md, f"heading {h!r} missing from the contents"
+    html = (out / "report.html").read_text()
+    assert "<nav><b>Contents</b>" in html
+    # Every contents link points at an existing heading id.
+    for anchor in __import__("re").findall(r'<a href="#([^"]+)">', html):
+        assert f'id="{anchor}"' in html, anchor
+
+
+def test_report_states_the_90R_caveat_once(full):
+    from jaxdamp.study import NOTE_90R
+
+    out, _ = full
+    md = (out / "report.md").read_text()
+    assert md.count(NOTE_90R) == 1
+    assert md.count("the paper's 79 / 33 / 168") + md.count("The paper's 79 / 33 / 168") == 1
+    assert "90R: see the note under Table B5.1." in md
+
+
+def test_report_text_cells_are_left_aligned(full):
+    out, _ = full
+    html = (out / "report.html").read_text()
+    assert "td,th{border:1px solid #bbb;padding:3px 8px;text-align:left}td.num{text-align:right}" in html
+    assert '<td class="txt">0-A: —' in html  # the transitions charts
+    assert '<td class="num">0.7</td>' in html
+
+
+def test_report_explains_W_R1_zero_beside_w_R1_50_percent(full):
+    """60sym: R1 sticks through the Base-Cycle (W_R1 = 0) yet carries half of w_M; the report says why,
+    and the reason holds: energy beyond psi_BC grows as F_D * 2 (psi_a - psi_BC) * q*/2 * w_i."""
+    import jaxdamp as jd
+    from jaxdamp.harmonics import base_cycle_amplitude
+
+    out, s = full
+    e, en = s["results"]["60sym"]["0.7"], s["energies"]["60sym"]["0.7"]
+    assert abs(en["R1"]) < 1e-9 and e["w_R1"] / e["w_M"] == pytest.approx(0.5, abs=1e-3)
+    md = (out / "report.md").read_text()
+    assert "Why W and w can disagree (e.g. W_R1 = 0 beside w_R1 = 50 %)" in md
+    assert "R1 of 60sym at μ = 0.7" in md
+    bc = jd.base_cycle(jd.family_shape("60sym"), 0.7)
+    psi_bc = float(base_cycle_amplitude(bc))
+    extra = 1.5  # mrad beyond the Base-Cycle
+    gain = (jd.contact_energies(bc, psi_bc + extra).contacts - jd.contact_energies(bc).contacts)
+    ref = [s["load"]["F_D"] * 2 * extra * 1e-3 * s["load"]["q_star"] / 2 * e[f"w_{c}"] for c in ("R1", "L1", "L2")]
+    assert [float(g) for g in gain] == pytest.approx(ref, rel=1e-9)
+
+
+def test_key_figure_has_its_own_heading(with_figures):
+    out, _ = with_figures
+    md = (out / "report.md").read_text()
+    head = md.index("## Key figure: 60sym at μ = 0.7")
+    assert md.index("](figures/key_figure.png)") > head
+    assert md.index("](figures/key_figure.png)") < md.index("\n## ", head + 5)
+    assert md.count("](figures/key_figure.png)") == 1

@@ -18,7 +18,7 @@ import sys
 # The helpers a command module outside jaxdamp (an entry point) may use.
 from ._common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
                       add_progress_arg, add_shape_args, check_output_dir, check_output_file,
-                      contacts_echo, document, emit, load_echo, progress_bar)
+                      contacts_echo, document, emit, float_list, load_echo, progress_bar)
 
 UNITS = __doc__.split("\n\n", 1)[1]
 
@@ -148,5 +148,6 @@ def main(argv=None, extra_commands=()) -> int:
 
 __all__ = ["COMMANDS", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
            "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
-           "check_output_dir", "check_output_file", "contacts_echo", "document", "emit", "load_echo",
+           "check_output_dir", "check_output_file", "contacts_echo", "document", "emit", "float_list",
+           "load_echo",
            "main", "progress_bar"]

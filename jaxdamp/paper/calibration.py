@@ -31,6 +31,15 @@ REPORTED_TABLES = ("90R",)  # Table B5.1
 NOT_COMPARABLE = {"90R": ("k_im_bc",)}
 TABLE_NAMES = {"60sym": "B3.1", "74R": "B4.1", "90R": "B5.1"}
 
+# The default start of `calibrate`: a generic guess, deliberately not the answer. kn = 1e4 N/mm is
+# a round order of magnitude for the normal stiffness of a small steel-on-steel pad (a flat contact of
+# a few mm^2 between hardened steels is in the 1e4 - 1e5 N/mm decade); kt = kn / 2 is a round
+# tangential-to-normal ratio a little below the elastic (Mindlin) value 2(1 - nu)/(2 - nu) = 0.82 for
+# steel (nu = 0.3), since rough contacts are tangentially softer. Neither number comes from the
+# paper's tables; the fit has to find kt/kn ~ 0.17 by itself.
+DEFAULT_START_KN = 1.0e4  # N/mm
+DEFAULT_START_KT = 5.0e3  # N/mm
+
 
 class CalibrationTargets(NamedTuple):
     """Five-number targets, one row per (shape, mu) case.
@@ -295,6 +304,10 @@ class CalibrationResult(NamedTuple):
     grad_norm: float
     method: str
     split: bool
+    # The convergence history: the parameters (N/mm) at every iterate, start first, one entry per
+    # loss_history entry: (kn, kt), or (kn_R1, kn_L, kt_R1, kt_L) in the split stage.
+    param_history: tuple = ()
+    start: tuple = ()  # the start parameters (N/mm)
 
 
 def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: bool = False,
@@ -305,7 +318,8 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
 
     Minimises 0.5 mean(r^2), r = ours / target - 1, over theta = log k.
     targets: default `paper_targets()` (Tables B3.1 and B4.1, all 30 numbers).
-    start: (kn, kt) in N/mm (default the reference pair). split: separate pairs for R1 and the
+    start: (kn, kt) in N/mm (default: the generic guess DEFAULT_START_KN = 1e4, DEFAULT_START_KT
+        = 5e3 N/mm, documented at its definition; not the answer). split: separate pairs for R1 and the
         left pads (L1 = L2); from a (kn, kt) start the shared pair is fitted first and the split
         fit continues from it (the 4-parameter problem is flat far from the optimum), from a
         (kn_R1, kn_L, kt_R1, kt_L) start the split fit runs directly.
@@ -317,8 +331,6 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
         when targets is None, else none).
     callback: None or callback(iteration, loss), called after every accepted iteration (progress).
     """
-    from ..params import REFERENCE_KN, REFERENCE_KT
-
     if method not in ("lbfgs", "adam"):
         raise ValueError(f"method must be 'lbfgs' or 'adam'; got {method!r}")
     if not isinstance(split, (bool, np.bool_)):
@@ -326,7 +338,8 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
     if report is None and targets is None:
         report = paper_targets(REPORTED_TABLES, NUMBERS)
     targets = paper_targets() if targets is None else targets
-    theta0 = _start_theta(start, REFERENCE_KN, REFERENCE_KT)
+    theta0 = _start_theta(start, DEFAULT_START_KN, DEFAULT_START_KT)
+    start_k = tuple(float(v) for v in np.exp(theta0))
     max_iter = (100 if method == "lbfgs" else 1000) if max_iter is None else max_iter
     gtol = (1e-10 if method == "lbfgs" else 1e-7) if gtol is None else gtol
     if not (isinstance(max_iter, (int, np.integer)) and max_iter >= 1):
@@ -338,17 +351,17 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
     if theta0.size == 4 and not split:
         raise ValueError("start must be (kn, kt) unless split=True; got 4 values")
 
-    history, iterations = [], 0
+    history, params, iterations = [], [], 0
     if theta0.size == 2:
         shared = _Problem(targets, report, False)
-        theta, count = _minimize(shared, theta0, method, max_iter, gtol, learning_rate, history,
+        theta, count = _minimize(shared, theta0, method, max_iter, gtol, learning_rate, history, params,
                                  callback)
         iterations += count
         if split:  # continue from the shared optimum
             theta0 = np.asarray(theta)[[0, 0, 1, 1]]
     problem = shared if not split else _Problem(targets, report, True)
     if split:
-        theta, count = _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history,
+        theta, count = _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, params,
                                  callback)
         iterations += count
 
@@ -365,20 +378,24 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
         vals = problem.values[problem.n_fit:]
         rep = _named_residuals(report, 100.0 * (nums / np.where(np.isfinite(vals), vals, 1.0) - 1.0))
     return CalibrationResult(kn, kt, res, rep, max(abs(v) for v in res.values()), iterations,
-                             converged, tuple(history), gnorm, method, bool(split))
+                             converged, tuple(history), gnorm, method, bool(split), tuple(params), start_k)
 
 
-def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, callback=None):
-    """Run init/update until |grad| <= gtol, no progress, or max_iter. Appends losses to history."""
+def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, params,
+              callback=None):
+    """Run init/update until |grad| <= gtol, no progress, or max_iter. Appends the loss of every
+    iterate to history and its parameters (N/mm) to params; callback(iteration, loss) after each."""
     init, update = _solver(problem, method, float(learning_rate))
     state = init(jnp.asarray(theta0))
     history.append(float(state.loss))
+    params.append(tuple(float(v) for v in np.exp(np.asarray(state.theta))))
     while int(state.count) < max_iter and float(jnp.linalg.norm(state.grad)) > gtol:
         new = update(state)
         if not np.isfinite(float(new.loss)) or np.array_equal(np.asarray(new.theta), np.asarray(state.theta)):
             break  # no admissible step (line search exhausted): keep the last iterate
         state = new
         history.append(float(state.loss))
+        params.append(tuple(float(v) for v in np.exp(np.asarray(state.theta))))
         if callback is not None:
             callback(int(state.count), float(state.loss))
     return np.asarray(state.theta), int(state.count)
@@ -391,9 +408,7 @@ def _named_residuals(targets: CalibrationTargets, pct) -> dict:
 
 def validate_start(start):
     """ValueError naming `start` unless it is (kn, kt) or (kn_R1, kn_L, kt_R1, kt_L) in (0, inf) N/mm."""
-    from ..params import REFERENCE_KN, REFERENCE_KT
-
-    _start_theta(start, REFERENCE_KN, REFERENCE_KT)
+    _start_theta(start, DEFAULT_START_KN, DEFAULT_START_KT)
     return start
 
 
@@ -484,6 +499,8 @@ def comparison_document(res: CalibrationResult) -> str:
     """docs/paper_comparison.md: the calibration summary and `comparison_table` at its optimum."""
     how = "jaxdamp calibrate" + (" --split" if res.split else "") + (
         "" if res.method == "lbfgs" else f" --method {res.method}")
+    start = (f" from the generic start kn = {res.start[0]:g}, kt = {res.start[1]:g} N/mm"
+             if len(res.start) == 2 else "")
     return "\n".join([
         "# Paper comparison", "",
         f"Generated by `{how} --markdown docs/paper_comparison.md` "
@@ -492,7 +509,7 @@ def comparison_document(res: CalibrationResult) -> str:
         "of Tables B3.1 (60sym) and B4.1 (74R), one (kn, kt) pair shared by R1, L1 and L2"
         + (" (split: R1 and the L pads separately)" if res.split else "")
         + f": kn = {_fmt_k(res.kn)} N/mm, kt = {_fmt_k(res.kt)} N/mm "
-        f"({res.method}, {res.iterations} iterations, "
+        f"({res.method}, {res.iterations} iterations{start}, "
         f"{'converged' if res.converged else 'NOT converged'}, |grad| = {res.grad_norm:.1e}). "
         f"Largest |deviation| over B3.1 and B4.1: {res.max_abs_residual_pct:.2f} %. "
         "Table B5.1 (90R) is not fitted.", "",
@@ -514,3 +531,14 @@ def _fmt_k(k):
     if k.ndim == 0:
         return f"{float(k):.1f}"
     return "(" + ", ".join(f"{float(v):.1f}" for v in k) + ")"
+
+
+def _param_names(n: int) -> tuple:
+    return ("kn", "kt") if n == 2 else ("kn_R1", "kn_L", "kt_R1", "kt_L")
+
+
+def history_rows(res: CalibrationResult) -> list[dict]:
+    """The convergence history as rows {iterate, loss, parameters in N/mm} (start = iterate 0; the
+    split fit continues the count after the shared stage)."""
+    return [{"iterate": i, "loss": float(loss), **dict(zip(_param_names(len(p)), p))}
+            for i, (loss, p) in enumerate(zip(res.loss_history, res.param_history))]

@@ -25,6 +25,25 @@ class Doc:
     def h(self, level: int, text: str):
         self.blocks.append(("h", level, text))
 
+    def toc(self):
+        """A table of contents (headings of level 1 and 2, linked) at this point of the document."""
+        self.blocks.append(("toc",))
+
+    def _anchors(self):
+        """GitHub-style anchors of the headings, in order (duplicates get -1, -2, ...)."""
+        seen, out = {}, []
+        for b in self.blocks:
+            if b[0] == "h":
+                slug = _slug(b[2])
+                n = seen.get(slug, 0)
+                seen[slug] = n + 1
+                out.append(slug if n == 0 else f"{slug}-{n}")
+        return out
+
+    def _toc_entries(self):
+        heads = [b for b in self.blocks if b[0] == "h"]
+        return [(b[1], b[2], a) for b, a in zip(heads, self._anchors()) if b[1] <= 2]
+
     def p(self, text: str):
         self.blocks.append(("p", text))
 
@@ -42,7 +61,10 @@ class Doc:
         out = [f"# {self.title}", ""]
         for b in self.blocks:
             kind = b[0]
-            if kind == "h":
+            if kind == "toc":
+                out += ["**Contents**", ""]
+                out += [f"{'  ' * (lvl - 1)}- [{text}](#{a})" for lvl, text, a in self._toc_entries()] + [""]
+            elif kind == "h":
                 out += ["#" * (b[1] + 1) + " " + b[2], ""]
             elif kind == "p":
                 out += [b[1], ""]
@@ -53,7 +75,9 @@ class Doc:
                 if caption:
                     out += [f"*{caption}*", ""]
                 out.append("| " + " | ".join(_md_cell(h) for h in header) + " |")
-                out.append("|" + "|".join("---" for _ in header) + "|")
+                # Numbers right-aligned, text (transitions, notes) left-aligned.
+                out.append("|" + "|".join("---:" if _numeric_column(rows, j) else "---"
+                                          for j in range(len(header))) + "|")
                 out += ["| " + " | ".join(_md_cell(c) for c in r) + " |" for r in rows]
                 out.append("")
             elif kind == "img":
@@ -63,11 +87,16 @@ class Doc:
     # ---------------------------------------------------------------- html
     def html(self) -> str:
         body = [f"<h1>{_inline(self.title)}</h1>"]
+        anchors = iter(self._anchors())
         for b in self.blocks:
             kind = b[0]
-            if kind == "h":
+            if kind == "toc":
+                body.append("<nav><b>Contents</b><ul>" + "".join(
+                    f'<li class="toc{lvl}"><a href="#{a}">{_inline(text)}</a></li>'
+                    for lvl, text, a in self._toc_entries()) + "</ul></nav>")
+            elif kind == "h":
                 n = min(b[1] + 1, 6)
-                body.append(f"<h{n}>{_inline(b[2])}</h{n}>")
+                body.append(f'<h{n} id="{next(anchors)}">{_inline(b[2])}</h{n}>')
             elif kind == "p":
                 body.append(f"<p>{_inline(b[1])}</p>")
             elif kind == "ul":
@@ -76,7 +105,9 @@ class Doc:
                 _, header, rows, caption = b
                 cap = f"<caption>{_inline(caption)}</caption>" if caption else ""
                 head = "".join(f"<th>{_inline(h)}</th>" for h in header)
-                trs = "".join("<tr>" + "".join(f"<td>{_inline(c)}</td>" for c in r) + "</tr>" for r in rows)
+                cls = ["num" if _numeric_column(rows, j) else "txt" for j in range(len(header))]
+                trs = "".join("<tr>" + "".join(f'<td class="{k}">{_inline(c)}</td>' for k, c in zip(cls, r))
+                              + "</tr>" for r in rows)
                 body.append(f"<table>{cap}<thead><tr>{head}</tr></thead><tbody>{trs}</tbody></table>")
             elif kind == "img":
                 src = html.escape(b[1], quote=True)
@@ -84,13 +115,28 @@ class Doc:
                             f"<figcaption>{_inline(b[2])}</figcaption></figure>")
         style = ("body{font-family:sans-serif;max-width:1100px;margin:2em auto;line-height:1.45;padding:0 1em}"
                  "table{border-collapse:collapse;margin:1em 0;font-size:0.92em}"
-                 "td,th{border:1px solid #bbb;padding:3px 8px;text-align:right}"
+                 "td,th{border:1px solid #bbb;padding:3px 8px;text-align:left}td.num{text-align:right}"
+                 "nav li.toc2{margin-left:1.5em;font-size:0.92em}"
                  "th{background:#eee}caption{font-style:italic;margin-bottom:4px;text-align:left}"
                  "img{max-width:100%;border:1px solid #ddd}figcaption{font-style:italic;color:#444}"
                  "code{background:#f4f4f4;padding:0 3px}")
         return ("<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">"
                 f"<title>{html.escape(self.title)}</title><style>{style}</style></head>\n<body>\n"
                 + "\n".join(body) + "\n</body></html>\n")
+
+
+_NUMBER = re.compile(r"^[+\-−]?[\d,]*\.?\d+( %)?( \(.*\))?$")
+
+
+def _numeric_column(rows, j) -> bool:
+    """A column of numbers (or '—', 'LIFTOFF' placeholders): right-aligned; anything else left."""
+    cells = [r[j] for r in rows if j < len(r) and r[j] not in ("", "—", "LIFTOFF", "yes", "no")]
+    return bool(cells) and all(_NUMBER.match(c) for c in cells)
+
+
+def _slug(text: str) -> str:
+    """The anchor GitHub gives a heading: lower case, punctuation dropped, spaces to hyphens."""
+    return re.sub(r"[^\w\- ]", "", text.strip().lower()).replace(" ", "-")
 
 
 def _md_cell(text: str) -> str:
@@ -136,24 +182,39 @@ def build_report(summary: dict) -> Doc:
           f"{meta['runtime_s']:.1f} s on this machine, jit compilation included. Method: the direct "
           "piecewise-linear Base-Cycle of M. M. Gola, \"On comparing behavior and performance of "
           "Underplatform Dampers according to shape\" (doi:10.25518/2684-6500.239).")
-    _flags(doc, summary)
+    doc.toc()
+    shapes = ", ".join(meta["shapes"])
+    _flags(doc, summary, shapes)
+    figures = summary.get("figures", [])
+    _key_figure(doc, figures)
     _paper_tables(doc, summary)
-    _five_numbers(doc, res)
-    _scores(doc, summary)
-    _findings(doc, summary)
-    _work(doc, res, summary.get("energies", {}))
-    _statics(doc, summary.get("statics", {}))
-    _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}))
-    _figures(doc, summary.get("figures", []))
+    _five_numbers(doc, res, shapes)
+    _scores(doc, summary, shapes)
+    _findings(doc, summary, shapes)
+    _work(doc, res, summary.get("energies", {}), shapes)
+    _statics(doc, summary.get("statics", {}), shapes)
+    _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}), shapes)
+    _figures(doc, [f for f in figures if f.get("section") != KEY_FIGURE_SECTION], shapes)
     return doc
 
 
-def _flags(doc, summary):
+KEY_FIGURE_SECTION = "Key figure: 60sym at μ = 0.7"
+
+
+def _key_figure(doc, figures):
+    key = [f for f in figures if f.get("section") == KEY_FIGURE_SECTION]
+    if key:
+        doc.h(1, KEY_FIGURE_SECTION)
+        for f in key:
+            doc.figure(f["file"], f["caption"])
+
+
+def _flags(doc, summary, shapes):
     res = summary["results"]
     lift = [f"{s} at μ = {m}" for s, per in res.items() for m, e in per.items() if e["liftoff"]]
     nconv = [f"{s} at μ = {m}" for s, per in res.items() for m, e in per.items()
              if not e["liftoff"] and not e["converged"]]
-    doc.h(1, "Flags")
+    doc.h(1, f"Flags (liftoff, convergence): {shapes}")
     lines = []
     if lift:
         lines.append("**LIFTOFF** (a normal force reaches zero; not a valid damper design, no cycle, "
@@ -171,7 +232,8 @@ def _flags(doc, summary):
 
 def _paper_tables(doc, summary):
     comp = summary["paper_comparison"]
-    doc.h(1, "Our numbers next to the paper's (Appendix B tables)")
+    doc.h(1, "Our numbers next to the paper's (Appendix B tables): "
+          + ", ".join(t["shape"] for t in comp["tables"]))
     crit = comp["criterion"]
     doc.p(f"Deviation = (ours − paper) / paper. Criterion: Tables {' and '.join(crit['tables'])} within "
           f"{crit['tol_pct']:g} % → largest |deviation| {crit['max_abs_dev_pct']:.2f} %: "
@@ -188,8 +250,8 @@ def _paper_tables(doc, summary):
             doc.p(t["note"])
 
 
-def _five_numbers(doc, res):
-    doc.h(1, "The five numbers of every shape")
+def _five_numbers(doc, res, shapes):
+    doc.h(1, f"The five numbers: {shapes}")
     rows = []
     for s, per in res.items():
         for m, e in per.items():
@@ -200,10 +262,10 @@ def _five_numbers(doc, res):
     doc.table(["shape", "μ"] + [label for _, label, _ in FIVE] + ["converged"], rows)
 
 
-def _scores(doc, summary):
+def _scores(doc, summary, names):
     sc = summary["scores"]
     shapes = list(summary["results"])
-    doc.h(1, "Table 11: scores")
+    doc.h(1, f"Table 11 scores: {names}")
     doc.p("Scored from our numbers with the paper's rules (§10.1), for μ = "
           f"{' and '.join(sc['mus'])}: k_Re,init best if highest, ψ_BC best if lowest, k_Re,BC best if "
           "highest, w_M best if highest; ψ_fs and k_Im,BC not evaluated. "
@@ -227,16 +289,19 @@ def _scores(doc, summary):
         doc.p("Not ranked: " + "; ".join(f"{s} at μ = {m} ({why})" for s, m, why in sc["excluded"]) + ".")
 
 
-def _findings(doc, summary):
-    doc.h(1, "The paper's qualitative findings, checked with our numbers")
+def _findings(doc, summary, shapes):
+    doc.h(1, f"The paper's qualitative findings, checked with our numbers: {shapes}")
     doc.items([f"{f['claim']}: {_verdict(f['holds'])}. {f['evidence']}." for f in summary["findings"]])
-    notes = summary.get("notes", [])
+    # A note already printed under its paper table (the 90R caveat) is referred to, not repeated.
+    shown = {t["note"]: t["table"] for t in summary["paper_comparison"]["tables"] if t.get("note")}
+    notes = [f"{n.split(':')[0]}: see the note under Table {shown[n]}." if n in shown else n
+             for n in summary.get("notes", [])]
     if notes:
         doc.items(notes)
 
 
-def _work(doc, res, energies):
-    doc.h(1, "Work shape factors and dissipated energy")
+def _work(doc, res, energies, shapes):
+    doc.h(1, f"Work shape factors and dissipated energy: {shapes}")
     doc.p("Work shape factors (Appendix C): W_i = F_D · Δψ · q*/2 · w_i for a full-slip stretch Δψ "
           "traversed forward and back; w_M = w_R1 + w_L1 + w_L2. Shares in % of w_M. Energies: "
           "dissipated per Base-Cycle (N mm), ∮M dψ for the platform moment.")
@@ -251,12 +316,32 @@ def _work(doc, res, energies):
             rows.append([s, m] + [f"{fmt(e[k], 4)} ({fmt(100 * e[k] / wm, 1)} %)" for k in ("w_R1", "w_L1", "w_L2")]
                         + [fmt(e["w_M"], 4)] + [fmt(en.get(k), 1) for k in ("R1", "L1", "L2", "M")])
     doc.table(["shape", "μ", "w_R1", "w_L1", "w_L2", "w_M", "W_R1 (N mm)", "W_L1", "W_L2", "∮M dψ"], rows)
+    doc.p(W_VERSUS_w + _stuck_with_share(res, energies))
 
 
-def _statics(doc, statics):
+W_VERSUS_w = (
+    "Why W and w can disagree (e.g. W_R1 = 0 beside w_R1 = 50 %): W_i is the energy dissipated at "
+    "contact i in the converged Base-Cycle itself, integral of T d(slip) over its tracts; a contact "
+    "that sticks in every tract and only reaches the onset of slip at the cycle's two ends (R1 of "
+    "60sym) slides by zero and dissipates nothing. w_i is the work shape factor of the gross-slip "
+    "state at those ends, where all contacts slide: it is the energy per unit of rotation added "
+    "beyond ψ_BC. A stretched cycle of amplitude ψ_a dissipates W_i(ψ_a) = W_i(ψ_BC) + F_D · "
+    "2(ψ_a − ψ_BC) · q*/2 · w_i, so R1's 50 % share is its share of every extra mrad, not of the "
+    "Base-Cycle.")
+
+
+def _stuck_with_share(res, energies) -> str:
+    """The cases in the table where a contact has W_i = 0 yet w_i > 0 (named, for the reader)."""
+    cases = [f"{c} of {s} at μ = {m}" for s, per in res.items() for m, e in per.items() if not e["liftoff"]
+             for c in ("R1", "L1", "L2")
+             if abs(energies.get(s, {}).get(m, {}).get(c, 1.0)) < 0.05 and (e[f"w_{c}"] or 0.0) > 1e-6]
+    return f" Here: {'; '.join(cases)}." if cases else ""
+
+
+def _statics(doc, statics, shapes):
     if not statics:
         return
-    doc.h(1, "Full-slip statics: left resultant distances (Tables 1, 4, 6, 8, 9)")
+    doc.h(1, f"Full-slip statics, left resultant distances (Tables 1, 4, 6, 8, 9): {shapes}")
     doc.p("Distance of the left resultant from the nearest left pad, % of L1–L2: from L1 at cycle start, "
           "from L2 at mid-cycle; negative means outside L1–L2 (liftoff). Paper's Table 1 (60sym) in brackets.")
     rows = []
@@ -270,12 +355,12 @@ def _statics(doc, statics):
     doc.table(["shape", "μ", "from L1, cycle start (%)", "from L2, mid-cycle (%)", "liftoff"], rows)
 
 
-def _transitions(doc, trans, paper):
+def _transitions(doc, trans, paper, shapes):
     if not trans:
         return
-    doc.h(1, "Transitions charts (Tables 2, 5, 7, 8, 10)")
+    doc.h(1, f"Transitions charts (Tables 2, 5, 7, 8, 10): {shapes}")
     doc.p("Contacts in slip per tract ('bs' = back-slide, Appendix A; '—' = all stick); 'full slip' marks the "
-          "constant-force stretch that completes the shorter half (C-C2 at mid-cycle, F-0 at the end). "
+          "constant-force stretch that completes the shorter half (C–C′ at mid-cycle, F–0 at the end). "
           "Tract lengths in µm of relative platform displacement. The paper's chart, where its text "
           "gives one, is in the last column.")
     for s, per in trans.items():
@@ -284,17 +369,19 @@ def _transitions(doc, trans, paper):
             ours = "LIFTOFF" if tracts is None else "; ".join(
                 f"{t['tract']}: {t['slip']} ({t['dv_um']:.1f})" for t in tracts)
             rows.append([m, ours, paper.get(s, {}).get(m, "—")])
-        doc.table(["μ", "ours: tract: slipping (µm)", "paper"], rows, caption=f"{s}")
+        doc.h(2, f"Transitions: {s}")
+        doc.table(["μ", "ours: tract: slipping (µm)", "paper"], rows)
 
 
-def _figures(doc, figures):
+def _figures(doc, figures, shapes):
     if not figures:
         return
-    doc.h(1, "Figures")
-    section = None
-    for f in figures:
-        if f.get("section") != section:
-            section = f.get("section")
-            if section:
-                doc.h(2, section)
-        doc.figure(f["file"], f["caption"])
+    doc.h(1, f"Figures: {shapes}")
+    order = list(dict.fromkeys(f.get("section") for f in figures))
+    for section in order:
+        group = [f for f in figures if f.get("section") == section]
+        named = [f.get("shape") for f in group if f.get("shape")]
+        if section:
+            doc.h(2, f"{section}: {', '.join(named) if named else shapes}")
+        for f in group:
+            doc.figure(f["file"], f["caption"])

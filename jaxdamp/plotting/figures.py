@@ -22,6 +22,8 @@ import numpy as np
 
 from ..geometry import CONTACT_NAMES
 
+# psi_c: the centre of the rotation cycle (psi_P runs between psi_c - psi_a and psi_c + psi_a).
+PSI_LABEL = "platform rotation about the cycle centre ψ_c: ψ_P − ψ_c (mrad)"
 MU_COLORS = {0.7: "tab:blue", 0.5: "tab:orange", 0.3: "tab:green"}
 CONTACT_COLORS = {"R1": "tab:red", "L1": "tab:blue", "L2": "tab:cyan"}
 
@@ -106,6 +108,111 @@ def _shape_name(shape):
             f"b_R/h_R = {float(shape.br_over_hr):g}")
 
 
+# ---------------------------------------------------------------- labels that avoid what is drawn
+class _AutoLabel(matplotlib.text.Annotation):
+    """A point label that picks its offset when drawn, once the layout is final.
+
+    Candidate offsets (points) run around the anchor, the preferred direction first; the first one
+    whose text box stays inside the axes and meets no line, arrow, legend or other text of the axes
+    is kept (else the least crowded one, on an opaque white box so that the text stays readable).
+    """
+
+    _RADII = (9.0, 15.0, 23.0, 32.0)
+
+    def __init__(self, text, xy, prefer=(0.0, 1.0), **kw):
+        kw.setdefault("ha", "center")
+        kw.setdefault("va", "center")
+        super().__init__(text, xy, xytext=(0.0, 0.0), textcoords="offset points", **kw)
+        d = np.asarray(prefer, float)
+        a0 = float(np.arctan2(d[1], d[0])) if np.hypot(*d) > 0 else np.pi / 2
+        turns = [0.0] + [s * k * np.pi / 8 for k in range(1, 9) for s in (1.0, -1.0)][:-1]
+        self._candidates = [(r * np.cos(a0 + t), r * np.sin(a0 + t)) for r in self._RADII for t in turns]
+        self.set_in_layout(False)
+        self.set_zorder(6)
+
+    @staticmethod
+    def _obstacles(renderer, ax):
+        """What a label must avoid in ax, in pixels, computed once per draw of the axes (the cache key
+        changes with the renderer, the axes' place and the number of artists)."""
+        key = (id(renderer), tuple(ax.bbox.bounds), len(ax.lines), len(ax.texts), len(ax.patches))
+        cached = getattr(ax, "_jaxdamp_label_obstacles", None)
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        lines = []
+        for ln in ax.get_lines():
+            if not ln.get_visible() or len(ln.get_xdata()) == 0:
+                continue
+            xy = ln.get_transform().transform(np.column_stack([ln.get_xdata(), ln.get_ydata()]))
+            marker = ln.get_marker() not in (None, "None", "", " ")
+            drawn = ln.get_linestyle() not in ("None", "", " ") and len(xy) > 1
+            r = 0.5 * ln.get_markersize() * renderer.points_to_pixels(1.0)
+            lines.append((xy, marker, r, matplotlib.path.Path(xy) if drawn else None))
+        arrows = [p.get_transform().transform_path(p.get_path())
+                  for p in ax.patches + [t.arrow_patch for t in ax.texts
+                                         if isinstance(t, matplotlib.text.Annotation) and t.arrow_patch is not None]
+                  if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+        fixed = [t.get_window_extent(renderer) for t in ax.texts
+                 if not isinstance(t, _AutoLabel) and t.get_visible() and t.get_text().strip()]
+        leg = ax.get_legend()
+        if leg is not None:
+            fixed.append(leg.get_window_extent(renderer))
+        out = (lines, arrows, fixed)
+        ax._jaxdamp_label_obstacles = (key, out)
+        return out
+
+    @staticmethod
+    def _cost(bb, ax, obstacles, labels):
+        if not (ax.bbox.x0 <= bb.x0 and bb.x1 <= ax.bbox.x1 and ax.bbox.y0 <= bb.y0 and bb.y1 <= ax.bbox.y1):
+            return 100.0
+        lines, arrows, fixed = obstacles
+        cost = 10.0 * sum(bb.overlaps(o) for o in fixed) + 10.0 * sum(bb.overlaps(o) for o in labels)
+        for xy, marker, r, path in lines:
+            if marker and bb.padded(r).count_contains(xy) > 0:
+                cost += 3.0
+            elif path is not None and path.intersects_bbox(bb, filled=False):
+                cost += 1.0
+        cost += 5.0 * sum(bool(a.intersects_bbox(bb, filled=False)) for a in arrows)
+        return cost
+
+    def _extent(self, renderer):
+        """The label's box where it was last placed with this renderer (else where it is now)."""
+        placed = getattr(self, "_jaxdamp_placed", None)
+        if placed is not None and placed[0] == id(renderer):
+            return placed[1]
+        return self.get_window_extent(renderer)
+
+    def draw(self, renderer):
+        ax = self.axes
+        if ax is not None and self.get_visible():
+            obstacles = self._obstacles(renderer, ax)
+            labels = [t._extent(renderer) for t in ax.texts
+                      if isinstance(t, _AutoLabel) and t is not self and t.get_visible()]
+            # The text's box at the anchor, shifted per candidate (one text layout, not one each).
+            self.xyann = (0.0, 0.0)
+            bb0 = self.get_window_extent(renderer)
+            px = renderer.points_to_pixels(1.0)
+            best, best_cost = None, None
+            for off in self._candidates:
+                c = self._cost(bb0.translated(off[0] * px, off[1] * px), ax, obstacles, labels)
+                if c == 0.0:
+                    best, best_cost = off, c
+                    break
+                if best_cost is None or c < best_cost:
+                    best, best_cost = off, c
+            self.xyann = best
+            if best_cost:
+                self.set_bbox(dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.85))
+            self._jaxdamp_placed = (id(renderer), bb0.translated(best[0] * px, best[1] * px))
+        super().draw(renderer)
+
+
+def _label(ax, text, xy, prefer=(0.0, 1.0), **kw):
+    """A point label at xy (data) that moves to a free spot next to it when drawn (`_AutoLabel`)."""
+    lab = _AutoLabel(text, xy, prefer=prefer, **kw)
+    ax._add_text(lab)
+    return lab
+
+
 # ---------------------------------------------------------------- Fig. 7: section and lines of action
 def _line_intersection(p1, d1, p2, d2):
     m = np.array([d1, -d2]).T
@@ -159,17 +266,16 @@ def _draw_section(ax, shape, mu, end, scale):
         tail = p[i] - scale * F[i]
         ax.annotate("", xy=p[i], xytext=tail, zorder=4,
                     arrowprops=dict(arrowstyle="-|>", color=c, lw=2.0, mutation_scale=14))
-        off = 0.09 * (n[i] + 0.6 * t[i])
-        ax.annotate(name, p[i] + off, color=c, fontsize=11, fontweight="bold", ha="center", va="center")
+        _label(ax, name, p[i], prefer=n[i] + 0.6 * t[i], color=c, fontsize=11, fontweight="bold")
     # F_D = 1 at D, upward; its line of action is the vertical through D.
     ax.annotate("", xy=D + [0, scale], xytext=D, zorder=4,
                 arrowprops=dict(arrowstyle="-|>", color="k", lw=2.0, mutation_scale=14))
     ax.plot([D[0]], [D[1]], "ko", ms=5, zorder=5)
-    ax.annotate("D", D + [0.04, -0.06], fontsize=11)
-    ax.annotate("$F_D$", D + [0.04, 0.8 * scale], fontsize=11)
-    for P, lab, off in ((R, "R", [0.03, -0.08]), (L, "L", [-0.09, -0.03])):
+    _label(ax, "D", D, prefer=(1.0, -1.0), fontsize=11)
+    _label(ax, "$F_D$", D + [0, 0.6 * scale], prefer=(1.0, 0.0), fontsize=11)
+    for P, lab, pref in ((R, "R", (1.0, -1.0)), (L, "L", (-1.0, -1.0))):
         ax.plot([P[0]], [P[1]], "o", color="0.4", ms=4, zorder=5)
-        ax.annotate(lab, P + off, fontsize=10, color="0.3")
+        _label(ax, lab, P, prefer=pref, fontsize=10, color="0.3")
     # Lines of action (dotted): R1 force, left resultant, F_D; they meet at X.
     X = d["X"]
     ax.plot([d["P_L"][0]], [d["P_L"][1]], "s", color="tab:purple", ms=6, zorder=5,
@@ -280,7 +386,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
         apex_r = np.array([0.0, 1.0])
         ax.annotate("", xy=apex_r, xytext=(0, 0),
                     arrowprops=dict(arrowstyle="-|>", color="k", lw=1.8, mutation_scale=14))
-        ax.annotate("$F_D$", (0.03, 0.5), fontsize=11)
+        _label(ax, "$F_D$", (0.0, 0.5), prefer=(1.0, 0.0), fontsize=11)
         reach = 1.3 * max(np.abs(track).max(), 1.0)
         for sgn in (1.0, -1.0):
             dl = n[1] + sgn * mu * t[1]
@@ -307,9 +413,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
             labs[0] = labs[0] if "≡" in labs[0] else f"{labels[-1]}≡0"
         centre = track.mean(0)
         for p, lab in zip(pts, labs):
-            d = p - centre
-            d = d / (np.linalg.norm(d) + 1e-12)
-            ax.annotate(lab, p + 0.06 * span * d, fontsize=10, ha="center", va="center", color="navy")
+            _label(ax, lab, p, prefer=p - centre, fontsize=10, color="navy")
         allp = np.vstack([track, sec, [[0, 0], [0, 1]]])
         lo, hi = allp.min(0), allp.max(0)
         half = 0.5 * (hi - lo).max() * 1.15
@@ -328,7 +432,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
 def _psi_dv_axis(ax, q_star):
     """Secondary x axis: relative platform displacement (µm) for the given q*."""
     sec = ax.secondary_xaxis("top", functions=(lambda p: p * q_star, lambda v: v / q_star))
-    sec.set_xlabel(f"relative displacement Δv − Δv_c (µm), q* = {q_star:g} mm")
+    sec.set_xlabel(f"relative platform displacement Δv − Δv_c (µm), q* = {q_star:g} mm")
     return sec
 
 
@@ -344,10 +448,7 @@ def _label_vertices(ax, psi, M, labels, color):
         merged, labs = merged[:-1], labs[:-1]
     for (x, y), lab in zip(merged, labs):
         x, y = x * span_x, y * span_y
-        dx, dy = (x - cx) / span_x, (y - cy) / span_y
-        r = np.hypot(dx, dy) + 1e-12
-        ax.annotate(lab, (x, y), xytext=(10 * dx / r, 10 * dy / r), textcoords="offset points",
-                    fontsize=9, color=color, ha="center", va="center")
+        _label(ax, lab, (x, y), prefer=((x - cx) / span_x, (y - cy) / span_y), fontsize=9, color=color)
 
 
 def _style(bc, k, labels):
@@ -383,7 +484,7 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
         ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
     names = sorted({_shape_name(bc.shape) for bc in cycles})
     ax.set_title(f"{', '.join(names)}: moment Base-Cycles")
-    ax.set_xlabel("platform rotation ψ_P − ψ_c (mrad)")
+    ax.set_xlabel(PSI_LABEL)
     ax.set_ylabel("platform moment M_P (N mm)")
     ax.axhline(0, color="0.7", lw=0.6)
     ax.axvline(0, color="0.7", lw=0.6)
@@ -416,7 +517,7 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
 
     fig, (ax,) = _axes_row(ax, 1, size=(7.5, 6.6))
     if _cycle_panel(ax, bc, ": stretched cycles and first harmonics",
-                    "platform rotation ψ_P − ψ_c (mrad)", "platform moment M_P (N mm)"):
+                    PSI_LABEL, "platform moment M_P (N mm)"):
         return fig
     amps = default_amplitudes(bc) if psi_a_mrad is None else [float(a) for a in np.atleast_1d(psi_a_mrad)]
     k_re, k_im = stiffness_at(bc, amps)
@@ -443,38 +544,62 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
 
 
 # ---------------------------------------------------------------- Fig. 15: complex stiffness
-def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels=None):
-    """k_Re (solid) and k_Im (dashed) versus psi_a over 0..psi_max mrad, one colour per cycle, with
-    psi_fs (circle) and psi_BC (square) marked; the microslip range between them is the paper's
-    linear interpolation (Fig. 15, Appendix B). `summaries`: optional precomputed CycleSummary list;
-    labels: optional legend label per cycle (default: its mu)."""
-    from ..summary import analyse_cycle, psi_grid
-
-    cycles = _as_cycles(cycles)
-    fig, (ax,) = _axes_row(ax, 1, size=(8.0, 5.4))
-    if summaries is None:
-        summaries = [analyse_cycle(bc, psi_grid(psi_max)) for bc in cycles]
+def _stiffness_curves(ax, cycles, summaries, labels, legend_entries):
     for k, (bc, s) in enumerate(zip(cycles, summaries)):
         name, c = _style(bc, k, labels)
         if s.liftoff:
-            ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
+            if legend_entries:
+                ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
             continue
         nb = s.numbers
-        ax.plot(s.psi, s.k_re, "-", color=c, lw=2,
-                label=f"{name}: k_Re (ψ_fs = {nb['psi_fs_mrad']:.2f}, ψ_BC = {nb['psi_bc_mrad']:.2f} mrad)")
-        ax.plot(s.psi, s.k_im, "--", color=c, lw=2, label=f"{name}: k_Im")
-        ax.plot([nb["psi_fs_mrad"]], [nb["k_re_fs"]], "o", color=c, ms=7, mec="k")
-        ax.plot([nb["psi_bc_mrad"]] * 2, [nb["k_re_bc"], nb["k_im_bc"]], "s", color=c, ms=7, mec="k")
+        ax.plot(s.psi, s.k_re, "-", color=c, lw=2, label=(
+            f"{name}: k_Re (ψ_fs = {nb['psi_fs_mrad']:.2f}, ψ_BC = {nb['psi_bc_mrad']:.2f} mrad)"
+            if legend_entries else None))
+        ax.plot(s.psi, s.k_im, "--", color=c, lw=2, label=f"{name}: k_Im" if legend_entries else None)
+        ax.plot([nb["psi_fs_mrad"]], [nb["k_re_fs"]], "o", color=c, ms=7, mec="k", zorder=4)
+        ax.plot([nb["psi_bc_mrad"]] * 2, [nb["k_re_bc"], nb["k_im_bc"]], "s", color=c, ms=7, mec="k",
+                zorder=4)
+    ax.set_xlabel("platform rotation amplitude ψ_P,a (mrad)")
+    ax.set_ylabel("rotational stiffness k_Re, k_Im (N mm/mrad)")
+    ax.set_ylim(bottom=0)
+    ax.grid(alpha=0.25)
+
+
+def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels=None, zoom=None):
+    """k_Re (solid) and k_Im (dashed) versus psi_a over 0..psi_max mrad, one colour per cycle, with
+    psi_fs (circle) and psi_BC (square) marked; the microslip range between them is the paper's
+    linear interpolation (Fig. 15, Appendix B). `summaries`: optional precomputed CycleSummary list;
+    labels: optional legend label per cycle (default: its mu).
+
+    zoom: add a second panel over 0..1.6 max(psi_BC), where psi_fs and psi_BC lie (for shapes such as
+    90R whose psi_BC is a small fraction of psi_max the markers would otherwise bunch at the left
+    edge). Default: True when this function creates the figure, False when `ax` is given.
+    """
+    from ..summary import analyse_cycle, psi_grid
+
+    cycles = _as_cycles(cycles)
+    zoom = (ax is None) if zoom is None else bool(zoom)
+    fig, axes = _axes_row(ax, 2 if zoom else 1, size=(7.0, 5.4))
+    if summaries is None:
+        summaries = [analyse_cycle(bc, psi_grid(psi_max)) for bc in cycles]
+    ax = axes[0]
+    _stiffness_curves(ax, cycles, summaries, labels, True)
     ax.plot([], [], "o", color="w", mec="k", label="ψ_fs (end of full stick)")
     ax.plot([], [], "s", color="w", mec="k", label="ψ_BC (Base-Cycle)")
     names = sorted({_shape_name(bc.shape) for bc in cycles})
     ax.set_title(f"{', '.join(names)}: complex stiffness of the platform")
-    ax.set_xlabel("platform rotation amplitude ψ_P,a (mrad)")
-    ax.set_ylabel("rotational stiffness k_Re, k_Im (N mm/mrad)")
     ax.set_xlim(0, psi_max)
-    ax.set_ylim(bottom=0)
-    ax.grid(alpha=0.25)
     ax.legend(loc="upper right", fontsize=8, ncol=1)
+    valid = [s.numbers["psi_bc_mrad"] for s in summaries if not s.liftoff]
+    if zoom:
+        z = axes[1]
+        z_max = 1.6 * max(valid) if valid else psi_max
+        # The same grid length as the full panel: the jit-compiled analysis is reused.
+        fine = [analyse_cycle(bc, psi_grid(z_max, len(s.psi))) if not s.liftoff else s
+                for bc, s in zip(cycles, summaries)]
+        _stiffness_curves(z, cycles, fine, labels, False)
+        z.set_xlim(0, z_max)
+        z.set_title(f"zoom on 0 – {z_max:.2f} mrad (ψ_fs, ψ_BC)")
     return _finish(fig)
 
 

@@ -79,14 +79,20 @@ def heatmap_figure(res: SweepResult):
     for ax in axes.ravel():
         for name, t_l, t_r in family:
             ax.plot(t_r, t_l, "w^", ms=5, mec="k", mew=0.6)
-            ax.annotate(name, (t_r, t_l), xytext=(3, 3), textcoords="offset points", fontsize=7,
-                        color="k", bbox=dict(boxstyle="round,pad=0.1", fc="white", alpha=0.7, lw=0))
+            # Label towards the inside of the map, so that shapes on its edge (90L, 90R) keep their
+            # names inside the panel.
+            right = t_r > 0.5 * (xe[0] + xe[-1])
+            top = t_l > 0.5 * (ye[0] + ye[-1])
+            ax.annotate(name, (t_r, t_l), xytext=(-4 if right else 4, -4 if top else 4),
+                        textcoords="offset points", fontsize=7, color="k",
+                        ha="right" if right else "left", va="top" if top else "bottom",
+                        bbox=dict(boxstyle="round,pad=0.1", fc="white", alpha=0.8, lw=0))
     for ax in axes[:, 0]:
         ax.set_ylabel("theta_L (deg)")
     br = "b_R/h_R centred at mu_max = %g" % res.mu_max if res.mu_max is not None else \
         "b_R/h_R = %g" % float(res.br_over_hr.flat[0])
     fig.suptitle(f"Design sweep: {br}, 2b_L/h_L = {res.bl2_over_hl:g}, kn = {res.kn:g}, "
-                 f"kt = {res.kt:g} N/mm (grey: not a valid damper; triangles: the paper's shapes)",
+                 f"kt = {res.kt:g} N/mm\n(grey: not a valid damper; triangles: the paper's shapes)",
                  fontsize=10)
     return fig
 
