@@ -1,5 +1,6 @@
-import pytest
 """`jaxdamp calibrate`: the JSON contract; bad start and unusable --markdown fail before work."""
+
+import pytest
 
 import jaxdamp as jd
 from jaxdamp.paper import calibration as cal
