@@ -12,7 +12,6 @@ writes heatmaps and data).
 
 from __future__ import annotations
 
-from functools import partial
 from typing import NamedTuple, Sequence
 
 import jax

@@ -10,7 +10,7 @@ import jax.numpy as jnp
 from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .harmonics import base_cycle_amplitude, moment
-from .statics import WorkShapeFactors, full_slip_work_shape_factors
+from .statics import WorkShapeFactors
 
 
 def _half_energy(half: HalfCycle, total_dv, F_D):

@@ -24,7 +24,8 @@ from matplotlib.text import Annotation
 from jaxdamp.geometry import paper_tables
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase
 from jaxdamp.scoring import score_table
-from jaxdamp.study import DEFAULT_SHAPES, compute_cases, result_entry, study_figures
+from jaxdamp.paper.study import DEFAULT_SHAPES, compute_cases, result_entry
+from jaxdamp.plotting.study import study_figures
 
 TOL_PX = 1.0  # boxes that merely touch (anti-aliasing) are not an overlap
 

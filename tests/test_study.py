@@ -7,7 +7,8 @@ import pytest
 
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT
 from jaxdamp.paper.scoring import qualitative_findings, rank_indicator, score_table
-from jaxdamp.paper.study import CONTRACT_KEYS, DEFAULT_SHAPES, run_study
+from jaxdamp.paper.study import CONTRACT_KEYS, DEFAULT_SHAPES
+from jaxdamp.plotting.study import run_study
 
 MU_KEYS = ["0.7", "0.5", "0.3"]
 TABLE_B_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
@@ -213,6 +214,9 @@ def test_report_html_and_markdown_reference_every_figure(with_figures):
     assert "60sym" in md and "Table B3.1" in md
 
 
+SHAPE_NAMES = ("90L", "74L", "60sym", "74R", "90R")
+
+
 def test_report_has_a_contents_list_and_shape_names_in_every_heading(full):
     out, _ = full
     md = (out / "report.md").read_text()
@@ -230,7 +234,7 @@ def test_report_has_a_contents_list_and_shape_names_in_every_heading(full):
 
 
 def test_report_states_the_90R_caveat_once(full):
-    from jaxdamp.study import NOTE_90R
+    from jaxdamp.paper.study import NOTE_90R
 
     out, _ = full
     md = (out / "report.md").read_text()

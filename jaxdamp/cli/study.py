@@ -24,7 +24,8 @@ def register(sub) -> None:
 
 def run(args) -> int:
     from ..params import Contacts, LoadCase
-    from ..paper.study import check_study_inputs, run_study
+    from ..paper.study import check_study_inputs
+    from ..plotting.study import run_study
 
     shapes = tuple(s.strip() for s in args.shapes.split(",") if s.strip())
     mus = C.float_list(args.mu, "--mu")

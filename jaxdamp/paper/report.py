@@ -170,7 +170,7 @@ def _verdict(holds):
 
 
 def build_report(summary: dict) -> Doc:
-    """The study report from the summary dict that `jaxdamp.study.run_study` writes."""
+    """The study report from the summary dict that `jaxdamp.plotting.run_study` writes."""
     meta, res = summary["meta"], summary["results"]
     c, load = summary["contacts"], summary["load"]
     doc = Doc("jaxdamp study: the 60sym family of underplatform dampers")

@@ -18,7 +18,6 @@ import time
 from pathlib import Path
 
 from ..status import status_of
-from .report import KEY_FIGURE_SECTION
 
 SCHEMA_VERSION = 2  # study.json: 2 adds "status", "schema_version", "jaxdamp_version"
 
@@ -102,8 +101,9 @@ def paper_comparison(results: dict, tables: dict) -> dict:
                                           "holds": bool(present) and worst <= CRITERION_TOL_PCT}}
 
 
-def _paper_values(tables):
+def paper_values(tables=None):
     """{shape: {mu: {key: value}}} from the Appendix B tables, for the family figure."""
+    tables = _tables() if tables is None else tables
     return {s: {mu_key(r[0]): dict(zip(TABLE_B_KEYS, r[1:])) for r in rows}
             for s, rows in tables["table_B"].items() if s in tables["shapes"]}
 
@@ -187,97 +187,6 @@ def write_tables(out: Path, summary: dict) -> list[str]:
     return files
 
 
-def study_figures(cycles, summaries, summary):
-    """Every figure of the study, one at a time: yields (Figure, file name, caption, section).
-
-    The caller saves and closes each figure (`make_figures`) or inspects it (the layout test)."""
-    import matplotlib.pyplot as plt
-
-    from .. import plotting as P
-    from ..geometry import family_shape
-
-    mus = summary["meta"]["mus"]
-    mu_max = max(mus, key=float)
-    psi_c = ("ψ_c is the centre of the rotation cycle: ψ_P oscillates between ψ_c − ψ_a and "
-             "ψ_c + ψ_a, so the axis shows the rotation about the centre.")
-    for s, per in cycles.items():
-        bcs = list(per.values())
-        yield (P.plot_section(family_shape(s), float(mu_max)), f"section_{s}.png",
-               f"{s}, μ = {mu_max}: section with pads, D, R, L, full-slip forces, friction angles (dashed) "
-               "and lines of action (dotted), at cycle start and mid-cycle (cf. Fig. 7).",
-               "Sections and lines of action (Fig. 7)")
-        yield (P.plot_equilibrium_tracks(bcs), f"tracks_{s}.png",
-               f"{s}: equilibrium tracks (force Base-Cycles, F_D = 1) with secondary loops (cf. Fig. 10b).",
-               "Equilibrium tracks (Fig. 10b)")
-        yield (P.plot_moment_cycles(bcs), f"moment_{s}.png",
-               f"{s}: moment Base-Cycles for q* = {summary['load']['q_star']:g} mm (cf. Fig. 13). " + psi_c,
-               "Moment Base-Cycles (Fig. 13)")
-        fig, axes = plt.subplots(1, len(bcs), figsize=(7.0 * len(bcs), 7.4), squeeze=False,
-                                 layout="constrained")
-        for ax, bc in zip(axes[0], bcs):
-            P.plot_stretched_cycles(bc, ax=ax)
-        yield (fig, f"stretched_{s}.png",
-               f"{s}: Base-Cycle and stretched cycles (solid) with their first-harmonic ellipses "
-               "(dotted) (cf. Fig. 14); C–C′ and F–0 are the full-slip stretches. " + psi_c,
-               "Stretched cycles and first harmonics (Fig. 14)")
-        yield (P.plot_complex_stiffness(bcs, summaries=list(summaries[s].values())), f"stiffness_{s}.png",
-               f"{s}: k_Re and k_Im versus ψ_P,a with ψ_fs (circles) and ψ_BC (squares) marked; linear "
-               "interpolation in the microslip range between them (cf. Fig. 15, Appendix B). Right: "
-               "the same curves zoomed on the microslip range.",
-               "Complex stiffness (Fig. 15, Appendix B)")
-    yield (P.plot_energy(summary["results"], summary["energies"]), "energy.png",
-           "Work shape factors (top) and energy dissipated per Base-Cycle (bottom) per contact; "
-           "black diamonds: w_M and ∮M dψ (cf. Appendix B/C).", "Dissipated energy per contact")
-    yield (P.plot_family_comparison(summary["results"], _paper_values(_tables())), "family.png",
-           "The family side by side: the five numbers and w_M for each μ; black ticks: the paper's "
-           "Tables B3.1-B5.1.", "Family comparison (Table 11)")
-    if "60sym" in cycles and mu_key(0.7) in cycles["60sym"]:
-        yield (key_figure(cycles["60sym"][mu_key(0.7)], summaries["60sym"][mu_key(0.7)]), "key_figure.png",
-               "60sym, μ = 0.7: stretched moment cycles with their first harmonics (left) and the complex "
-               "stiffness they give (right). " + psi_c, KEY_FIGURE_SECTION)
-
-
-
-
-def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[dict]:
-    """Every figure of the study as PNG; returns [{file, caption, section}] (paths relative to out/..)."""
-    import matplotlib.pyplot as plt
-
-    out.mkdir(parents=True, exist_ok=True)
-    figs = []
-    for fig, name, caption, section in study_figures(cycles, summaries, summary):
-        fig.savefig(out / name, dpi=110)
-        plt.close(fig)
-        shape = name[:-4].split("_", 1)[1] if name[:-4].split("_", 1)[-1] in cycles else None
-        figs.append({"file": f"{out.name}/{name}", "caption": caption, "section": section, "shape": shape})
-        if progress is not None:
-            progress.update(1)
-    return figs
-
-
-def key_figure(bc, summary):
-    """The README's figure: Fig. 14 and Fig. 15 of the paper side by side for one cycle."""
-    import matplotlib.pyplot as plt
-
-    from .. import plotting as P
-
-    from ..summary import stiffness_at
-
-    fig, (a, b) = plt.subplots(1, 2, figsize=(15, 6.6), layout="constrained")
-    P.plot_stretched_cycles(bc, ax=a)
-    P.plot_complex_stiffness([bc], ax=b, summaries=[summary])
-    amps = P.default_amplitudes(bc)
-    k_re, k_im = stiffness_at(bc, amps)
-    colors = [line.get_color() for line in a.get_lines() if line.get_linestyle() == "-"][: len(amps)]
-    # The first amplitude is psi_BC itself: its point is the psi_BC square already drawn (a diamond
-    # on top of it would hide it), so only the stretched cycles get diamonds.
-    for psi, kr, ki, c in list(zip(amps, k_re, k_im, colors))[1:]:
-        b.plot([psi, psi], [kr, ki], "D", color=c, mec="k", ms=7)
-    b.plot([], [], "D", color="w", mec="k", label="the stretched cycles on the left")
-    b.legend(loc="upper right", fontsize=8)
-    return fig
-
-
 def check_study_inputs(shapes, mus, kn=None, kt=None):
     """ValueError naming the parameter unless the study's inputs are valid (nothing is computed);
     returns the Contacts (kn, kt default to the reference pair). `run_study` calls it first."""
@@ -298,32 +207,22 @@ def check_study_inputs(shapes, mus, kn=None, kt=None):
     return validate_contacts(Contacts(float(kn), float(kt)))
 
 
-def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=True,
-              figures=True) -> dict:
-    """Compute every shape x mu Base-Cycle; write study.json, tables, figures and the report into out.
-
-    Returns the summary dict (the content of study.json).
-    """
+def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=None):
+    """Every shape x mu Base-Cycle of the study and its summary dict (the content of study.json,
+    without figures). Returns (summary, cycles, summaries); progress: None or a tqdm-like bar
+    updated once per case. Inputs are checked before any work (`check_study_inputs`)."""
     import jax
-    from tqdm import tqdm
 
     from ..params import LoadCase
-    from .report import build_report
     from .scoring import qualitative_findings, score_table
 
     t0 = time.perf_counter()
-    out = Path(out)
     contacts = check_study_inputs(shapes, mus, kn, kt)
     kn, kt = contacts
     tables = _tables()
     ref = tables["reference_case"]
     load = LoadCase(ref["F_D"], ref["q_star"], ref["r_sin_beta"])
-    out.mkdir(parents=True, exist_ok=True)
-    n_fig = (5 * len(shapes) + 2 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
-    bar = tqdm(total=len(shapes) * len(mus) + n_fig, desc="jaxdamp study", disable=not progress, unit="step")
-
-    bar.set_description("Base-Cycles")
-    cycles, summaries, statics, transitions = compute_cases(shapes, mus, contacts, load, bar)
+    cycles, summaries, statics, transitions = compute_cases(shapes, mus, contacts, load, progress)
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
@@ -345,19 +244,22 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
         "transitions": transitions,
         "paper_transitions": paper_transitions(tables, shapes, [mu_key(m) for m in mus]),
         "meta": {"shapes": list(shapes), "mus": [mu_key(m) for m in mus], "version": _version(),
-                 "jax": jax.__version__, "runtime_s": None},
+                 "jax": jax.__version__, "runtime_s": time.perf_counter() - t0},
     }
+    return summary, cycles, summaries
+
+
+def write_study(out: Path, summary: dict) -> None:
+    """Write study.json, the CSV tables and the report (Markdown and HTML) into out."""
+    from .report import build_report
+
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
     write_tables(out / "tables", summary)
-    if figures:
-        bar.set_description("Figures")
-        summary["figures"] = make_figures(out / "figures", cycles, summaries, summary, bar)
-    bar.close()
-    summary["meta"]["runtime_s"] = time.perf_counter() - t0
     doc = build_report(summary)
     (out / "report.md").write_text(doc.markdown())
     (out / "report.html").write_text(doc.html())
     (out / "study.json").write_text(json.dumps(summary, indent=1, ensure_ascii=False))
-    return summary
 
 
 def _version() -> str:

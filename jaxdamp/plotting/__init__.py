@@ -14,3 +14,6 @@ from .figures import plot_stretched_cycles as plot_stretched_cycles
 from .figures import section_lines_of_action as section_lines_of_action
 from .sweep import heatmap_figure as heatmap_figure
 from .sweep import write_sweep as write_sweep
+from .study import key_figure as key_figure
+from .study import run_study as run_study
+from .study import study_figures as study_figures
