@@ -51,6 +51,7 @@ from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
 CLOSE_TOL = 1e-9  # periodicity: forces at the forward extreme repeat within this (units of F_D)
+TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended; slip below it is none
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
@@ -95,7 +96,9 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
         frozen = jnp.max(jnp.abs(jnp.concatenate([r.dN, r.dT]))) <= RATE_TOL * scale
         gross = choice.consistent & frozen
         ev = next_event(mech, N, T, choice)
-        live = ~carry["done"]
+        # Rounding leaves ~1e-17 mm of travel after a tract that ends on the extreme: no tract.
+        spent = rem <= TRAVEL_TOL * travel
+        live = ~carry["done"] & ~spent
         failed_now = ~choice.consistent
         advance = live & ~failed_now
         # The travel budget is the new event; a tie with a contact event ends the half by travel
@@ -120,7 +123,7 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
                    stretch=advance & gross)
         new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
                    rem=jnp.where(advance, jnp.where(by_travel, 0.0, rem - lam), rem),
-                   done=carry["done"] | failed_now | lifted | (advance & by_travel),
+                   done=carry["done"] | spent | (live & failed_now) | lifted | (advance & by_travel),
                    gross=carry["gross"] | (advance & gross),
                    liftoff=carry["liftoff"] | lifted,
                    failed=carry["failed"] | (live & failed_now),
@@ -375,7 +378,7 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
     status = RESULTS.promote(status, failed | ~psi_ok, RESULTS.singular)
     status = RESULTS.promote(status, ~closed, RESULTS.not_converged)
-    status = RESULTS.promote(status, slid <= 1e-15 * travel, RESULTS.shakedown)
+    status = RESULTS.promote(status, slid <= TRAVEL_TOL * travel, RESULTS.shakedown)
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],

@@ -103,7 +103,7 @@ def outputs(dv: DesignVariables, psi_a=0.0, load: LoadCase = LoadCase(), x_d=Non
     load = LoadCase(*(jnp.asarray(v, float) for v in load))
     bc = _base_cycle(shape, dv.mu, Contacts(dv.kn, dv.kt), load)
     nums = five_numbers(bc)
-    _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float))
+    _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float), method="interpolated")
     return Outputs(*nums, k_im), Flags(bc.converged, bc.liftoff, bc.failed)
 
 
