@@ -41,7 +41,8 @@ CASES = [  # (shape, mu, regime, initial)
     ("60sym", 0.5, "above", "assembly"), ("60sym", 0.7, "between", "gross_slip"),
     ("74R", 0.7, "below", "gross_slip"), ("74R", 0.7, "between", "gross_slip"),
     ("74R", 0.7, "between", "assembly"), ("74R", 0.7, "above", "gross_slip"),
-    ("90R", 0.5, "between", "gross_slip"), ("90R", 0.5, "above", "assembly"),
+    ("90R", 0.5, "above", "gross_slip"), ("90R", 0.5, "above", "assembly"),
+    ("90R", 0.7, "far", "gross_slip"), ("90R", 0.3, "far", "assembly"),
     ("rand_a", 0.4, "between", "gross_slip"), ("rand_b", 0.6, "between", "assembly"),
     ("rand_c", 0.5, "between", "gross_slip"), ("rand_c", 0.5, "below", "assembly"),
 ]
@@ -50,7 +51,7 @@ CASES = [  # (shape, mu, regime, initial)
 def amplitude_for(shape, mu, regime):
     nums = jd.five_numbers(jd.base_cycle(shape, mu, CONTACTS))
     fs, bc = float(nums.psi_fs), float(nums.psi_bc)
-    return {"below": 0.5 * fs, "between": 0.5 * (fs + bc), "above": 1.5 * bc}[regime]
+    return {"below": 0.5 * fs, "between": 0.5 * (fs + bc), "above": 1.5 * bc, "far": 4.0 * bc}[regime]
 
 
 def main():
@@ -65,7 +66,7 @@ def main():
                    cycles=int(ac.cycles), march=[])
         for n in STEPS:
             t = time.perf_counter()
-            tm = march_amplitude(shape, mu, psi, CONTACTS, initial=initial, n_steps=n, max_pairs=5)
+            tm = march_amplitude(shape, mu, psi, CONTACTS, initial=initial, n_steps=n, max_pairs=10)
             err = max(abs(float(tm.k_re) - row["k_re"]), abs(float(tm.k_im) - row["k_im"])) / scale
             row["march"].append(dict(n_steps=n, k_re=float(tm.k_re), k_im=float(tm.k_im), rel_err=err,
                                      closure=float(np.asarray(tm.closure)[-1]),
