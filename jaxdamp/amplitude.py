@@ -57,6 +57,7 @@ INITIAL_STATES = ("gross_slip", "assembly")
 
 __all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
            "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
+           "StiffnessCurves", "amplitude_curves", "curves_kernel", "travel_half",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
 
 
@@ -325,50 +326,61 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
     a_dv = psi * load.q_star / 1e3
     travel = 2.0 * a_dv
+    n_pre = 0
     if initial == "gross_slip":
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
-        pre_lift = ~ok0
-        pre_fail = jnp.array(False)
     elif initial == "assembly":
-        Na, Ta, ok0 = assembly_state(shape, mech.mu, contacts, load)
-        Na = jnp.where(ok0, Na, jnp.ones(3))
-        Ta = jnp.where(ok0, Ta, 0.0)
-        quarter = travel_half(mech, Na, Ta, -1.0, a_dv, max_tracts)
-        back = travel_half(mech, quarter.N_end, quarter.T_end, 1.0, travel, max_tracts)
-        N0, T0 = back.N_end, back.T_end
-        pre_lift = ~ok0 | quarter.liftoff | back.liftoff
-        pre_fail = quarter.failed | back.failed
+        N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
+        n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
-        pre_lift = jnp.min(N0) <= 0.0
-        pre_fail = jnp.array(False)
+        ok0 = jnp.min(N0) > 0.0
     else:
         raise ValueError(f"initial must be one of gross_slip, assembly, explicit; got {initial!r}")
-    N0 = jnp.where(pre_lift, jnp.ones(3), N0)  # keep the masked iteration finite
-    T0 = jnp.where(pre_lift, 0.0, T0)
+    N0 = jnp.where(ok0, N0, jnp.ones(3))  # keep the masked iteration finite
+    T0 = jnp.where(ok0, T0, 0.0)
 
-    def run_pair(carry, k):
-        N, T, _, _, _, fwd_s, bwd_s, npairs, prev, _ = carry
-        fwd = travel_half(mech, N, T, -1.0, travel, max_tracts)
-        bwd = travel_half(mech, fwd.N_end, fwd.T_end, 1.0, travel, max_tracts)
-        bad = fwd.liftoff | bwd.liftoff | fwd.failed | bwd.failed
-        here = jnp.concatenate([N, T])
-        there = jnp.concatenate([bwd.N_end, bwd.T_end])
-        gap = jnp.max(jnp.abs(there - here))
-        closed = gap <= CLOSE_TOL
-        nxt = _accelerate(mech.mu, prev, here, there, k > 0)
-        return (nxt[:3], nxt[3:], closed & ~bad, closed | bad, gap, fwd, bwd, k + 1, here,
-                jnp.concatenate([N, T]))
+    # One scan over half-cycles (a single compiled half: the program stays small under grad):
+    # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat.
+    n_halves = n_pre + 2 * max_pairs
 
-    def pair(carry, k):
-        return jax.lax.cond(carry[3], lambda c, _: c, run_pair, carry, k), None
+    def run_half(c, j):
+        k = j - n_pre  # index within the pair iteration (negative: preliminary)
+        forward = (k % 2 == 0) | (k == -2)
+        direction = jnp.where(forward, -1.0, 1.0)
+        length = jnp.where(k == -2, a_dv, travel)
+        half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts)
+        bad = half.liftoff | half.failed
+        in_pairs = k >= 0
+        is_fwd = in_pairs & forward
+        is_bwd = in_pairs & ~forward
+        top = jnp.where(is_fwd, jnp.concatenate([c["N"], c["T"]]), c["top"])
+        there = jnp.concatenate([half.N_end, half.T_end])
+        gap = jnp.max(jnp.abs(there - top))
+        closed = is_bwd & (gap <= CLOSE_TOL)
+        nxt = _accelerate(mech.mu, c["prev"], top, there, k >= 2)
+        nxt = jnp.where(is_bwd, nxt, there)
+        pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
+            lambda x, y: jnp.where(m, x, y), new, old)
+        return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(is_bwd, top, c["prev"]),
+                    fwd=pick(half, c["fwd"], is_fwd), bwd=pick(half, c["bwd"], is_bwd),
+                    gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
+                    stop=closed | bad, bad=c["bad"] | bad,
+                    liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
+                    pairs=c["pairs"] + is_bwd.astype(jnp.int32))
+
+    def step(c, j):
+        return jax.lax.cond(c["stop"], lambda c, _: c, run_half, c, j), None
 
     empty = _empty_half(mech, max_tracts)
-    stop0 = pre_lift | pre_fail | ~psi_ok
-    init = (N0, T0, jnp.array(False), stop0, jnp.asarray(jnp.inf), empty, empty, jnp.array(0),
-            jnp.zeros(6), jnp.concatenate([N0, T0]))
-    (_, _, closed, _, gap, fwd, bwd, npairs, _, start), _ = jax.lax.scan(
-        pair, init, jnp.arange(max_pairs))
+    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
+                bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
+                stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
+                pairs=jnp.array(0, jnp.int32))
+    end, _ = jax.lax.scan(step, init, jnp.arange(n_halves))
+    fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
+                                            end["pairs"], end["top"])
+    pre_lift, pre_fail = end["liftoff"], end["failed"]
 
     k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd)
     liftoff = pre_lift | fwd.liftoff | bwd.liftoff
@@ -479,3 +491,114 @@ def transitions_chart(ac: AmplitudeCycle) -> list[dict]:
             rows.append(row)
             k += 1
     return rows
+
+
+# ---------------------------------------------------------------- k(psi_a) for many designs
+class StiffnessCurves(NamedTuple):
+    """k(psi_a) of a batch of designs: arrays (designs, amplitudes)."""
+
+    psi_a: jnp.ndarray  # mrad
+    k_re: jnp.ndarray  # N mm/mrad (zero where status is not ok / shakedown)
+    k_im: jnp.ndarray
+    status: jnp.ndarray  # RESULTS codes (int32)
+    cycles: jnp.ndarray  # pairs of halves run
+
+
+def _batch_size(args):
+    sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
+    return max(sizes) if sizes else 1
+
+
+def _broadcast_designs(args, size):
+    """Every leaf with a leading design axis of `size` (a leaf without it is shared)."""
+    def one(x):
+        x = jnp.asarray(x, float)
+        lead = x.ndim > 0 and x.shape[0] == size
+        return x if lead else jnp.broadcast_to(x, (size,) + x.shape)
+    return jax.tree_util.tree_map(one, args)
+
+
+def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad, *,
+                  initial="gross_slip", max_tracts: int = MAX_TRACTS,
+                  max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
+    """`amplitude_curves` as a pure JAX function (jit / vmap / grad / jacfwd): every input leaf has
+    a leading design axis or is shared; psi_a_mrad is (amplitudes,) shared or (designs, amplitudes).
+    Differentiable forward and reverse w.r.t. every input, NaN-free (the tracts' lengths are minima
+    of closed-form events, so a reversal falling on a transition only switches which one is taken)."""
+    args = (shapes, mu, contacts, load)
+    size = max(_batch_size(args), int(np.shape(psi_a_mrad)[0]) if np.ndim(psi_a_mrad) == 2 else 1)
+    shapes, mu, contacts, load = _broadcast_designs(args, size)
+    psi = jnp.asarray(psi_a_mrad, float)
+    psi = jnp.broadcast_to(psi, (size,) + psi.shape[-1:])
+
+    def design(s, m, c, ld, p):
+        run = lambda a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
+                                         max_tracts=max_tracts, max_pairs=max_pairs)
+        ac = jax.vmap(run)(p)
+        return StiffnessCurves(p, ac.k_re, ac.k_im, ac.status, ac.cycles)
+
+    return jax.vmap(design)(shapes, mu, contacts, load, psi)
+
+
+_curves_jit = jax.jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
+
+
+@partial(jax.jit, static_argnames=("initial", "max_tracts", "max_pairs"))
+def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
+    run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
+                                                  max_tracts=max_tracts, max_pairs=max_pairs)
+    ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
+    return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
+
+
+def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                     load: LoadCase = LoadCase(), *, initial="gross_slip",
+                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
+    """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
+    batched call. shapes / mu / contacts / load: every leaf with a leading design axis or a scalar
+    shared by all (as `cycle.base_cycles`; a per-contact (3,) stiffness of a batch of 3 designs is
+    read as one value per design). psi_a_mrad: (amplitudes,) shared or (designs, amplitudes), > 0.
+    initial: "gross_slip" or "assembly". Returns StiffnessCurves with (designs, amplitudes) arrays.
+
+    Concrete inputs run in two stages: one pair of halves for every (design, amplitude), then the
+    full iteration only where the cycle did not close in one pair (under plain vmap every element
+    would pay for the longest iteration). Traced inputs (inside jit / grad) run `curves_kernel`.
+    """
+    from ._validate import check_range, is_concrete
+
+    leaves = jax.tree_util.tree_leaves((shapes, mu, contacts, load, psi_a_mrad))
+    if not all(is_concrete(x) for x in leaves):
+        return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
+                             max_tracts=max_tracts, max_pairs=max_pairs)
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    from .geometry import validate_shape
+    from .params import validate_contacts, validate_load, validate_mu
+
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    psi = np.asarray(psi_a_mrad, float)
+    if psi.ndim not in (1, 2):
+        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
+                         "(0, 10000] mrad")
+    args = (shapes, mu, contacts, load)
+    size = max(_batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
+    designs = _broadcast_designs(jax.tree_util.tree_map(lambda x: np.asarray(x, float), args), size)
+    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
+    n_amp = psi.shape[1]
+    # Flatten (design, amplitude) pairs so that the second stage re-runs only the pairs that need it.
+    flat = jax.tree_util.tree_map(lambda x: jnp.repeat(x, n_amp, axis=0), designs)
+    flat_psi = jnp.asarray(psi.reshape(-1))
+    first = _flat_cycles(*flat, flat_psi, initial, max_tracts, 1)
+    again = np.nonzero(np.asarray(first.status) == RESULTS.not_converged)[0]
+    out = first
+    if max_pairs > 1 and again.size:
+        pad = 1 << int(np.ceil(np.log2(again.size)))
+        idx = np.concatenate([again, np.full(pad - again.size, again[0])])
+        sub = jax.tree_util.tree_map(lambda x: x[idx], flat)
+        rerun = _flat_cycles(*sub, flat_psi[idx], initial, max_tracts, max_pairs)
+        out = jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first, rerun)
+    return jax.tree_util.tree_map(lambda x: x.reshape(size, n_amp), out)

@@ -201,18 +201,68 @@ def test_liftoff_and_validation():
         amplitude_cycle(shape, 0.4, 1.0, initial=(N, T))
 
 
-def test_grad_finite_and_matches_fd():
-    """Reverse-mode gradient of k_Im w.r.t. mu and psi_a through the travel-limited tracts."""
-    shape = jd.DamperShape(*(jnp.asarray(v, float) for v in jd.family_shape("60sym")[:4]))
+def _design_params(x):
+    """x (..., 7): theta_l, theta_r, b_R/h_R, mu, kn, kt, psi_a."""
+    shape = jd.DamperShape(x[..., 0], x[..., 1], x[..., 2], 0.8)
+    return shape, x[..., 3], jd.Contacts(x[..., 4], x[..., 5]), x[..., 6]
 
-    def k_im(x):
-        ac = amplitude_kernel(shape, x[0], CONTACTS, jd.LoadCase(), x[1], initial="assembly")
-        return ac.k_im
 
-    x = jnp.array([0.5, 1.2])
-    g = np.asarray(jax.jit(jax.grad(k_im))(x))
-    assert np.all(np.isfinite(g))
-    h = 1e-6
-    f = jax.jit(k_im)
-    fd = [(float(f(x + h * e)) - float(f(x - h * e))) / (2 * h) for e in np.eye(2)]
-    np.testing.assert_allclose(g, fd, rtol=1e-5)
+def test_curves_match_single_cycles():
+    rng = np.random.default_rng(3)
+    shapes = jd.DamperShape(rng.uniform(50, 75, 4), rng.uniform(50, 75, 4), rng.uniform(0.0, 0.15, 4))
+    mu = rng.uniform(0.3, 0.7, 4)
+    psi = np.array([0.3, 1.1, 2.5, 7.0])
+    cv = jd.amplitude.amplitude_curves(shapes, mu, psi, CONTACTS, initial="assembly")
+    assert cv.k_re.shape == (4, 4)
+    for d in range(4):
+        for j in (1, 3):
+            ac = amplitude_cycle(jd.DamperShape(*(float(v[d]) for v in shapes[:3])), float(mu[d]),
+                                 float(psi[j]), CONTACTS, initial="assembly")
+            assert int(cv.status[d, j]) == int(ac.status)
+            np.testing.assert_allclose([cv.k_re[d, j], cv.k_im[d, j]], [ac.k_re, ac.k_im],
+                                       rtol=1e-12, atol=1e-9)
+
+
+def test_curves_gradients_nan_free_and_match_fd():
+    """Reverse- and forward-mode derivatives of k_Re + k_Im w.r.t. theta_L, theta_R, b_R/h, mu, kn,
+    kt and psi_a: finite over random designs and amplitudes, including amplitudes whose reversal
+    falls exactly on a transition (psi_fs, psi_BC); central differences agree away from switches.
+    One batch holds every point (random, special and finite-difference), so that each program is
+    compiled once."""
+    from jaxdamp.amplitude import curves_kernel
+
+    rng = np.random.default_rng(7)
+    D = 5
+    rand = np.stack([rng.uniform(48, 80, D), rng.uniform(48, 80, D), rng.uniform(-0.05, 0.18, D),
+                     rng.uniform(0.25, 0.75, D), rng.uniform(1.5e4, 2.5e4, D),
+                     rng.uniform(3e3, 5e3, D), rng.uniform(0.3, 5.0, D)], axis=1)
+    # Reversals exactly on a transition: 60sym at its own psi_fs and psi_BC.
+    n = jd.five_numbers(jd.base_cycle(jd.family_shape("60sym"), 0.5, CONTACTS))
+    x0 = np.array([60.0, 60.0, 0.14, 0.5, 17900.0, 3580.0, 1.2])  # microslip, away from switches
+    special = np.array([x0, x0])
+    special[0, 6], special[1, 6] = float(n.psi_fs), float(n.psi_bc)
+    steps = 1e-6 * np.maximum(np.abs(x0), 1.0)
+    fd_points = np.concatenate([x0 + steps[:, None] * np.eye(7), x0 - steps[:, None] * np.eye(7)])
+    x = jnp.asarray(np.concatenate([rand, special, x0[None], fd_points]))
+    i0 = D + 2
+
+    def values(x, initial):
+        shape, mu, contacts, psi = _design_params(x)
+        cv = curves_kernel(shape, mu, contacts, jd.LoadCase(), psi[:, None], initial=initial)
+        return jnp.sum(cv.k_re + cv.k_im, axis=1)
+
+    for initial in ("gross_slip", "assembly"):
+        f = jax.jit(lambda x: values(x, initial))
+        vals = np.asarray(f(x))
+        grad = np.asarray(jax.jit(jax.grad(lambda x: jnp.sum(f(x))))(x))
+        assert np.all(np.isfinite(vals)) and np.all(np.isfinite(grad))
+        fd = (vals[i0 + 1: i0 + 8] - vals[i0 + 8: i0 + 15]) / (2 * steps)
+        np.testing.assert_allclose(grad[i0], fd, rtol=2e-5, atol=1e-6 * np.max(np.abs(fd)))
+        if initial == "assembly":
+            tangent = jnp.asarray(rng.normal(size=x.shape)) * jnp.asarray(
+                [1, 1, 0.01, 0.01, 100, 20, 0.05])
+            _, jvp = jax.jit(lambda x, t: jax.jvp(f, (x,), (t,)))(x, tangent)
+            # Designs are independent: forward mode = the gradient rows dotted with the tangent.
+            assert np.all(np.isfinite(np.asarray(jvp)))
+            np.testing.assert_allclose(np.sum(grad * np.asarray(tangent), axis=1), np.asarray(jvp),
+                                       rtol=1e-8, atol=1e-8 * np.max(np.abs(jvp)))
