@@ -266,3 +266,22 @@ def test_curves_gradients_nan_free_and_match_fd():
             assert np.all(np.isfinite(np.asarray(jvp)))
             np.testing.assert_allclose(np.sum(grad * np.asarray(tangent), axis=1), np.asarray(jvp),
                                        rtol=1e-8, atol=1e-8 * np.max(np.abs(jvp)))
+
+
+def test_complex_stiffness_methods():
+    """complex_stiffness defaults to the exact cycle from gross slip; "interpolated" keeps the
+    paper's numbers (psi_fs, k_Re,fs and the Base-Cycle's at psi_BC)."""
+    shape, mu = jd.family_shape("60sym"), 0.5
+    bc = jd.base_cycle(shape, mu, CONTACTS)
+    n = jd.five_numbers(bc)
+    psi = np.array([0.3, 1.2])
+    for initial in ("gross_slip", "assembly"):
+        k_re, k_im = jd.complex_stiffness(bc, psi, initial=initial)
+        for j, p in enumerate(psi):
+            ac = amplitude_cycle(shape, mu, float(p), CONTACTS, initial=initial)
+            np.testing.assert_allclose([k_re[j], k_im[j]], [ac.k_re, ac.k_im], rtol=1e-12, atol=1e-9)
+    k_re, k_im = jd.complex_stiffness(bc, psi, method="interpolated")
+    frac = (1.2 - float(n.psi_fs)) / (float(n.psi_bc) - float(n.psi_fs))
+    assert float(k_im[1]) == pytest.approx(frac * float(n.k_im_bc), rel=1e-12)
+    with pytest.raises(ValueError, match="method"):
+        jd.complex_stiffness(bc, psi, method="spline")
