@@ -184,7 +184,10 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
         kr, ki, st = jax.device_get(jax.vmap(lambda t: _k_of_state(
             shape, mu, contacts, load, psi, t, jnp.asarray(P), jnp.asarray(n0)))(jnp.asarray(Tr)))
         got = np.where(which == 0, kr, ki)
-        better = ok_state & np.asarray(RESULTS.valid(st)) & (signs * got < signs * bounds)
+        # Improvements at the rounding level (the optimiser returning to the sampled state) are
+        # not counted: the bound keeps the sampled state.
+        margin = 1e-9 * scale
+        better = ok_state & np.asarray(RESULTS.valid(st)) & (signs * got < signs * bounds - margin)
         bounds = np.where(better, got, bounds)
         T_at = np.where(better[:, None], Tr, T_at)
         N_at = np.where(better[:, None], Tr @ P.T + n0, N_at)
