@@ -51,3 +51,27 @@ def test_band_closes_above_psi_bc():
     ref = np.asarray(jd.complex_stiffness(jd.base_cycle(shape, mu, CONTACTS), psi,
                                           method="interpolated"))
     np.testing.assert_allclose(band.bounds, [ref[0], ref[0], ref[1], ref[1]], rtol=1e-9)
+
+
+def test_self_locked_state_keeps_the_band_open_above_psi_bc():
+    """74R at mu 0.7 self-locks: the full-slip state with friction signs (+, +, -) is admissible
+    with contact forces of ~24 F_D. From it the cycle at 3.5 mrad (> psi_BC = 3.29) settles, after
+    a transient, on an elastic cycle, so the band's k_Im reaches 0 above psi_BC. The time marcher
+    confirms it (200 pairs without acceleration; the direct method needs 3 with Aitken's)."""
+    import jax.numpy as jnp
+
+    from jaxdamp.status import RESULTS
+    from jaxdamp.timemarch import march_amplitude
+
+    shape, mu, psi = jd.family_shape("74R"), 0.7, 3.5
+    assert float(jd.five_numbers(jd.base_cycle(shape, mu, CONTACTS)).psi_bc) < psi
+    st = jd.full_slip_state(shape, mu, jnp.array([1.0, 1.0, -1.0]))
+    N, T = np.asarray(st.N), np.asarray(st.T)
+    assert np.min(N) > 1.0 and float(check_admissible(shape, mu, N, T)[0]) < 1e-12
+    ac = amplitude_cycle(shape, mu, psi, CONTACTS, initial=(N, T))
+    assert RESULTS.name_of(ac.status) == "shakedown" and int(ac.cycles) == 3
+    tm = march_amplitude(shape, mu, psi, CONTACTS, initial=(N, T), n_steps=1000, max_pairs=200)
+    assert float(np.asarray(tm.closure)[-1]) < 1e-9
+    np.testing.assert_allclose(np.asarray(tm.N_start), np.asarray(ac.N_start), atol=1e-9)
+    assert float(tm.k_re) == pytest.approx(float(ac.k_re), rel=1e-9)
+    assert abs(float(tm.k_im)) < 1e-9 * float(ac.k_re)
