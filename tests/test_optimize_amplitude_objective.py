@@ -24,3 +24,14 @@ def test_worst_over_mu_and_gradient():
     f = jax.jit(worst)
     fd = [(float(f(x + 1e-5 * e)) - float(f(x - 1e-5 * e))) / 2e-5 for e in np.eye(2)]
     np.testing.assert_allclose(g, fd, rtol=1e-5)
+
+
+def test_robust_k_im_is_the_band_lower_bound():
+    from optimize.amplitude_objective import robust_k_im
+
+    shape = jd.family_shape("60sym")
+    low, bands = robust_k_im(shape, [0.5], 1.6, CONTACTS, n_samples=64, refine=False)
+    assert low == pytest.approx(float(bands[0].bounds[2]))
+    # Below the gross-slip value: some admissible history damps less than the gross-slip one.
+    _, w, _ = k_im_at_amplitude(shape, [0.5], 1.6, CONTACTS)
+    assert 0.0 < low < float(w)
