@@ -220,7 +220,7 @@ def run(cfg, progress=print):
         psi_m = 0.5 * (ex["psi_fs"] + ex["psi_bc"])
         r = fn(arrays(jd.family_shape(name)), jnp.asarray(float(mu)), jnp.asarray(psi_m))
         bc = jd.base_cycle(jd.family_shape(name), float(mu), CONTACTS, LOAD)
-        k_re, k_im = (float(x) for x in jd.complex_stiffness(bc, psi_m))
+        k_re, k_im = (float(x) for x in jd.complex_stiffness(bc, psi_m, method="interpolated"))
         case["microslip_midpoint"] = {
             "psi_a_mrad": psi_m, "direct_interpolated": [k_re, k_im],
             "hbm_aft_Nt2048_P8": [float(r.k_re), float(r.k_im)], "hbm_converged": bool(r.converged),

@@ -9,6 +9,14 @@ and imports no plotting library. Layers (docs/architecture.md): this package's c
 __version__ = "0.2.0"
 
 from ._validate import Float64Required as Float64Required
+from .amplitude import AmplitudeCycle as AmplitudeCycle
+from .amplitude import StiffnessCurves as StiffnessCurves
+from .amplitude import amplitude_curves as amplitude_curves
+from .amplitude import amplitude_cycle as amplitude_cycle
+from .amplitude import amplitude_kernel as amplitude_kernel
+from .amplitude import curves_kernel as curves_kernel
+from .band import Band as Band
+from .band import amplitude_band as amplitude_band
 from .batch import DesignSummary as DesignSummary
 from .batch import SweepResult as SweepResult
 from .batch import centred_br as centred_br

@@ -96,7 +96,7 @@ def outputs(design: Design, psi_a=0.0):
     jit/vmap/grad; psi_a in mrad."""
     bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
-    _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float))
+    _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float), method="interpolated")
     return Outputs(*nums, k_im), Flags(bc.converged, bc.liftoff, bc.failed, bc.status)
 
 

@@ -10,6 +10,7 @@ Units: psi in mrad, M in N mm, k in N mm/mrad.
 
 from __future__ import annotations
 
+from functools import partial
 from typing import NamedTuple
 
 import warnings
@@ -167,14 +168,41 @@ def base_cycle_amplitude(bc: BaseCycle):
     return psi_mrad(jnp.maximum(bc.forward.span, bc.backward.span) / 2.0, bc.load.q_star)
 
 
-@jax.jit
-def complex_stiffness(bc: BaseCycle, psi_a_mrad):
-    """(k_Re, k_Im) in N mm/mrad at platform rotation amplitude(s) psi_a >= 0 (mrad).
+def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_slip"):
+    """(k_Re, k_Im) in N mm/mrad at platform rotation amplitude(s) psi_a (mrad). Accepts an array.
 
-    psi_a <= psi_fs: full stick (k_Re,fs, 0). psi_fs < psi_a < psi_BC: the paper's linear microslip
-    interpolation. psi_a >= psi_BC: Base-Cycle stretched by full-slip at both ends, exact first
-    harmonic. Accepts an array of amplitudes.
+    method="exact" (default): the steady cycle at each amplitude by the direct method with
+    travel-limited half-cycles (`jaxdamp.amplitude`), started from `initial` ("gross_slip": the
+    Base-Cycle's state 0; "assembly"); numbers are zero where that cycle is not valid (liftoff,
+    not converged). method="interpolated": the paper's numbers, for comparison with it:
+    psi_a <= psi_fs full stick (k_Re,fs, 0); psi_fs < psi_a < psi_BC the paper's linear microslip
+    interpolation; psi_a >= psi_BC the Base-Cycle stretched by full slip at both ends, exact first
+    harmonic. Both agree at psi_a >= psi_BC, where gross slip erases the history.
     """
+    if method == "interpolated":
+        return _interpolated_stiffness(bc, psi_a_mrad)
+    if method != "exact":
+        raise ValueError(f"method must be exact or interpolated; got {method!r}")
+    if initial not in ("gross_slip", "assembly"):
+        raise ValueError(f"initial must be gross_slip or assembly; got {initial!r}")
+    return _exact_stiffness(bc, psi_a_mrad, initial)
+
+
+@partial(jax.jit, static_argnames=("initial",))
+def _exact_stiffness(bc: BaseCycle, psi_a_mrad, initial):
+    from .amplitude import amplitude_kernel
+
+    psi = jnp.asarray(psi_a_mrad, float)
+    flat = psi.reshape(-1)
+    one = lambda p: amplitude_kernel(bc.shape, bc.mu, bc.contacts, bc.load, p,  # noqa: E731
+                                     initial=initial)
+    ac = jax.vmap(one)(flat)
+    return ac.k_re.reshape(psi.shape), ac.k_im.reshape(psi.shape)
+
+
+@jax.jit
+def _interpolated_stiffness(bc: BaseCycle, psi_a_mrad):
+    """The paper's k(psi_a): see `complex_stiffness(..., method="interpolated")`."""
     nums = five_numbers(bc)
 
     def one(psi):

@@ -32,7 +32,7 @@ def _analyse(bc, psi):
     nums = five_numbers(bc)
     w = work_shape_factors(bc)
     e = contact_energies(bc)
-    k_re, k_im = complex_stiffness(bc, psi)
+    k_re, k_im = complex_stiffness(bc, psi, method="interpolated")
     return dict(psi_fs_mrad=nums.psi_fs, k_re_fs=nums.k_re_fs, psi_bc_mrad=nums.psi_bc,
                 k_re_bc=nums.k_re_bc, k_im_bc=nums.k_im_bc, w_R1=w.w_R1, w_L1=w.w_L1, w_L2=w.w_L2,
                 w_M=w.w_M, energy_contacts=e.contacts, energy_moment=e.moment, k_re=k_re, k_im=k_im)
@@ -49,7 +49,7 @@ def stiffness_at(bc, psi_a_mrad):
     for i in range(0, len(psi), STIFFNESS_SLOTS):
         chunk = psi[i:i + STIFFNESS_SLOTS]
         padded = np.pad(chunk, (0, STIFFNESS_SLOTS - len(chunk)), constant_values=1.0)
-        k_re, k_im = jax.device_get(complex_stiffness(bc, jnp.asarray(padded)))
+        k_re, k_im = jax.device_get(complex_stiffness(bc, jnp.asarray(padded), method="interpolated"))
         out_re.append(np.asarray(k_re)[: len(chunk)])
         out_im.append(np.asarray(k_im)[: len(chunk)])
     return np.concatenate(out_re), np.concatenate(out_im)

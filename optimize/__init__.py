@@ -15,15 +15,33 @@ re-check by the public API, active constraints, infeasibility reasons), `grid` (
 search, heatmap), `reference` (60sym baseline, family table), `plot`, `cli` (`jaxdamp optimize`).
 """
 
-from .check import DesignCheck, active_constraints, check_design
-from .design import DEFAULT_BOUNDS, VARIABLES, DesignSpace, design_space
-from .grid import GridResult, grid_search, heatmap
-from .objectives import DEFAULT_OBJECTIVE, METRICS, Objective, parse_objective
-from .plot import plot_paths
-from .problem import (DEFAULT_MARGIN_PCT, DEFAULT_MIN_VERTEX_DEG, DEFAULT_MU_SET, Evaluation,
-                      Problem, evaluate, is_feasible, make_problem)
-from .reference import family_table, make_scorer
-from .solver import OptimizationResult, SolverConfig, optimize
-
-__all__ = [name for name, value in dict(globals()).items()
-           if not name.startswith("_") and not isinstance(value, type(__import__("sys")))]
+from .amplitude_objective import k_im_at_amplitude as k_im_at_amplitude
+from .amplitude_objective import robust_k_im as robust_k_im
+from .check import DesignCheck as DesignCheck
+from .check import active_constraints as active_constraints
+from .check import check_design as check_design
+from .design import DEFAULT_BOUNDS as DEFAULT_BOUNDS
+from .design import DesignSpace as DesignSpace
+from .design import VARIABLES as VARIABLES
+from .design import design_space as design_space
+from .grid import GridResult as GridResult
+from .grid import grid_search as grid_search
+from .grid import heatmap as heatmap
+from .objectives import DEFAULT_OBJECTIVE as DEFAULT_OBJECTIVE
+from .objectives import METRICS as METRICS
+from .objectives import Objective as Objective
+from .objectives import parse_objective as parse_objective
+from .plot import plot_paths as plot_paths
+from .problem import DEFAULT_MARGIN_PCT as DEFAULT_MARGIN_PCT
+from .problem import DEFAULT_MIN_VERTEX_DEG as DEFAULT_MIN_VERTEX_DEG
+from .problem import DEFAULT_MU_SET as DEFAULT_MU_SET
+from .problem import Evaluation as Evaluation
+from .problem import Problem as Problem
+from .problem import evaluate as evaluate
+from .problem import is_feasible as is_feasible
+from .problem import make_problem as make_problem
+from .reference import family_table as family_table
+from .reference import make_scorer as make_scorer
+from .solver import OptimizationResult as OptimizationResult
+from .solver import SolverConfig as SolverConfig
+from .solver import optimize as optimize

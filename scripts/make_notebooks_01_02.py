@@ -112,7 +112,7 @@ take plain Fourier sums."""),
 for psi_a in (3.0, 6.0):
     psi, M, names = moment_polyline(bc, psi_a)
     _, k_re_num, k_im_num = numeric_first_harmonic(psi, M, psi_a, n=1 << 14)
-    k_re, k_im = (float(v) for v in jd.complex_stiffness(bc, psi_a))
+    k_re, k_im = (float(v) for v in jd.complex_stiffness(bc, psi_a, method="interpolated"))
     print(f"psi_a = {psi_a} mrad: closed form k_Re = {k_re:8.1f}, k_Im = {k_im:7.1f};  "
           f"sampled {k_re_num:8.1f}, {k_im_num:7.1f}  (points {' '.join(names)})")"""),
     new_markdown_cell("""\

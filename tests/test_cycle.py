@@ -126,7 +126,7 @@ def test_energy_identity(name, mu):
     nums = jd.five_numbers(bc)
     for psi in (float(nums.psi_bc), 1.7 * float(nums.psi_bc) + 0.5):
         e = jd.contact_energies(bc, psi)
-        k_re, k_im = jd.complex_stiffness(bc, psi)
+        k_re, k_im = jd.complex_stiffness(bc, psi, method="interpolated")
         total = float(np.sum(e.contacts))
         elastic = float(k_re) * psi**2 / 1e3  # N mm: the size of the terms the loop integral sums
         if abs(float(e.moment)) < 1e-9 * elastic:
@@ -176,7 +176,7 @@ def test_complex_stiffness_regimes():
     bc = cycle("60sym", 0.5)
     n = jd.five_numbers(bc)
     psi = np.array([0.0, 0.5 * float(n.psi_fs), float(n.psi_fs), float(n.psi_bc), 20.0])
-    k_re, k_im = map(np.asarray, jd.complex_stiffness(bc, psi))
+    k_re, k_im = map(np.asarray, jd.complex_stiffness(bc, psi, method="interpolated"))
     assert np.allclose(k_re[:3], float(n.k_re_fs)) and np.allclose(k_im[:3], 0.0)
     assert np.isclose(k_re[3], float(n.k_re_bc)) and np.isclose(k_im[3], float(n.k_im_bc))
     # Far into gross slip the stiffness falls and the moment saturates: k_Re, k_Im -> 0 like 1/psi.

@@ -27,7 +27,7 @@ def test_bias_shrinks_linearly_with_eps():
     shape, mu = jd.family_shape("60sym"), 0.5
     bc = jd.base_cycle(shape, mu, CONTACTS)
     psi = float(jd.five_numbers(bc).psi_bc)
-    k_re, k_im = (float(x) for x in jd.complex_stiffness(bc, psi))
+    k_re, k_im = (float(x) for x in jd.complex_stiffness(bc, psi, method="interpolated"))
     coulomb = hbm_aft(shape, mu, psi, CONTACTS, n_time=256)
     eps = np.array([1e-2, 1e-3, 1e-4])
     bias = []

@@ -2,7 +2,7 @@
 
 For a prescribed harmonic relative platform motion psi(tau) = psi_a cos(tau), the alternating
 frequency-time (AFT) step marches the hysteretic contact law in the time domain at Nt samples per
-period for a few periods (here with the incremental return-mapping solver of `jaxdamp.timemarch`,
+period for a few periods (here with the incremental return-mapping solver of `jaxdamp.baselines.timemarch`,
 the damper's quasi-static equilibrium being solved at every sample), and takes the first harmonic of
 the platform moment from the last period by FFT. It returns k_Re and k_Im at that amplitude; unlike
 the direct method it cannot give psi_BC or psi_fs by itself (that needs a search over amplitudes).

@@ -394,5 +394,131 @@ def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: Lo
                        max_newton=check_int("max_newton", max_newton, 1))
 
 
+# ---------------------------------------------------------------- cycles at a prescribed amplitude
+def model_from_state(m: MarchModel, N, T) -> MarchModel:
+    """The model whose reference state (q = 0, dv = 0, p = 0) carries the forces N, T (units of F_D).
+    (N, T) must be in equilibrium with F_D for q = 0 to be the equilibrium at dv = 0."""
+    return m._replace(N_ref=jnp.asarray(N, float), T_ref=jnp.asarray(T, float))
+
+
+def assemble(m: MarchModel, n_load: int, max_newton: int = MAX_NEWTON):
+    """Apply F_D from zero in n_load equal steps with the platforms held (dv = 0), from zero contact
+    forces: Newton with return mapping at each load level. Returns (model with zero reference
+    forces, the state at full load, Newton converged at every level)."""
+    m0 = m._replace(N_ref=jnp.zeros(3), T_ref=jnp.zeros(3))
+    K0 = (jnp.einsum("i,ij,ik->jk", m0.kn, m0.a, m0.a) + jnp.einsum("i,ij,ik->jk", m0.kt, m0.c, m0.c))
+    q_unit, _ = solve3(K0, CENTRIFUGAL_LOAD)  # all-stick response to F_D: the first level's predictor
+
+    def level(carry, lam):
+        q, p, lam_old = carry
+        q0 = jnp.where(lam_old > 0.0, q * lam / jnp.where(lam_old > 0.0, lam_old, 1.0), lam * q_unit)
+
+        def residual(x):
+            r = respond(m0, x, 0.0, p)
+            return r.R - (1.0 - lam) * CENTRIFUGAL_LOAD, r.J
+
+        qn, res, _ = newton(residual, q0, max_newton)
+        r = respond(m0, qn, 0.0, p)
+        return (qn, r.p, lam), res <= NEWTON_TOL
+
+    lams = jnp.arange(1, n_load + 1, dtype=float) / n_load
+    (q, p, _), conv = jax.lax.scan(level, (jnp.zeros(3), jnp.zeros(3), jnp.asarray(0.0)), lams)
+    r = respond(m0, q, 0.0, p)
+    _, _, vel, _ = force_rates(m0, r)
+    return m0, MarchState(q, jnp.zeros(()), r.p, r.N, r.T, vel), jnp.all(conv)
+
+
+class AmplitudeMarch(NamedTuple):
+    """A steady cycle at a prescribed amplitude by time marching (see `march_amplitude`)."""
+
+    k_re: jnp.ndarray  # N mm/mrad, first harmonic of the sampled moment loop of the last pair
+    k_im: jnp.ndarray
+    work_contacts: jnp.ndarray  # (3,) N mm per cycle, sum of T d(slip) over the steps
+    work_moment: jnp.ndarray  # pi psi_a^2 k_Im, N mm
+    closure: jnp.ndarray  # (max_pairs,) max force change over each pair (units of F_D)
+    N_start: jnp.ndarray  # forces at the forward extreme before the last pair
+    T_start: jnp.ndarray
+    liftoff: jnp.ndarray
+    newton_failures: jnp.ndarray
+    M_forward: jnp.ndarray  # (n_steps + 1,) moment samples of the last pair, N mm
+    M_backward: jnp.ndarray
+
+
+@partial(jax.jit, static_argnames=("initial", "n_steps", "max_pairs", "n_load", "max_newton"))
+def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, initial: str,
+                     n_steps: int, max_pairs: int, n_load: int, max_newton: int = MAX_NEWTON):
+    m, lift0 = march_model(shape, mu, contacts, load)
+    a_dv = travel_mm(psi_a_mrad, m.q_star)
+    h = 2.0 * a_dv / n_steps
+    fails = jnp.array(0)
+    lift = lift0
+    if initial == "gross_slip":
+        s = initial_state(m)
+    elif initial == "explicit":
+        m = model_from_state(m, N_init, T_init)
+        s = initial_state(m)
+        lift = jnp.min(m.N_ref) <= 0.0
+    else:  # assembly: load at mid travel, a quarter travel forward, a backward half to the top
+        m, s, ok = assemble(m, n_load, max_newton)
+        lift = jnp.array(False)
+        fails = fails + jnp.where(ok, 0, 1)
+        s, q1 = march_half(m, s, -1.0, h, n_steps // 2, max_newton)
+        s, q2 = march_half(m, s, 1.0, h, n_steps, max_newton)
+        for hm in (q1, q2):
+            fails = fails + jnp.sum(~hm.samples.converged)
+            lift = lift | jnp.any(hm.samples.code == 3)
+
+    def pair(s, _):
+        s1, fwd = march_half(m, s, -1.0, h, n_steps, max_newton)
+        s2, bwd = march_half(m, s1, 1.0, h, n_steps, max_newton)
+        gap = jnp.maximum(jnp.max(jnp.abs(s2.N - s.N)), jnp.max(jnp.abs(s2.T - s.T)))
+        # Restart the next pair exactly at the top: dv drifts by rounding otherwise.
+        return s2, (gap, fwd, bwd, s.N, s.T)
+
+    _, (gaps, fwd, bwd, Ns, Ts) = jax.lax.scan(pair, s, None, length=max_pairs)
+    last = lambda t: jax.tree_util.tree_map(lambda x: x[-1], t)  # noqa: E731
+    fwd, bwd = last(fwd), last(bwd)
+    k_re, k_im, work_m = loop_harmonics(fwd.samples.M, bwd.samples.M, float(n_steps), psi_a_mrad)
+    work_c = _dissipated(fwd.samples, n_steps, m.F_D) + _dissipated(bwd.samples, n_steps, m.F_D)
+    fails = fails + jnp.sum(~fwd.samples.converged) + jnp.sum(~bwd.samples.converged)
+    lift = lift | jnp.any(fwd.samples.code == 3) | jnp.any(bwd.samples.code == 3)
+    return AmplitudeMarch(k_re, k_im, work_c, work_m, gaps, Ns[-1], Ts[-1], lift, fails,
+                          fwd.samples.M, bwd.samples.M)
+
+
+def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                    load: LoadCase = LoadCase(), *, initial="gross_slip", n_steps: int,
+                    max_pairs: int = 6, n_load: int = 16,
+                    max_newton: int = MAX_NEWTON) -> AmplitudeMarch:
+    """The steady cycle at amplitude psi_a (mrad) by time marching, for checking
+    `jaxdamp.amplitude` independently.
+
+    The relative platform motion runs between the two extremes in n_steps uniform steps per half
+    (exact reversals: the last step of a half lands on the extreme), forward half (dv decreasing)
+    first, max_pairs pairs; k from the first harmonic of the last pair's moment samples joined
+    linearly (`loop_harmonics`). initial: "gross_slip" (state 0 at the forward extreme), "assembly"
+    (F_D applied in n_load steps at mid travel from zero forces, then a quarter travel forward in
+    n_steps/2 steps and a backward half), or an explicit (N, T) pair at the forward extreme (units
+    of F_D, in equilibrium with F_D). Newton failures and liftoff are reported, never NaN.
+    """
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
+    n_steps = check_int("n_steps", n_steps, 2)
+    if n_steps % 2:
+        raise ValueError(f"n_steps must be an even integer in [2, inf); got {n_steps}")
+    N_init = T_init = None
+    if isinstance(initial, str):
+        if initial not in ("gross_slip", "assembly"):
+            raise ValueError(f"initial must be gross_slip, assembly or an (N, T) pair; got {initial!r}")
+        mode = initial
+    else:
+        N_init, T_init = (jnp.asarray(v, float) for v in initial)
+        mode = "explicit"
+    return _march_amplitude(shape, mu, contacts, load, jnp.asarray(psi_a_mrad, float), N_init,
+                            T_init, mode, n_steps, check_int("max_pairs", max_pairs, 1),
+                            check_int("n_load", n_load, 1), check_int("max_newton", max_newton, 1))
+
+
 __all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "newton", "respond",
-           "loop_harmonics", "MarchModel", "MarchState", "Sample", "initial_state"]
+           "loop_harmonics", "MarchModel", "MarchState", "Sample", "initial_state", "march_amplitude",
+           "AmplitudeMarch", "assemble", "model_from_state"]

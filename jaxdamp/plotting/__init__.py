@@ -17,3 +17,5 @@ from .sweep import write_sweep as write_sweep
 from .study import key_figure as key_figure
 from .study import run_study as run_study
 from .study import study_figures as study_figures
+from .amplitude import amplitude_stiffness_data as amplitude_stiffness_data
+from .amplitude import plot_amplitude_stiffness as plot_amplitude_stiffness

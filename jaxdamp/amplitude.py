@@ -1,0 +1,605 @@
+"""The steady cycle at a prescribed platform rotation amplitude psi_a, by the direct method.
+
+Below psi_BC the cycle depends on the contact state the history left (MODEL.md, "Cycles at a
+prescribed amplitude"). The Base-Cycle's tract machinery (`tract.choose_states`, `tract.next_event`)
+runs unchanged; a half-cycle gets one more event, the end of its travel budget 2 psi_a q*/1e3 mm:
+
+    tract length = min(next stick/slip or liftoff event, remaining travel)
+
+and a half that reaches gross slip before its travel ends finishes with a constant-force stretch
+(recorded as one more tract with zero force rates). Pairs of halves (forward, backward) are repeated
+until the forces at the forward extreme repeat within CLOSE_TOL (units of F_D), or the cycle is
+elastic (shakedown).
+
+Sign convention (the code's, as in `cycle.py` and `harmonics.py`): the forward half starts at the
+extreme where state 0 of the Base-Cycle sits, the top of the relative platform travel dv (psi =
++psi_a about the loop centre), and runs with dv DECREASING; the backward half returns with dv
+increasing. The issue text writes the same physical history with the opposite sign of psi (state 0
+"at psi = -psi_a", psi = -psi_a cos tau). With psi = psi_c + psi_a cos(tau), tau = 0 at the forward
+extreme, the first harmonic is M ~ psi_a (k_Re cos tau - k_Im sin tau) and k_Im > 0 for a
+dissipative loop: the numbers have the sign and units of the Base-Cycle's (N mm/mrad).
+
+Initial states (all forces normalised to F_D, tangential forces along the up-flank tangent):
+- "gross_slip": the Base-Cycle's state 0 (full slip at the start of the forward half);
+- "assembly": forces zero, F_D applied from zero with the platforms at mid travel (proportional
+  loading: one consistent stick/slip set for the whole load increment; a contact whose all-stick
+  friction demand exceeds mu slips from the start), then a quarter travel forward (psi_a q*/1e3 mm,
+  dv decreasing) to the backward extreme, then a backward half to the forward extreme where the
+  pair iteration starts;
+- explicit (N, T): the forces at the forward extreme, in equilibrium with F_D, 0 <= N, |T| <= mu N.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .linalg import solve3
+from .cycle import mechanics
+from .geometry import DamperShape
+from .harmonics import moment
+from .params import Contacts, LoadCase, prepare_inputs
+from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
+from .statics import contact_columns, full_slip_state
+from .status import RESULTS
+from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
+                    next_event)
+
+MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
+MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
+CLOSE_TOL = 1e-9  # periodicity: forces at the forward extreme repeat within this (units of F_D)
+TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended; slip below it is none
+ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
+INITIAL_STATES = ("gross_slip", "assembly")
+
+__all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
+           "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
+           "StiffnessCurves", "amplitude_curves", "curves_kernel", "travel_half",
+           "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
+
+
+class TravelHalf(NamedTuple):
+    """One travel-limited half-cycle. Arrays with a leading tract axis (MAX_TRACTS)."""
+
+    dv: jnp.ndarray  # tract lengths, mm of relative platform travel (>= 0); they sum to the budget
+    N0: jnp.ndarray  # (nt, 3) forces at the tract start, units of F_D
+    T0: jnp.ndarray
+    dN: jnp.ndarray  # (nt, 3) rates per mm of travel (zero in the constant-force stretch)
+    dT: jnp.ndarray
+    dslip: jnp.ndarray  # (nt, 3) sliding rate of each contact, mm per mm of travel
+    state: jnp.ndarray  # (nt, 3) STICK / SLIP / BACKSLIDE / OPEN
+    active: jnp.ndarray  # (nt,) bool, the tract exists
+    stretch: jnp.ndarray  # (nt,) bool, constant-force gross-slip stretch
+    N_end: jnp.ndarray  # (3,) forces at the end of the travel
+    T_end: jnp.ndarray
+    gross_slip: jnp.ndarray  # reached gross slip before the end of the travel
+    liftoff: jnp.ndarray
+    failed: jnp.ndarray  # no consistent state set, or the tracts ran out before the travel
+
+
+def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS) -> TravelHalf:
+    """Tracts from a reversal at (N, T) over `travel` mm of relative platform motion (bounded masked
+    scan, so reverse-mode AD works). direction: +1 when dv increases, -1 when it decreases."""
+    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
+    start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
+    lift0 = jnp.min(N) <= LIMIT_TOL
+    init = dict(N=N, T=T, rem=jnp.asarray(travel, float), done=lift0, gross=jnp.array(False),
+                liftoff=lift0, failed=jnp.array(False),
+                line=jnp.abs(T) >= mech.mu * N - LIMIT_TOL)
+
+    def step(carry, _):
+        N, T, rem = carry["N"], carry["T"], carry["rem"]
+        choice = choose_states(mech, N, T, direction)
+        r = choice.rates
+        frozen = jnp.max(jnp.abs(jnp.concatenate([r.dN, r.dT]))) <= RATE_TOL * scale
+        gross = choice.consistent & frozen
+        ev = next_event(mech, N, T, choice)
+        # Rounding leaves ~1e-17 mm of travel after a tract that ends on the extreme: no tract.
+        spent = rem <= TRAVEL_TOL * travel
+        live = ~carry["done"] & ~spent
+        failed_now = ~choice.consistent
+        advance = live & ~failed_now
+        # The travel budget is the new event; a tie with a contact event ends the half by travel
+        # (the next half starts at a reversal, where `choose_states` sees the contact on its limit).
+        by_travel = gross | (rem <= ev.length)
+        lam = jnp.where(advance, jnp.where(by_travel, rem, ev.length), 0.0)
+        dN = jnp.where(gross, 0.0, r.dN)
+        dT = jnp.where(gross, 0.0, r.dT)
+        N1 = N + lam * dN
+        T1 = T + lam * dT
+        T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
+        at_event = advance & ~by_travel
+        hit = jnp.arange(3) == ev.contact
+        T1 = jnp.where(at_event & ~ev.liftoff & hit, ev.side * mech.mu * N1, T1)
+        N1 = jnp.where(at_event & ev.liftoff & hit, 0.0, N1)
+        lifted = advance & ((at_event & ev.liftoff) | (jnp.min(N1) <= LIMIT_TOL))
+        line = carry["line"] & choice.slipping & (choice.signs == start_sign)
+        back = jnp.where(advance, line, carry["line"] & choice.slipping)
+        state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
+        state = jnp.where(N <= LIMIT_TOL, OPEN, state)
+        out = dict(dv=lam, N0=N, T0=T, dN=dN, dT=dT, dslip=r.dslip, state=state, active=advance,
+                   stretch=advance & gross)
+        new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
+                   rem=jnp.where(advance, jnp.where(by_travel, 0.0, rem - lam), rem),
+                   done=carry["done"] | spent | (live & failed_now) | lifted | (advance & by_travel),
+                   gross=carry["gross"] | (advance & gross),
+                   liftoff=carry["liftoff"] | lifted,
+                   failed=carry["failed"] | (live & failed_now),
+                   line=jnp.where(advance, line, carry["line"]))
+        return new, out
+
+    end, tr = jax.lax.scan(step, init, None, length=max_tracts)
+    return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
+                      tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
+                      end["liftoff"], end["failed"] | ~end["done"])
+
+
+class AmplitudeCycle(NamedTuple):
+    """The steady cycle at amplitude psi_a and its inputs (a pytree).
+
+    forward starts at the forward extreme (top of dv, where the Base-Cycle's state 0 sits) and runs
+    with dv decreasing; backward returns. k in N mm/mrad, energy in N mm per cycle.
+    """
+
+    shape: DamperShape
+    mu: jnp.ndarray
+    contacts: Contacts
+    load: LoadCase
+    psi_a: jnp.ndarray  # mrad
+    N_start: jnp.ndarray  # (3,) forces at the forward extreme of the steady cycle (units of F_D)
+    T_start: jnp.ndarray
+    forward: TravelHalf
+    backward: TravelHalf
+    k_re: jnp.ndarray
+    k_im: jnp.ndarray
+    energy: jnp.ndarray  # (3,) dissipated at R1, L1, L2 per cycle, N mm (sum T d(slip), exact)
+    work: jnp.ndarray  # oint M dpsi, N mm per cycle (= pi psi_a^2 k_Im 1e-3 = sum of energy)
+    closure: jnp.ndarray  # max force change over the last pair (units of F_D)
+    cycles: jnp.ndarray  # pairs of halves run until the forces repeated (int32)
+    status: jnp.ndarray  # RESULTS code (int32): ok, shakedown, not_converged, liftoff, singular
+
+
+def gross_slip_state(shape: DamperShape, mu):
+    """(N, T, ok) of the Base-Cycle's state 0: full slip at the start of the forward half."""
+    st = full_slip_state(shape, mu, START_FRICTION_SIGNS)
+    ok = st.solvable & (st.min_normal > 0.0)
+    return st.N, st.T, ok
+
+
+# Assembly candidates: per contact 0 stick, 1 slip with T = +mu N, 2 slip with T = -mu N.
+_ASM = np.array([[(c // 3 ** i) % 3 for i in range(3)] for c in range(27)])
+
+
+def assembly_state(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
+    """(N, T, ok) after applying F_D from zero with the platforms held (proportional loading).
+
+    Every contact law is positively homogeneous and the forces start at zero, so the response is
+    proportional to the load and one stick/slip set holds for the whole increment: the consistent
+    set (stick contacts inside the cone, slipping contacts sliding against their friction force)
+    that keeps the most contacts in stick. With K_S q = e_y (F_D = 1 at D, upwards):
+    K_S = sum kn a a^T + sum_stick kt c c^T - sum_slip s mu kn c a^T.
+    """
+    a, c, _ = contact_columns(shape)
+    kn, kt = contacts.per_contact()
+    kn, kt = kn / load.F_D, kt / load.F_D
+    mu = jnp.asarray(mu, float)
+    e_y = jnp.array([0.0, 1.0, 0.0])
+    cand = jnp.asarray(_ASM)
+    slip = cand > 0
+    sgn = jnp.where(cand == 2, -1.0, 1.0)
+
+    def solve(sl, s):
+        stick = jnp.where(sl, 0.0, 1.0)
+        smu = jnp.where(sl, s * mu, 0.0)
+        K = (jnp.einsum("i,ij,ik->jk", kn, a, a) + jnp.einsum("i,ij,ik->jk", stick * kt, c, c)
+             - jnp.einsum("i,ij,ik->jk", smu * kn, c, a))
+        q, ok = solve3(K, e_y)
+        N = kn * (a @ q)
+        T = jnp.where(sl, s * mu * N, -kt * (c @ q))
+        p = (c @ q) + T / kt  # slip of the damper relative to the platform, along t
+        return N, T, p, ok
+
+    N, T, p, ok = jax.vmap(solve)(slip, sgn)
+    tol = LIMIT_TOL
+    inside = jnp.all(jnp.where(slip, True, jnp.abs(T) <= mu * N + tol), axis=1)
+    sliding = jnp.all(jnp.where(slip, sgn * p <= tol, True), axis=1)
+    good = ok & inside & sliding & jnp.all(N > -tol, axis=1)
+    score = jnp.where(good, 10 + jnp.sum(~slip, axis=1), 0)
+    best = jnp.argmax(score)
+    N, T = N[best], T[best]
+    return N, jnp.where(slip[best], sgn[best] * mu * N, T), good[best] & (jnp.min(N) > 0.0)
+
+
+def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
+    """(equilibrium residual, max cone violation, min N) of an explicit state (units of F_D)."""
+    a, c, _ = contact_columns(shape)
+    N, T = jnp.asarray(N, float), jnp.asarray(T, float)
+    residual = -a.T @ N + c.T @ T + jnp.array([0.0, 1.0, 0.0])
+    return (jnp.max(jnp.abs(residual)), jnp.max(jnp.abs(T) - jnp.asarray(mu, float) * N),
+            jnp.min(N))
+
+
+def _unit_circle(x):
+    """tau = arccos(x), sin(tau) >= 0, NaN-free at |x| = 1 (double where); breakpoints within 1e-12
+    of an extreme are put on it (as in harmonics: the rounding of sqrt(1 - x^2) there is ~1e-8)."""
+    inside = jnp.abs(x) < 1.0 - 1e-12
+    xs = jnp.where(inside, x, 0.0)
+    tau = jnp.where(inside, jnp.arccos(xs), jnp.where(x > 0, 0.0, jnp.pi))
+    sin = jnp.where(inside, jnp.sqrt(jnp.where(inside, 1.0 - xs * xs, 1.0)), 0.0)
+    return tau, sin
+
+
+def _half_fourier(dv, M0, dM, a_dv, branch):
+    """int M cos(tau) dtau and int M sin(tau) dtau over a half of piecewise-linear M, closed form.
+
+    The travel from the half's start is cum; x = cos(tau) = branch (1 - cum / a_dv): branch = +1
+    for the forward half (tau in [0, pi]), -1 for the backward one (tau in [pi, 2 pi]). On a segment
+    M = alpha + beta x, so int M cos = alpha [sin] + beta/2 [tau + sin x] and int M sin = -int M dx.
+    The same integrals as `harmonics` (there for the Base-Cycle's halves plus one stretch).
+    """
+    cum = jnp.cumsum(dv) - dv
+    x1 = jnp.clip(branch * (1.0 - cum / a_dv), -1.0, 1.0)
+    x2 = jnp.clip(branch * (1.0 - (cum + dv) / a_dv), -1.0, 1.0)
+    beta = -branch * a_dv * dM
+    alpha = M0 - beta * x1
+    t1, s1 = _unit_circle(x1)
+    t2, s2 = _unit_circle(x2)
+    if branch < 0:
+        t1, s1, t2, s2 = 2 * jnp.pi - t1, -s1, 2 * jnp.pi - t2, -s2
+    f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
+    f_sin = alpha * (x1 - x2) + 0.5 * beta * (x1 * x1 - x2 * x2)
+    return jnp.sum(f_cos), jnp.sum(f_sin)
+
+
+def _half_moment(shape, load, half: TravelHalf):
+    holder = _Holder(shape, load)
+    return moment(holder, half.N0, half.T0), moment(holder, half.dN, half.dT)
+
+
+class _Holder(NamedTuple):
+    shape: DamperShape
+    load: LoadCase
+
+
+def _half_energy(half: TravelHalf, F_D):
+    T1 = half.T0 + half.dT * half.dv[:, None]
+    return -F_D * jnp.sum(0.5 * (half.T0 + T1) * half.dslip * half.dv[:, None], axis=0)
+
+
+def _loop_numbers(shape, load, psi_a, fwd: TravelHalf, bwd: TravelHalf):
+    """(k_Re, k_Im, energy per contact, oint M dpsi) of the loop (forward, backward)."""
+    a_dv = travel_mm(psi_a, load.q_star)
+    m0f, dmf = _half_moment(shape, load, fwd)
+    m0b, dmb = _half_moment(shape, load, bwd)
+    c1, s1 = _half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
+    c2, s2 = _half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
+    k_re = (c1 + c2) / (jnp.pi * psi_a)
+    k_im = -(s1 + s2) / (jnp.pi * psi_a)
+    # oint M dpsi (psi in rad): trapezoids on the linear segments, dpsi = -branch dv / q*.
+    wf = jnp.sum((m0f + 0.5 * dmf * fwd.dv) * fwd.dv) / load.q_star
+    wb = jnp.sum((m0b + 0.5 * dmb * bwd.dv) * bwd.dv) / load.q_star
+    energy = _half_energy(fwd, load.F_D) + _half_energy(bwd, load.F_D)
+    return k_re, k_im, energy, wb - wf
+
+
+def _accelerate(mu, s0, s1, s2, have_history):
+    """Next start state of the pair iteration: Aitken's extrapolation where the iterates are
+    geometric along one direction (s2 - s1 = rho (s1 - s0), checked) and the extrapolated state is
+    admissible; else the plain iterate s2. Same rule as the Base-Cycle's iteration (cycle.py): within
+    a fixed pattern of events the pair map is affine, so where its contracting part has one
+    direction the extrapolation is exact; the next pair checks closure as usual."""
+    d1, d2 = s1 - s0, s2 - s1
+    n1 = jnp.dot(d1, d1)
+    ok = have_history & (n1 > 1e-30)
+    rho = jnp.where(ok, jnp.dot(d2, d1) / jnp.where(ok, n1, 1.0), 0.0)
+    off = d2 - rho * d1
+    n_off = jnp.dot(off, off)
+    n2 = jnp.dot(d2, d2)
+    collinear = n_off <= 1e-12 * n2 + 1e-30
+    ok = ok & collinear & (rho > -0.95) & (rho < 0.95)
+    step = jnp.where(ok, rho / jnp.where(ok, 1.0 - rho, 1.0), 0.0)
+    guess = s2 + step * d2
+    N, T = guess[:3], guess[3:]
+    admissible = jnp.all(N > 0.0) & jnp.all(jnp.abs(T) <= mu * N + LIMIT_TOL)
+    return jnp.where(ok & admissible, guess, s2)
+
+
+def _empty_half(mech, max_tracts):
+    shapes = jax.eval_shape(lambda: travel_half(mech, jnp.ones(3), jnp.zeros(3), -1.0, 1.0,
+                                                max_tracts))
+    return jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
+
+
+def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
+                     initial="gross_slip", max_tracts: int = MAX_TRACTS,
+                     max_pairs: int = MAX_PAIRS) -> AmplitudeCycle:
+    """The steady cycle at psi_a (mrad): pure JAX (jit / vmap / grad), no validation.
+
+    initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init at the forward extreme,
+    units of F_D). Python-static. Problems are reported in `status`, never as NaN.
+    """
+    mech = mechanics(shape, mu, contacts, load)
+    psi_ok = psi_a > 0.0
+    psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
+    a_dv = travel_mm(psi, load.q_star)
+    travel = 2.0 * a_dv
+    n_pre = 0
+    if initial == "gross_slip":
+        N0, T0, ok0 = gross_slip_state(shape, mech.mu)
+    elif initial == "assembly":
+        N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
+        n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
+    elif initial == "explicit":
+        N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
+        ok0 = jnp.min(N0) > 0.0
+    else:
+        raise ValueError(f"initial must be one of gross_slip, assembly, explicit; got {initial!r}")
+    N0 = jnp.where(ok0, N0, jnp.ones(3))  # keep the masked iteration finite
+    T0 = jnp.where(ok0, T0, 0.0)
+
+    # One scan over half-cycles (a single compiled half: the program stays small under grad):
+    # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat.
+    n_halves = n_pre + 2 * max_pairs
+
+    def run_half(c, j):
+        k = j - n_pre  # index within the pair iteration (negative: preliminary)
+        forward = (k % 2 == 0) | (k == -2)
+        direction = jnp.where(forward, -1.0, 1.0)
+        length = jnp.where(k == -2, a_dv, travel)
+        half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts)
+        bad = half.liftoff | half.failed
+        in_pairs = k >= 0
+        is_fwd = in_pairs & forward
+        is_bwd = in_pairs & ~forward
+        top = jnp.where(is_fwd, jnp.concatenate([c["N"], c["T"]]), c["top"])
+        there = jnp.concatenate([half.N_end, half.T_end])
+        gap = jnp.max(jnp.abs(there - top))
+        closed = is_bwd & (gap <= CLOSE_TOL)
+        nxt = _accelerate(mech.mu, c["prev"], top, there, k >= 2)
+        nxt = jnp.where(is_bwd, nxt, there)
+        pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
+            lambda x, y: jnp.where(m, x, y), new, old)
+        return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(is_bwd, top, c["prev"]),
+                    fwd=pick(half, c["fwd"], is_fwd), bwd=pick(half, c["bwd"], is_bwd),
+                    gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
+                    stop=closed | bad, bad=c["bad"] | bad,
+                    liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
+                    pairs=c["pairs"] + is_bwd.astype(jnp.int32))
+
+    def step(c, j):
+        return jax.lax.cond(c["stop"], lambda c, _: c, run_half, c, j), None
+
+    empty = _empty_half(mech, max_tracts)
+    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
+                bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
+                stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
+                pairs=jnp.array(0, jnp.int32))
+    end, _ = jax.lax.scan(step, init, jnp.arange(n_halves))
+    fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
+                                            end["pairs"], end["top"])
+    pre_lift, pre_fail = end["liftoff"], end["failed"]
+
+    k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd)
+    liftoff = pre_lift | fwd.liftoff | bwd.liftoff
+    failed = pre_fail | fwd.failed | bwd.failed
+    slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
+    status = jnp.zeros((), jnp.int32)
+    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, failed | ~psi_ok, RESULTS.singular)
+    status = RESULTS.promote(status, ~closed, RESULTS.not_converged)
+    status = RESULTS.promote(status, slid <= TRAVEL_TOL * travel, RESULTS.shakedown)
+    valid = RESULTS.valid(status)
+    zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
+    return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
+                          start[3:], fwd, bwd, zero(k_re), zero(k_im), zero(energy), zero(work),
+                          gap, npairs.astype(jnp.int32), status)
+
+
+_kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
+
+
+def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                    load: LoadCase = LoadCase(), *, initial="gross_slip",
+                    max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> AmplitudeCycle:
+    """The steady cycle at platform rotation amplitude psi_a_mrad > 0 (mrad), by the direct method.
+
+    initial: "gross_slip" (the Base-Cycle's state 0 at the forward extreme), "assembly" (F_D applied
+    at mid travel, then a quarter travel forward), or an explicit state (N, T): two (3,) arrays of
+    contact forces (R1, L1, L2) in units of F_D at the forward extreme, in equilibrium with F_D,
+    N >= 0 and |T| <= mu N. See the module docstring for the sign convention.
+
+    Returns an AmplitudeCycle; its `status` (jaxdamp.status.RESULTS) says whether the numbers are
+    valid (ok, shakedown) or not (liftoff, not_converged, singular: numbers zero). Jit-compiled;
+    inputs are validated here (ValueError naming the parameter and its range); under jit / vmap /
+    grad call `amplitude_kernel` directly.
+    """
+    from ._validate import check_int, check_range
+
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    check_int("max_tracts", max_tracts, 1)
+    check_int("max_pairs", max_pairs, 1)
+    psi = np.asarray(psi_a_mrad, float)
+    if psi.ndim != 0:
+        raise ValueError("psi_a_mrad must be a scalar in (0, 10000] mrad; use amplitude_curves for a grid")
+    N_init = T_init = None
+    if isinstance(initial, str):
+        if initial not in INITIAL_STATES:
+            raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)} or an (N, T) "
+                             f"pair of (3,) arrays; got {initial!r}")
+        mode = initial
+    else:
+        try:
+            N_init, T_init = (np.asarray(v, float) for v in initial)
+        except (TypeError, ValueError):
+            raise ValueError("initial must be gross_slip, assembly or an (N, T) pair of (3,) "
+                             "arrays (units of F_D)") from None
+        if N_init.shape != (3,) or T_init.shape != (3,):
+            raise ValueError("initial (N, T) must be two arrays of shape (3,) (R1, L1, L2), "
+                             "units of F_D")
+        res, cone, n_min = (float(v) for v in check_admissible(shape, mu, N_init, T_init))
+        if not np.isfinite(res) or res > ADMISSIBLE_TOL * 1e3:
+            raise ValueError(f"initial (N, T) must be in equilibrium with F_D: residual must be "
+                             f"in [0, {ADMISSIBLE_TOL * 1e3:g}] F_D; got {res:g}")
+        if n_min < 0.0:
+            raise ValueError(f"initial N must be in [0, inf) F_D; got min N = {n_min:g}")
+        if cone > ADMISSIBLE_TOL:
+            raise ValueError(f"initial T must satisfy |T| <= mu N: excess must be in "
+                             f"[0, {ADMISSIBLE_TOL:g}] F_D; got {cone:g}")
+        mode = "explicit"
+    return _kernel(shape, mu, contacts, load, psi, N_init, T_init, initial=mode,
+                   max_tracts=max_tracts, max_pairs=max_pairs)
+
+
+def moment_loop(ac: AmplitudeCycle):
+    """The (psi, M) loop of the steady cycle as vertices: psi in mrad about the loop centre
+    (forward extreme = +psi_a), M in N mm; forward half then backward half (numpy arrays)."""
+    psis, ms = [], []
+    holder = _Holder(ac.shape, ac.load)
+    q = float(ac.load.q_star)
+    top = float(ac.psi_a)
+    for half, branch in ((ac.forward, 1.0), (ac.backward, -1.0)):
+        act = np.asarray(half.active)
+        dv = np.asarray(half.dv)[act]
+        m0 = np.asarray(moment(holder, half.N0, half.T0))[act]
+        dm = np.asarray(moment(holder, half.dN, half.dT))[act]
+        start = top if branch > 0 else -top
+        cum = np.concatenate([[0.0], np.cumsum(dv)])
+        psis.extend(start - branch * psi_mrad(cum, q))
+        ms.extend(np.concatenate([m0, [m0[-1] + dm[-1] * dv[-1]] if len(dv) else []]))
+    return np.asarray(psis), np.asarray(ms)
+
+
+def transitions_chart(ac: AmplitudeCycle) -> list[dict]:
+    """One row per tract of the steady cycle: half, dv_mm, the state of R1, L1, L2, and
+    stretch=True for a constant-force gross-slip stretch (like `cycle.transitions_chart`)."""
+    from .geometry import CONTACT_NAMES
+    from .tract import STATE_NAMES
+
+    names = ["0"] + [chr(ord("A") + i) for i in range(2 * MAX_TRACTS + 1)]
+    rows, k = [], 0
+    for label, half in (("forward", ac.forward), ("backward", ac.backward)):
+        active = np.asarray(half.active)
+        for i in np.nonzero(active)[0]:
+            row = dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(half.dv[i]),
+                       **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, np.asarray(half.state[i]))})
+            if bool(half.stretch[i]):
+                row["stretch"] = True
+            rows.append(row)
+            k += 1
+    return rows
+
+
+# ---------------------------------------------------------------- k(psi_a) for many designs
+class StiffnessCurves(NamedTuple):
+    """k(psi_a) of a batch of designs: arrays (designs, amplitudes)."""
+
+    psi_a: jnp.ndarray  # mrad
+    k_re: jnp.ndarray  # N mm/mrad (zero where status is not ok / shakedown)
+    k_im: jnp.ndarray
+    status: jnp.ndarray  # RESULTS codes (int32)
+    cycles: jnp.ndarray  # pairs of halves run
+
+
+def _batch_size(args):
+    sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
+    return max(sizes) if sizes else 1
+
+
+def _broadcast_designs(args, size):
+    """Every leaf with a leading design axis of `size` (a leaf without it is shared)."""
+    def one(x):
+        x = jnp.asarray(x, float)
+        lead = x.ndim > 0 and x.shape[0] == size
+        return x if lead else jnp.broadcast_to(x, (size,) + x.shape)
+    return jax.tree_util.tree_map(one, args)
+
+
+def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad, *,
+                  initial="gross_slip", max_tracts: int = MAX_TRACTS,
+                  max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
+    """`amplitude_curves` as a pure JAX function (jit / vmap / grad / jacfwd): every input leaf has
+    a leading design axis or is shared; psi_a_mrad is (amplitudes,) shared or (designs, amplitudes).
+    Differentiable forward and reverse w.r.t. every input, NaN-free (the tracts' lengths are minima
+    of closed-form events, so a reversal falling on a transition only switches which one is taken)."""
+    args = (shapes, mu, contacts, load)
+    size = max(_batch_size(args), int(np.shape(psi_a_mrad)[0]) if np.ndim(psi_a_mrad) == 2 else 1)
+    shapes, mu, contacts, load = _broadcast_designs(args, size)
+    psi = jnp.asarray(psi_a_mrad, float)
+    psi = jnp.broadcast_to(psi, (size,) + psi.shape[-1:])
+
+    def design(s, m, c, ld, p):
+        run = lambda a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
+                                         max_tracts=max_tracts, max_pairs=max_pairs)
+        ac = jax.vmap(run)(p)
+        return StiffnessCurves(p, ac.k_re, ac.k_im, ac.status, ac.cycles)
+
+    return jax.vmap(design)(shapes, mu, contacts, load, psi)
+
+
+_curves_jit = jax.jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
+
+
+@partial(jax.jit, static_argnames=("initial", "max_tracts", "max_pairs"))
+def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
+    run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
+                                                  max_tracts=max_tracts, max_pairs=max_pairs)
+    ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
+    return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
+
+
+def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                     load: LoadCase = LoadCase(), *, initial="gross_slip",
+                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
+    """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
+    batched call. shapes / mu / contacts / load: every leaf with a leading design axis or a scalar
+    shared by all (as `cycle.base_cycles`; a per-contact (3,) stiffness of a batch of 3 designs is
+    read as one value per design). psi_a_mrad: (amplitudes,) shared or (designs, amplitudes), > 0.
+    initial: "gross_slip" or "assembly". Returns StiffnessCurves with (designs, amplitudes) arrays.
+
+    Concrete inputs run in two stages: one pair of halves for every (design, amplitude), then the
+    full iteration only where the cycle did not close in one pair (under plain vmap every element
+    would pay for the longest iteration). Traced inputs (inside jit / grad) run `curves_kernel`.
+    """
+    from ._validate import check_range, is_concrete
+
+    leaves = jax.tree_util.tree_leaves((shapes, mu, contacts, load, psi_a_mrad))
+    if not all(is_concrete(x) for x in leaves):
+        return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
+                             max_tracts=max_tracts, max_pairs=max_pairs)
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    from .geometry import validate_shape
+    from .params import validate_contacts, validate_load, validate_mu
+
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    psi = np.asarray(psi_a_mrad, float)
+    if psi.ndim not in (1, 2):
+        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
+                         "(0, 10000] mrad")
+    args = (shapes, mu, contacts, load)
+    size = max(_batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
+    designs = _broadcast_designs(jax.tree_util.tree_map(lambda x: np.asarray(x, float), args), size)
+    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
+    n_amp = psi.shape[1]
+    # Flatten (design, amplitude) pairs so that the second stage re-runs only the pairs that need it.
+    flat = jax.tree_util.tree_map(lambda x: jnp.repeat(x, n_amp, axis=0), designs)
+    flat_psi = jnp.asarray(psi.reshape(-1))
+    first = _flat_cycles(*flat, flat_psi, initial, max_tracts, 1)
+    again = np.nonzero(np.asarray(first.status) == RESULTS.not_converged)[0]
+    out = first
+    if max_pairs > 1 and again.size:
+        pad = 1 << int(np.ceil(np.log2(again.size)))
+        idx = np.concatenate([again, np.full(pad - again.size, again[0])])
+        sub = jax.tree_util.tree_map(lambda x: x[idx], flat)
+        rerun = _flat_cycles(*sub, flat_psi[idx], initial, max_tracts, max_pairs)
+        out = jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first, rerun)
+    return jax.tree_util.tree_map(lambda x: x.reshape(size, n_amp), out)

@@ -1,0 +1,44 @@
+"""Objectives at a prescribed amplitude, from jaxdamp's exact steady cycles (issue 13), besides
+k_Im,BC: the exact k_Im at a given psi_a from a named history, worst case over the mu set, and the
+band's lower bound (the robust choice: the least damping any admissible history gives).
+
+`k_im_at_amplitude` is a pure JAX function of the design (jit / grad / vmap); it is the metric an
+optimiser step differentiates. `robust_k_im` runs the band (sampling plus constrained refinement)
+and is for reporting and checking a design, not for differentiation.
+"""
+
+from __future__ import annotations
+
+import jax.numpy as jnp
+
+from jaxdamp import RESULTS, Contacts, LoadCase, amplitude_band, amplitude_kernel
+
+
+def k_im_at_amplitude(shape, mus, psi_a_mrad, contacts=Contacts(), load=LoadCase(), *,
+                      initial="gross_slip"):
+    """(k_Im per mu (n_mu,), worst = min over the mu set, valid per mu) at psi_a (mrad), in
+    N mm/mrad, from the exact steady cycle started at `initial` ("gross_slip" or "assembly").
+    An invalid cycle (liftoff, not periodic) counts as k_Im = 0 in the worst case."""
+    mus = jnp.atleast_1d(jnp.asarray(mus, float))
+    contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
+    load = LoadCase(*(jnp.asarray(v, float) for v in load))
+    psi = jnp.asarray(psi_a_mrad, float)
+    k_im, valid = [], []
+    for j in range(mus.shape[0]):
+        ac = amplitude_kernel(shape, mus[j], contacts, load, psi, initial=initial)
+        k_im.append(ac.k_im)
+        valid.append(RESULTS.valid(ac.status))
+    k_im, valid = jnp.stack(k_im), jnp.stack(valid)
+    return k_im, jnp.min(jnp.where(valid, k_im, 0.0)), valid
+
+
+def robust_k_im(shape, mus, psi_a_mrad, contacts=Contacts(), load=LoadCase(), **band_kwargs):
+    """The band's lower bound of k_Im (N mm/mrad) at psi_a, worst over the mu set, with the per-mu
+    bands (jaxdamp.band.Band). Not differentiable: for reporting and checking designs."""
+    bands = [amplitude_band(shape, float(mu), psi_a_mrad, contacts, load, **band_kwargs)
+             for mu in jnp.atleast_1d(jnp.asarray(mus, float))]
+    lows = [b.bounds[2] if b.status == RESULTS.ok else 0.0 for b in bands]
+    return min(lows), bands
+
+
+__all__ = ["k_im_at_amplitude", "robust_k_im"]

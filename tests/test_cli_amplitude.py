@@ -1,0 +1,68 @@
+"""`jaxdamp amplitude`: JSON contract, nulls, status names, bad input."""
+
+import json
+
+import pytest
+
+import jaxdamp as jd
+from jaxdamp.amplitude import amplitude_cycle
+from jaxdamp.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_json_contract(capsys):
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--kn", "17900",
+                       "--kt", "3580", "--psi-a", "0.3,1.2", "--initial", "assembly", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert set(d) == {"inputs", "status", "amplitudes"} and d["status"] == "ok"
+    assert d["inputs"]["psi_a_mrad"] == [0.3, 1.2] and d["inputs"]["initial"] == "assembly"
+    assert d["inputs"]["mu"] == 0.5 and d["inputs"]["kn"] == 17900 and d["inputs"]["shape"] == "60sym"
+    rows = d["amplitudes"]
+    assert [set(r) for r in rows] == [{"psi_a_mrad", "k_re", "k_im", "status", "cycles"}] * 2
+    assert rows[0]["status"] == "shakedown" and rows[1]["status"] == "ok"
+    ref = amplitude_cycle(jd.family_shape("60sym"), 0.5, 1.2, jd.Contacts(17900.0, 3580.0),
+                          initial="assembly")
+    assert rows[1]["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
+    assert rows[1]["k_im"] == pytest.approx(1793, abs=1)  # the issue's brute-force value
+
+
+def test_liftoff_gives_nulls(capsys):
+    code, out, _ = run(capsys, "amplitude", "--shape", "74L", "--mu", "0.7", "--psi-a", "1",
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    row = d["amplitudes"][0]
+    assert row["status"] == "liftoff" and row["k_re"] is None and row["k_im"] is None
+    assert d["status"] == "liftoff"
+    assert "NaN" not in out and "Infinity" not in out
+
+
+def test_band_in_json_and_table(capsys):
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "4",
+                       "--band", "--json")
+    assert code == 0
+    band = json.loads(out)["amplitudes"][0]["band"]
+    assert set(band) == {"k_re_min", "k_re_max", "k_im_min", "k_im_max"}
+    # Above psi_BC the band closes on the cycle itself.
+    row = json.loads(out)["amplitudes"][0]
+    assert band["k_im_min"] == pytest.approx(row["k_im"], rel=1e-9)
+    assert band["k_im_max"] == pytest.approx(row["k_im"], rel=1e-9)
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "4")
+    assert code == 0 and "k_Im" in out
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["--psi-a", "0,1"], "--psi-a"), (["--psi-a", "abc"], "--psi-a"), (["--psi-a", "nan"], "--psi-a"),
+    (["--psi-a", "1", "--initial", "rest"], "--initial"), (["--psi-a", "1", "--kn", "-1"], "kn"),
+])
+def test_bad_input_exits_2_with_one_line(capsys, argv, needle):
+    code, _, err = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", *argv)
+    assert code == 2
+    lines = [ln for ln in err.strip().splitlines() if ln]
+    assert len(lines) == 1 and needle in lines[0]
