@@ -129,13 +129,13 @@ def run(args) -> int:
 
 
 def _contacts(args):
-    from jaxdamp.params import Contacts
+    from jaxdamp import Contacts
 
     return Contacts(args.kn, args.kt)
 
 
 def _load():
-    from jaxdamp.params import LoadCase
+    from jaxdamp import LoadCase
 
     return LoadCase()  # make_problem's default: the reference load case
 

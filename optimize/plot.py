@@ -15,7 +15,7 @@ def plot_paths(result, grid: GridResult, ax=None, family=True, cmap="viridis"):
     """
     import matplotlib.pyplot as plt
 
-    from jaxdamp.geometry import family_shape
+    from jaxdamp import family_shape
 
     free = list(result.problem.space.free)
     if "theta_l" not in free or "theta_r" not in free:
