@@ -335,7 +335,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     def one(lo_i, hi_i):
         return _root_ift(g_of, lo_i, hi_i, REFINE_STEPS)
 
-    roots = jnp.stack([one(lo[i], hi[i]) for i in range(max_roots)])
+    roots = jax.vmap(one)(lo, hi)
     roots = jnp.where(found, roots, 0.0)
     freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
     any_root = n_roots > 0
@@ -421,12 +421,14 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
     f_fd = float(np.median(force) if force_at_fd_n is None else force_at_fd_n)
     mus = np.asarray(mu, float)
 
+    force_j, fds_j = jnp.asarray(force), jnp.asarray(fds)
+
     @jax.jit
     def per_mu(m):
         d = damper_stiffness(shape, m, contacts, load, method=method)
-        by_force = jax.vmap(lambda f: peak_response(d, mode, f).peak_amplitude_mm)(force)
+        by_force = jax.vmap(lambda f: peak_response(d, mode, f).peak_amplitude_mm)(force_j)
         by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
-                                                  f_fd).peak_amplitude_mm)(fds)
+                                                  f_fd).peak_amplitude_mm)(fds_j)
         stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
         return by_force, by_fd, stuck_f, d.status
 
