@@ -160,12 +160,14 @@ def _continuation(res, z0, t0, ds, n_steps, n_newton):
     def step(carry, _):
         z, t = carry
         t = tangent(z, t)
-        z1 = correct(z + ds * t, t)
+
         # A corrector that failed (a fold of the damper law, a contact opening) is retried from
-        # the same point with a third of the step, then a ninth.
-        for shrink in (3.0, 9.0):
+        # the same point with a third of the step, then a ninth (one compiled corrector).
+        def attempt(z1, shrink):
             bad = ~(jnp.max(jnp.abs(res(z1))) <= NEWTON_TOL)
-            z1 = jax.lax.cond(bad, lambda: correct(z + ds / shrink * t, t), lambda: z1)
+            return jax.lax.cond(bad, lambda: correct(z + ds / shrink * t, t), lambda: z1), None
+
+        z1, _ = jax.lax.scan(attempt, z + ds * t, jnp.array([1.0, 3.0, 9.0]))
         return (z1, t), (z1, t)
 
     _, (zs, ts) = jax.lax.scan(step, (z0, t0), None, length=n_steps)
