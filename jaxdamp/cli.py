@@ -193,7 +193,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 # Modules that contribute subcommands through a `register_cli(subparsers)` function.
 EXTRA_COMMAND_MODULES = ("jaxdamp.gradients", "jaxdamp.batch", "jaxdamp.calibration",
-                         "optimize.cli", "jaxdamp.study")
+                         "optimize.cli", "jaxdamp.study", "jaxdamp.cli_response")
 
 
 def _extra_commands():

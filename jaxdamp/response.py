@@ -206,6 +206,16 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
     return FRF(a, f_lo, f_hi, has_lo, has_hi)
 
 
+def frf_amplitude_grid(top_mm, n: int = 200, low: float = 1e-2):
+    """Amplitudes (mm) for an FRF up to the peak top_mm: log-spaced from low * top, then dense
+    towards the top where the two branches meet (1 - A/top from 1e-2 down to 1e-7)."""
+    top = jnp.asarray(top_mm, float)
+    m = n // 2
+    base = top * jnp.geomspace(low, 0.99, n - m)
+    near = top * (1.0 - jnp.geomspace(1e-2, 1e-7, m))
+    return jnp.concatenate([base, near])
+
+
 def response_amplitude_linear(mode: BladeMode, k_re, k_im, force_n, frequency_hz):
     """|A| = F / |D| for a damper frozen at (k_re, k_im) (a linear spring): the free and stuck
     limits' FRFs as a function of frequency."""
@@ -445,5 +455,5 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
 
 __all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
-           "no_damper", "frf", "response_amplitude_linear", "peak_residual", "peak_frequency_hz",
+           "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual", "peak_frequency_hz",
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS"]
