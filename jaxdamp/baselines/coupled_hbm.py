@@ -298,29 +298,33 @@ def describing_function_hbm(damper: DamperStiffness, mode: BladeMode, force_n, *
                              force_n, scale, om, width, n_steps=n_steps)
 
 
+@partial(jax.jit, static_argnames=("harmonics", "n_time", "n_periods", "n_newton"))
+def _fixed(shape, mu, contacts, load, mode, force_n, omega_ratio, y0, harmonics, n_time,
+           n_periods, n_newton):
+    model, _ = march_model(shape, mu, contacts, load)
+
+    def res_y(y):
+        return residual(lambda v: aft_modal_force(model, mode, v, harmonics, n_time, n_periods),
+                        mode, harmonics, force_n, y, omega_ratio) / force_n
+
+    y = _solve_fixed(res_y, y0, n_newton)
+    return y, jnp.max(jnp.abs(res_y(y)))
+
+
 def solve_at_frequency(shape, mu, contacts, load, mode: BladeMode, force_n, frequency_hz, y0,
                        *, harmonics=(1, 3, 5), n_time: int = N_TIME, n_periods: int = N_PERIODS,
                        n_newton: int = 2 * N_NEWTON):
     """HBM-AFT coefficients at one frequency (Newton from y0, e.g. a continuation point);
-    returns (y, max |R| / F)."""
-    from ..params import Contacts, LoadCase
+    returns (y, max |R| / F). Compiled once per (harmonics, n_time, n_periods, n_newton)."""
+    from ..params import Contacts, LoadCase, prepare_inputs
 
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
-    harmonics = tuple(int(h) for h in harmonics)
-
-    @jax.jit
-    def run(y0, om):
-        model, _ = march_model(shape, mu, contacts, load)
-
-        def res_y(y):
-            return residual(lambda v: aft_modal_force(model, mode, v, harmonics, n_time, n_periods),
-                            mode, harmonics, force_n, y, om) / force_n
-
-        y = _solve_fixed(res_y, y0, n_newton)
-        return y, jnp.max(jnp.abs(res_y(y)))
-
-    return run(jnp.asarray(y0, float), jnp.asarray(frequency_hz, float) / mode.f0_hz)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    mode = BladeMode(*(jnp.asarray(v, float) for v in mode))
+    return _fixed(shape, mu, contacts, load, mode, jnp.asarray(force_n, float),
+                  jnp.asarray(frequency_hz, float) / mode.f0_hz, jnp.asarray(y0, float),
+                  tuple(int(h) for h in harmonics), n_time, n_periods, n_newton)
 
 
 __all__ = ["HBMPath", "coupled_hbm", "describing_function_hbm", "continuation_path",
