@@ -26,7 +26,9 @@ def main():
     kim = opt.optimize()  # the k_Im,BC:worst optimum (mu = 0.3, 0.5, 0.7), as shipped
     t_kim = time.perf_counter() - t
     s = kim.shape
-    k_im_vec = [float(s.theta_l), float(s.theta_r), float(s.br_over_hr), float(s.bl2_over_hl)]
+    k_im_vec = [float(s.get(n, d)) for n, d in (("theta_l", 60.0), ("theta_r", 60.0),
+                                                ("br_over_hr", 0.14), ("bl2_over_hl", 0.8))]
+    print("k_Im,BC optimum:", k_im_vec, float(kim.objective))
     problem = opt.make_problem(mus=(0.3, 0.4, 0.5, 0.6, 0.7))
     runs = []
     for spread in (0.0, 0.2):

@@ -455,5 +455,6 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
 
 __all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
-           "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual", "peak_frequency_hz",
+           "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual",
+           "peak_frequency_hz",
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS"]

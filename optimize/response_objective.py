@@ -18,7 +18,6 @@ no-liftoff constraint is kept strictly, never penalised).
 
 from __future__ import annotations
 
-from functools import partial
 from typing import NamedTuple
 
 import jax
@@ -50,7 +49,7 @@ def _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load):
     return jax.vmap(per_mu)(mus)
 
 
-@partial(jax.jit, static_argnames=())
+@jax.jit
 def _worst(v, mus, fd_factors, force_n, mode, kn, kt, load):
     a, status = _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load)
     return jnp.max(a), jnp.max(status)
@@ -102,7 +101,8 @@ def _complete(problem: Problem, z):
     """Complete shape vector from unit-box coordinates of the free variables."""
     sp = problem.space
     fixed = dict(sp.fixed)
-    x = dict(zip(sp.free, np.asarray(sp.lower) + np.asarray(z) * (np.asarray(sp.upper) - np.asarray(sp.lower))))
+    lo, hi = np.asarray(sp.lower), np.asarray(sp.upper)
+    x = dict(zip(sp.free, lo + np.asarray(z) * (hi - lo)))
     return np.array([x.get(n, fixed.get(n)) for n in VARIABLES], float)
 
 

@@ -118,7 +118,7 @@ def residual(force_fn, mode: BladeMode, harmonics, force_n, y, omega_ratio):
     """Harmonic balance residual (N), length 2H."""
     h = jnp.repeat(jnp.asarray(harmonics, float), 2)
     stiff = mode.k_b * (1.0 - (h * omega_ratio) ** 2)
-    # i eta k_b X with X = a - i b: real part eta k_b b, imaginary -eta k_b a, i.e. (c, s) += (eta k_b b, -eta k_b a).
+    # i eta k_b X with X = a - i b is eta k_b b + i eta k_b a: (c, s) += (eta k_b b, -eta k_b a).
     swap = jnp.stack([y[1::2], -y[0::2]], axis=-1).reshape(-1)
     fd, _ = force_fn(y)
     rhs = jnp.zeros_like(y).at[0].set(force_n)
@@ -328,5 +328,6 @@ def solve_at_frequency(shape, mu, contacts, load, mode: BladeMode, force_n, freq
 
 
 __all__ = ["HBMPath", "coupled_hbm", "describing_function_hbm", "continuation_path",
-           "aft_modal_force", "first_harmonic_phase", "describing_modal_force", "residual", "synthesize", "project",
+           "aft_modal_force", "first_harmonic_phase", "describing_modal_force", "residual", "synthesize",
+           "project",
            "solve_at_frequency"]
