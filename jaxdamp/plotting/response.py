@@ -1,0 +1,103 @@
+"""Figures of the blade forced response: FRFs with and without the damper, the designer's diagram,
+and the single-harmonic error against H = 3, 5 and time integration. Each function takes numbers
+already computed (numpy arrays / result tuples) and returns a matplotlib Figure; no backend is
+chosen here."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def _frf_line(ax, curve, **kw):
+    """One FRF as a single polyline: the low branch up to the peak, then the high branch back."""
+    a = np.asarray(curve.amplitude_mm)
+    lo, hi = np.asarray(curve.has_low), np.asarray(curve.has_high)
+    f = np.concatenate([np.asarray(curve.f_low_hz)[lo], np.asarray(curve.f_high_hz)[hi][::-1]])
+    amp = np.concatenate([a[lo], a[hi][::-1]])
+    return ax.plot(f, amp, **kw)
+
+
+def frf_figure(curves, forces_n, free_curves=None, stuck_curves=None, *, title=None):
+    """FRFs (first-harmonic tip amplitude, mm, against frequency, Hz) at several forces: with the
+    damper (solid), without it (free, dashed) and with it stuck (dotted), log amplitude axis.
+
+    curves, free_curves, stuck_curves: lists of `response.FRF` (one per force)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for i, (c, force) in enumerate(zip(curves, forces_n)):
+        col = colors[i % len(colors)]
+        _frf_line(ax, c, color=col, lw=1.8, label=f"F = {force:g} N, damper")
+        if free_curves is not None:
+            _frf_line(ax, free_curves[i], color=col, lw=0.9, ls="--",
+                      label="free (no damper)" if i == 0 else None)
+        if stuck_curves is not None:
+            _frf_line(ax, stuck_curves[i], color=col, lw=0.9, ls=":",
+                      label="damper stuck" if i == 0 else None)
+    ax.set_yscale("log")
+    ax.set_xlabel("frequency, Hz")
+    ax.set_ylabel("tip amplitude A (first harmonic), mm")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title or "Forced response, amplitude-layered (first harmonic)")
+    fig.tight_layout()
+    return fig
+
+
+def designer_diagram_figure(dd, *, title=None):
+    """The designer's diagram (`response.DesignerDiagram`): peak A* against F (log-log) and
+    against F_D at fixed F, each with the mu band, the curve per mu, and the free/stuck limits."""
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    for ax, x, per_mu, band, free, stuck, xlabel in (
+            (a1, dd.force_n, dd.peak_vs_force_mm, dd.band_force_mm, dd.free_vs_force_mm,
+             dd.stuck_vs_force_mm, "modal force F, N"),
+            (a2, dd.fd_n, dd.peak_vs_fd_mm, dd.band_fd_mm, dd.free_vs_fd_mm, dd.stuck_vs_fd_mm,
+             "damper load F_D, N")):
+        ax.fill_between(x, band[0], band[1], color="C0", alpha=0.25,
+                        label=f"mu {dd.mu.min():g} ... {dd.mu.max():g}")
+        for m, row in zip(dd.mu, per_mu):
+            ax.plot(x, row, color="C0", lw=0.7, alpha=0.7)
+        ax.plot(x, free, "k--", lw=1.2, label="free and stuck limits (F / eta k_b)")
+        ax.plot(x, stuck, "k:", lw=0.8)
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel(xlabel)
+        ax.set_ylabel("peak tip amplitude A*, mm")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    a1.set_title("peak response against excitation")
+    a2.set_title(f"peak response against F_D at F = {dd.force_at_fd_n:g} N")
+    if title:
+        fig.suptitle(title)
+    fig.tight_layout()
+    return fig
+
+
+def harmonic_error_figure(forces_n, single, references, *, title=None):
+    """Relative error of the single-harmonic peak, (A_1 - A_ref) / A_ref, against each reference.
+
+    single: (n_force,) H = 1 peak amplitudes (mm); references: dict label -> (n_force,) peak
+    amplitudes (mm) of H = 3, H = 5, time integration, ... (NaN where not computed)."""
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    single = np.asarray(single, float)
+    for i, (label, ref) in enumerate(references.items()):
+        ref = np.asarray(ref, float)
+        err = np.abs(single - ref) / ref
+        ax.plot(forces_n, err, "o-", color=f"C{i}", label=f"|H=1 - {label}| / {label}")
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("modal force F, N")
+    ax.set_ylabel("relative error of the single-harmonic peak")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title or "Where one harmonic is not enough")
+    fig.tight_layout()
+    return fig
+
+
+__all__ = ["frf_figure", "designer_diagram_figure", "harmonic_error_figure"]

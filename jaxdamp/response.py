@@ -1,0 +1,482 @@
+"""Blade forced response from the damper's complex stiffness (the Platform Centred Reduction).
+
+One blade-dominated mode of a tuned bladed disk at one interblade phase angle, reduced to the tip
+displacement amplitude A (mm). The damper is a complex spring between the platforms: at platform
+rotation amplitude psi_a = r A (mrad) it adds 1e-3 r^2 (k_Re + i k_Im) (N/mm) to the modal dynamic
+stiffness, with k in N mm/mrad (M = k psi, psi in mrad, and the modal force of a moment M is
+1e-3 r M since a rotation psi (mrad) is 1e-3 r A rad per mm of tip motion):
+
+    D(omega, A) = k_b (1 - (omega/omega0)^2 + i eta) + 1e-3 r^2 (k_Re(r A) + i k_Im(r A))
+
+and the first-harmonic steady state is |D(omega, A)| A = F (the amplitude-layered solution: each
+amplitude A is a linear problem). For each A the equation is quadratic in omega^2 (`frf`); at the
+peak Re D = 0, so A (eta k_b + 1e-3 r^2 k_Im(r A)) = F (`peak_response`).
+
+The damper enters only through a pure-JAX, differentiable `k_of_psi(psi_a_mrad) -> (k_re, k_im)`
+built by `damper_stiffness(shape, mu, contacts, load, method=...)`: "exact" (default) takes the
+steady travel-limited cycle at each amplitude (`jaxdamp.amplitude`, from a gross-slip history
+unless initial="assembly"); "interpolated" is the paper's, `complex_stiffness(method=
+"interpolated")` on the Base-Cycle (exact for psi_a >= psi_BC, linear in the microslip range).
+
+Units: A and tip displacements in mm, F in N, k_b in N/mm, f in Hz, r in mrad/mm, psi in mrad,
+k in N mm/mrad.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .status import RESULTS
+
+# ----------------------------------------------------------------------------- the blade mode
+
+
+class BladeMode(NamedTuple):
+    """One blade mode with the platforms free (a pytree: every field may be traced).
+
+    ILLUSTRATIVE defaults, chosen to be realistic rather than flattering (they are not the paper's:
+    the paper gives no blade). With the paper's reference damper (60sym, mu = 0.5, F_D = 1000 N,
+    q* = 100 mm, the reference contact pair), k_Re,fs = 28 744 N mm/mrad and k_Im,BC = 4 927
+    N mm/mrad at psi_BC = 2.18 mrad. With the defaults:
+
+    - f0 = 500 Hz and k_b = 500 N/mm: a tip-normalised modal mass k_b / omega0^2 = 51 g, the order
+      of a small turbine blade's first bending mode;
+    - r = 1 mrad/mm: 0.1 mm of relative radial platform motion per mm of tip motion at q* = 100 mm
+      (platforms near the root move a tenth of the tip);
+    - eta = 1e-3: the upper end of a blade's material + root-joint loss factor (1e-4 ... 1e-3);
+      a larger eta makes the damper look less effective, which is the non-flattering side.
+
+    Then the stuck damper raises the frequency by sqrt(1 + 1e-3 r^2 k_Re,fs / k_b) - 1 = 2.8 %
+    (a few per cent, as measured on rigs with stuck underplatform dampers), and at the Base-Cycle
+    the damper's modal loss term 1e-3 r^2 k_Im,BC = 4.9 N/mm is ten times eta k_b = 0.5 N/mm.
+    """
+
+    f0_hz: jnp.ndarray | float = 500.0
+    k_b: jnp.ndarray | float = 500.0  # modal stiffness, N/mm
+    eta: jnp.ndarray | float = 1e-3  # structural loss factor
+    r: jnp.ndarray | float = 1.0  # platform rotation per tip displacement, mrad/mm
+
+
+def validate_mode(mode: BladeMode) -> BladeMode:
+    """ValueError naming the parameter and its range (concrete values only)."""
+    from ._validate import check_positive, check_range
+
+    check_positive("f0_hz", mode.f0_hz, unit="Hz")
+    check_positive("k_b", mode.k_b, unit="N/mm")
+    check_range("eta", mode.eta, 0.0, 1.0)
+    check_range("r", mode.r, 0.0, 1e6, lo_open=True, unit="mrad/mm")
+    return mode
+
+
+# ----------------------------------------------------------------------------- damper stiffness
+
+KOfPsi = Callable[[jnp.ndarray], tuple]
+
+
+class DamperStiffness(NamedTuple):
+    """The damper as a complex spring: k_of_psi(psi_a_mrad) -> (k_re, k_im) in N mm/mrad.
+
+    status: RESULTS code of the damper model (liftoff, not_converged, ...); k_re_stuck: the
+    stick-state stiffness k_Re,fs (the stuck limit); psi_ref_mrad: an amplitude scale of the curve
+    (psi_BC), used to place amplitude grids.
+    """
+
+    k_of_psi: KOfPsi
+    status: jnp.ndarray
+    k_re_stuck: jnp.ndarray
+    psi_ref_mrad: jnp.ndarray
+
+
+def _interpolated(shape, mu, contacts, load) -> DamperStiffness:
+    from .cycle import base_cycle
+    from .harmonics import complex_stiffness, five_numbers
+
+    bc = base_cycle(shape, mu, contacts, load)
+    nums = five_numbers(bc)
+    status = jnp.int32(RESULTS.ok)
+    status = RESULTS.promote(status, bc.liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, bc.failed, RESULTS.singular)
+    status = RESULTS.promote(status, ~bc.converged, RESULTS.not_converged)
+    return DamperStiffness(lambda psi: complex_stiffness(bc, psi, method="interpolated"), status,
+                           nums.k_re_fs,
+                           jnp.maximum(nums.psi_bc, 1e-12))
+
+
+def _exact(shape, mu, contacts, load, initial: str = "gross_slip") -> DamperStiffness:
+    """k(psi_a) from the exact steady cycle at each amplitude (`jaxdamp.amplitude`), from the named
+    initial state (gross_slip: the state after a gross-slip history). The stuck limit and the
+    amplitude scale come from the Base-Cycle."""
+    from .amplitude import amplitude_kernel
+
+    base = _interpolated(shape, mu, contacts, load)
+
+    def k_of_psi(psi):
+        psi = jnp.asarray(psi, float)
+        cycles = jax.vmap(lambda a: amplitude_kernel(shape, mu, contacts, load, a,
+                                                     initial=initial))(psi.reshape(-1))
+        return cycles.k_re.reshape(psi.shape), cycles.k_im.reshape(psi.shape)
+
+    return base._replace(k_of_psi=k_of_psi)
+
+
+STIFFNESS_METHODS: dict[str, Callable[..., DamperStiffness]] = {"interpolated": _interpolated,
+                                                                "exact": _exact}
+
+
+def register_stiffness_method(name: str, factory: Callable[..., DamperStiffness]) -> None:
+    """Add a way to build k(psi_a): factory(shape, mu, contacts, load) -> DamperStiffness.
+
+    Built in: "exact" (the travel-limited steady cycles of `jaxdamp.amplitude`, option initial=)
+    and "interpolated" (the paper's linear microslip interpolation, for comparison with it)."""
+    STIFFNESS_METHODS[name] = factory
+
+
+def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
+                     **options) -> DamperStiffness:
+    """The damper's amplitude-dependent complex stiffness for one design (pure JAX, traceable in
+    the shape, mu, contact stiffness and load). method: a key of STIFFNESS_METHODS, by default the
+    exact curve from a gross-slip history (options: initial="gross_slip" | "assembly")."""
+    from .params import Contacts, LoadCase
+
+    if method not in STIFFNESS_METHODS:
+        raise ValueError(f"method must be one of {', '.join(STIFFNESS_METHODS)}; got {method!r}")
+    contacts = Contacts() if contacts is None else contacts
+    load = LoadCase() if load is None else load
+    return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
+
+
+def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) -> DamperStiffness:
+    """The paper's scaling law: k(psi; F_D, c kn, c kt) from the curve at (F_D0, kn, kt).
+
+    Forces (and moments) scale with F_D; displacements (and psi) with F_D / k at fixed kt/kn. So
+    M(psi; F_D, c) = (F_D/F_D0) M0(psi / s) with s = (F_D/F_D0) / c, and k = M / psi gives
+    k(psi; F_D, c) = c k0(psi c F_D0 / F_D). At fixed contact stiffness (c = 1) an F_D change only
+    stretches the psi axis: the stick stiffness is independent of F_D. An F_D sweep costs one curve.
+    """
+    s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
+
+    def k_of_psi(psi):
+        k_re, k_im = ref.k_of_psi(jnp.asarray(psi, float) / s)
+        return contact_scale * k_re, contact_scale * k_im
+
+    return DamperStiffness(k_of_psi, ref.status, contact_scale * ref.k_re_stuck,
+                           ref.psi_ref_mrad * s)
+
+
+def stuck_damper(k_re_stuck) -> DamperStiffness:
+    """The stuck limit: a real spring k_Re,fs at every amplitude (no dissipation)."""
+    k = jnp.asarray(k_re_stuck, float)
+    return DamperStiffness(lambda psi: (jnp.zeros_like(psi) + k, jnp.zeros_like(psi)),
+                           jnp.int32(RESULTS.ok), k, jnp.asarray(1.0))
+
+
+def no_damper() -> DamperStiffness:
+    """The free limit: platforms without a damper."""
+    return stuck_damper(0.0)
+
+
+# ----------------------------------------------------------------------------- FRF (closed form)
+
+
+class FRF(NamedTuple):
+    """First-harmonic response curve at force F, layered by amplitude (arrays over the A grid).
+
+    At each A the equation |D| A = F has up to two frequencies: the low branch (below the peak
+    frequency) and the high branch. Missing branches are masked (has_low / has_high False, value
+    0), never NaN.
+    """
+
+    amplitude_mm: jnp.ndarray
+    f_low_hz: jnp.ndarray
+    f_high_hz: jnp.ndarray
+    has_low: jnp.ndarray
+    has_high: jnp.ndarray
+
+
+def _dyn(mode: BladeMode, k_of_psi, amplitude_mm):
+    """Damper-modified modal stiffness terms at amplitude A: (real part less the inertia, imaginary)."""
+    a = jnp.asarray(amplitude_mm, float)
+    k_re, k_im = k_of_psi(mode.r * a)
+    g = 1e-3 * mode.r ** 2
+    return mode.k_b + g * k_re, mode.eta * mode.k_b + g * k_im
+
+
+def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
+    """Frequencies (Hz) at which the first-harmonic amplitude is A, for each A of amplitude_mm.
+
+    k_b (1 - W) + K_re = +/- sqrt((F/A)^2 - K_im'^2) with W = (omega/omega0)^2 and
+    K_im' = eta k_b + 1e-3 r^2 k_Im: W = (k_b + K_re -/+ s) / k_b, s = sqrt(...).
+    """
+    a = jnp.asarray(amplitude_mm, float)
+    re, im = _dyn(mode, damper.k_of_psi, a)
+    pos = a > 0
+    fa = jnp.asarray(force_n, float) / jnp.where(pos, a, 1.0)
+    disc = fa ** 2 - im ** 2
+    real = pos & (disc >= 0)
+    s = jnp.where(real, jnp.sqrt(jnp.where(real, disc, 1.0)), 0.0)
+    w_hi = (re + s) / mode.k_b
+    w_lo = (re - s) / mode.k_b
+    has_hi = real & (w_hi > 0)
+    has_lo = real & (w_lo > 0)
+    f_hi = jnp.where(has_hi, mode.f0_hz * jnp.sqrt(jnp.where(has_hi, w_hi, 1.0)), 0.0)
+    f_lo = jnp.where(has_lo, mode.f0_hz * jnp.sqrt(jnp.where(has_lo, w_lo, 1.0)), 0.0)
+    return FRF(a, f_lo, f_hi, has_lo, has_hi)
+
+
+def frf_amplitude_grid(top_mm, n: int = 200, low: float = 1e-2):
+    """Amplitudes (mm) for an FRF up to the peak top_mm: log-spaced from low * top, then dense
+    towards the top where the two branches meet (1 - A/top from 1e-2 down to 1e-7)."""
+    top = jnp.asarray(top_mm, float)
+    m = n // 2
+    base = top * jnp.geomspace(low, 0.99, n - m)
+    near = top * (1.0 - jnp.geomspace(1e-2, 1e-7, m))
+    return jnp.concatenate([base, near])
+
+
+def response_amplitude_linear(mode: BladeMode, k_re, k_im, force_n, frequency_hz):
+    """|A| = F / |D| for a damper frozen at (k_re, k_im) (a linear spring): the free and stuck
+    limits' FRFs as a function of frequency."""
+    w = (jnp.asarray(frequency_hz, float) / mode.f0_hz) ** 2
+    g = 1e-3 * mode.r ** 2
+    re = mode.k_b * (1.0 - w) + g * k_re
+    im = mode.eta * mode.k_b + g * k_im
+    return force_n / jnp.sqrt(re ** 2 + im ** 2)
+
+
+# ----------------------------------------------------------------------------- peak response
+
+N_GRID = 160  # bracketing grid points (log-spaced)
+GRID_DECADES = 7.0  # the grid spans [A_hi 10^-7, A_hi]
+MAX_ROOTS = 4
+REFINE_STEPS = 60  # safeguarded Newton/bisection steps per root (bounded scan)
+
+
+class Peaks(NamedTuple):
+    """Every peak amplitude A* at force F: the roots of A (eta k_b + 1e-3 r^2 k_Im(r A)) = F.
+
+    roots_mm / frequency_hz: (MAX_ROOTS,) ascending, masked by `found` (0 where absent). Between
+    the first and the second root the response curve has no point; roots 2 and 3 bound an isola
+    (a detached branch), and so on. peak_amplitude_mm is the first root: the largest amplitude on
+    the branch connected to small amplitudes; max_amplitude_mm is the largest root (isolas
+    included). psi_a_mrad = r * peak_amplitude_mm. status: RESULTS (no_root where the search range
+    holds no root, e.g. eta = 0 and F beyond the damper's friction force; the damper's own status
+    otherwise). n_roots counts the sign changes on the grid (roots closer than a grid cell pair
+    up and are missed: tangencies are not reported).
+    """
+
+    roots_mm: jnp.ndarray
+    frequency_hz: jnp.ndarray
+    found: jnp.ndarray
+    n_roots: jnp.ndarray
+    peak_amplitude_mm: jnp.ndarray
+    peak_frequency_hz: jnp.ndarray
+    psi_a_mrad: jnp.ndarray
+    max_amplitude_mm: jnp.ndarray
+    status: jnp.ndarray
+
+
+def peak_residual(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm):
+    """A (eta k_b + 1e-3 r^2 k_Im(r A)) - F, N: zero at a peak (Re D = 0 and |D| A = F)."""
+    a = jnp.asarray(amplitude_mm, float)
+    _, im = _dyn(mode, damper.k_of_psi, a)
+    return a * im - force_n
+
+
+def peak_frequency_hz(damper: DamperStiffness, mode: BladeMode, amplitude_mm):
+    """f = f0 sqrt(1 + 1e-3 r^2 k_Re(r A) / k_b): the frequency where Re D = 0 at amplitude A."""
+    re, _ = _dyn(mode, damper.k_of_psi, amplitude_mm)
+    w = re / mode.k_b
+    ok = w > 0
+    return jnp.where(ok, mode.f0_hz * jnp.sqrt(jnp.where(ok, w, 1.0)), 0.0)
+
+
+def _bracketed_root(g, lo, hi, steps):
+    """Root of g in [lo, hi] (g(lo) g(hi) <= 0): Newton steps kept inside the bracket, bisection
+    where Newton leaves it; a bounded scan (no while_loop), values only."""
+    glo = g(lo)
+
+    def body(carry, _):
+        lo, hi, glo, x = carry
+        gx, dg = jax.jvp(g, (x,), (jnp.ones_like(x),))
+        same = jnp.sign(gx) == jnp.sign(glo)
+        lo, glo, hi = jnp.where(same, x, lo), jnp.where(same, gx, glo), jnp.where(same, hi, x)
+        okd = jnp.abs(dg) > 0
+        xn = x - gx / jnp.where(okd, dg, 1.0)
+        inside = okd & (xn > lo) & (xn < hi)
+        # Bisect also when Newton crawls (less than half the bracket gained over a step).
+        x_next = jnp.where(inside, xn, 0.5 * (lo + hi))
+        x_next = jnp.where(gx == 0, x, x_next)
+        return (lo, hi, glo, x_next), None
+
+    (lo, hi, _, x), _ = jax.lax.scan(body, (lo, hi, glo, 0.5 * (lo + hi)), None, length=steps)
+    return x
+
+
+def _root_ift(g, lo, hi, steps):
+    """A root of the scalar g in the bracket [lo, hi], differentiable by the implicit function
+    theorem (jax.lax.custom_root: dA* = -g_theta / g_A, through whatever g closes over)."""
+    lo = jax.lax.stop_gradient(lo)
+    hi = jax.lax.stop_gradient(hi)
+
+    def solve(f, x0):
+        return _bracketed_root(f, lo, hi, steps)
+
+    def tangent_solve(f_lin, y):
+        d = f_lin(jnp.ones_like(y))
+        ok = jnp.abs(d) > 0
+        return jnp.where(ok, y / jnp.where(ok, d, 1.0), 0.0)
+
+    return jax.lax.custom_root(g, 0.5 * (lo + hi), solve, tangent_solve)
+
+
+def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
+                  max_roots: int = MAX_ROOTS, amplitude_cap_mm=None) -> Peaks:
+    """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
+
+    Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
+    log-spaced over GRID_DECADES below that bound (or below amplitude_cap_mm when eta = 0, default
+    1e6 psi_ref / r). Each sign change is refined by safeguarded Newton/bisection; gradients by the
+    implicit function theorem. Pure JAX: jit, vmap (e.g. over F or designs), grad, jacfwd.
+    """
+    f = jnp.asarray(force_n, float)
+    damped = mode.eta * mode.k_b > 0
+    cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None
+           else jnp.asarray(amplitude_cap_mm, float))
+    a_hi = jnp.where(damped, f / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9), cap)
+    a_hi = jax.lax.stop_gradient(a_hi)
+    grid = a_hi * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
+    grid = jnp.concatenate([jnp.zeros(1), grid])
+
+    def g_of(a):
+        return peak_residual(damper, mode, f, a)
+
+    gg = jax.lax.stop_gradient(g_of(grid))
+    change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
+    n_roots = jnp.sum(change).astype(jnp.int32)
+    # The first max_roots sign changes, in ascending order (cells without a change sort last).
+    cells = jnp.argsort(jnp.where(change, jnp.arange(n_grid), n_grid + 1))[:max_roots]
+    found = jnp.arange(max_roots) < n_roots
+    lo = grid[cells]
+    hi = grid[cells + 1]
+
+    def one(lo_i, hi_i):
+        return _root_ift(g_of, lo_i, hi_i, REFINE_STEPS)
+
+    roots = jax.vmap(one)(lo, hi)
+    roots = jnp.where(found, roots, 0.0)
+    freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
+    any_root = n_roots > 0
+    last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
+    status = RESULTS.promote(damper.status, ~any_root, RESULTS.no_root)
+    peak = roots[0]
+    return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last], status)
+
+
+@jax.jit
+def _design_peaks(shape, mu, contacts, load, mode, force_n):
+    return peak_response(damper_stiffness(shape, mu, contacts, load, method="interpolated"), mode,
+                         force_n)
+
+
+def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+                 method: str = "exact") -> Peaks:
+    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
+    from .params import Contacts, LoadCase, prepare_inputs
+
+    contacts = Contacts() if contacts is None else contacts
+    load = LoadCase() if load is None else load
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    validate_mode(mode)
+    mode = BladeMode(*(jnp.asarray(v, float) for v in mode))
+    force = jnp.asarray(force_n, float)
+    if method == "interpolated":
+        run = _design_peaks
+    else:
+        run = jax.jit(lambda s, m, c, l, md, f: peak_response(
+            damper_stiffness(s, m, c, l, method=method), md, f))
+    if force.ndim == 0:
+        return run(shape, mu, contacts, load, mode, force)
+    return jax.vmap(run, in_axes=(None, None, None, None, None, 0))(shape, mu, contacts, load,
+                                                                    mode, force)
+
+
+# ----------------------------------------------------------------------------- designer's diagram
+
+
+class DesignerDiagram(NamedTuple):
+    """Peak response against force and against F_D, over a friction range (numpy arrays).
+
+    peak_vs_force_mm: (n_mu, n_force) at the design's F_D; peak_vs_fd_mm: (n_mu, n_fd) at
+    force_at_fd_n. band_*: min and max over mu. stuck_*: the damper stuck (k_Re,fs, k_Im = 0);
+    free_*: no damper. In the loss-factor model both limits have the peak F / (eta k_b): they
+    coincide in amplitude and differ in frequency (stuck_frequency_hz, per mu, against f0).
+    status: (n_mu,) damper status per mu.
+    """
+
+    mu: np.ndarray
+    force_n: np.ndarray
+    fd_n: np.ndarray
+    force_at_fd_n: float
+    peak_vs_force_mm: np.ndarray
+    peak_vs_fd_mm: np.ndarray
+    band_force_mm: np.ndarray  # (2, n_force): min, max over mu
+    band_fd_mm: np.ndarray  # (2, n_fd)
+    free_vs_force_mm: np.ndarray
+    stuck_vs_force_mm: np.ndarray
+    free_vs_fd_mm: np.ndarray
+    stuck_vs_fd_mm: np.ndarray
+    stuck_frequency_hz: np.ndarray  # (n_mu,)
+    status: np.ndarray
+
+
+DIAGRAM_MUS = (0.3, 0.4, 0.5, 0.6, 0.7)
+
+
+def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=None, *,
+                     force_n=None, fd_n=None, force_at_fd_n=None, mu=DIAGRAM_MUS,
+                     method: str = "interpolated") -> DesignerDiagram:
+    """The designer's diagram of one shape: peak A* against F (log-log) and against F_D at fixed
+    F, for each mu (the band is their envelope), with the stuck and free limits.
+
+    The F_D sweep uses `scaled_stiffness`: one damper curve per mu for every F_D.
+    """
+    from .params import LoadCase
+
+    load = LoadCase() if load is None else load
+    fd0 = float(load.F_D)
+    force = np.asarray(np.geomspace(0.05, 100.0, 41) if force_n is None else force_n, float)
+    fds = np.asarray(np.geomspace(fd0 / 30.0, fd0 * 30.0, 41) if fd_n is None else fd_n, float)
+    f_fd = float(np.median(force) if force_at_fd_n is None else force_at_fd_n)
+    mus = np.asarray(mu, float)
+
+    force_j, fds_j = jnp.asarray(force), jnp.asarray(fds)
+
+    @jax.jit
+    def per_mu(m):
+        d = damper_stiffness(shape, m, contacts, load, method=method)
+        by_force = jax.vmap(lambda f: peak_response(d, mode, f).peak_amplitude_mm)(force_j)
+        by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
+                                                  f_fd).peak_amplitude_mm)(fds_j)
+        stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
+        return by_force, by_fd, stuck_f, d.status
+
+    outs = [per_mu(jnp.asarray(m)) for m in mus]
+    pf = np.stack([np.asarray(o[0]) for o in outs])
+    pd = np.stack([np.asarray(o[1]) for o in outs])
+    free_f = force / (float(mode.eta) * float(mode.k_b))
+    free_d = np.full(fds.shape, f_fd / (float(mode.eta) * float(mode.k_b)))
+    return DesignerDiagram(
+        mus, force, fds, f_fd, pf, pd, np.stack([pf.min(0), pf.max(0)]),
+        np.stack([pd.min(0), pd.max(0)]), free_f, free_f.copy(), free_d, free_d.copy(),
+        np.array([float(o[2]) for o in outs]), np.array([int(o[3]) for o in outs]))
+
+
+__all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
+           "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
+           "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual",
+           "peak_frequency_hz",
+           "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS"]

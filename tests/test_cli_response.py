@@ -1,0 +1,92 @@
+"""`jaxdamp response`: JSON contract, inputs echoed, nulls not NaN, bad input before any work."""
+
+import json
+import math
+
+import pytest
+
+from jaxdamp.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def _no_nan(x):
+    if isinstance(x, float):
+        return math.isfinite(x)
+    if isinstance(x, dict):
+        return all(_no_nan(v) for v in x.values())
+    if isinstance(x, list):
+        return all(_no_nan(v) for v in x)
+    return True
+
+
+def test_response_json_contract_and_figures(capsys, tmp_path):
+    plots = tmp_path / "figs"
+    code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n", "0.2,20",
+                       "--initial", "assembly", "--band", "--plot", str(plots), "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert _no_nan(d)
+    assert {"inputs", "peaks", "frf", "designer_diagram", "status"} <= set(d)
+    assert d["status"] == "ok"
+    inp = d["inputs"]
+    assert inp["initial"] == "assembly" and inp["band"] is True
+    assert inp["stiffness_method"] == "interpolated" and "not available" in inp["stiffness_note"]
+    assert inp["force_n"] == [0.2, 20.0] and inp["f0_hz"] == 500.0 and inp["mu"] == 0.5
+    low, high = d["peaks"]
+    for p in d["peaks"]:
+        assert {"force_n", "peak_amplitude_mm", "peak_frequency_hz", "psi_a_mrad", "status",
+                "roots"} <= set(p)
+        assert p["status"] == "ok" and len(p["roots"]) >= 1
+        assert p["roots"][0]["amplitude_mm"] == p["peak_amplitude_mm"]
+    # 0.2 N keeps the damper stuck: the linear resonance F / (eta k_b) at the stuck frequency.
+    assert low["peak_amplitude_mm"] == pytest.approx(0.2 / (1e-3 * 500.0), rel=1e-9)
+    assert high["psi_a_mrad"] == pytest.approx(high["peak_amplitude_mm"] * 1.0, rel=1e-12)
+    # Both branches exist below the peak; the free curve exists at every force.
+    f0 = d["frf"]["forces"][0]
+    assert all(v is not None and v > 0 for v in f0["damper"]["f_low_hz"])
+    assert all(v is not None for v in f0["free"]["f_high_hz"])
+    dd = d["designer_diagram"]
+    assert dd["mu"] == [0.3, 0.4, 0.5, 0.6, 0.7] and len(dd["peak_vs_force_mm"]) == 5
+    assert dd["force_at_fd_n"] == pytest.approx(10.1)
+    assert (plots / "frf.png").stat().st_size > 0 and (plots / "designer_diagram.png").exists()
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["--force-n", "5,-1"], "force_n"),
+    (["--force-n", "abc"], "force_n"),
+    (["--loss-factor", "2"], "eta"),
+    (["--f0-hz", "0"], "f0_hz"),
+    (["--psi-per-mm", "-1"], "r"),
+    (["--modal-stiffness-n-per-mm", "nan"], "k_b"),
+    (["--mu", "0"], "mu"),
+])
+def test_bad_input_exits_2_with_one_line(capsys, argv, needle):
+    code, out, err = run(capsys, "response", "--shape", "60sym", *argv)
+    assert code == 2 and out == ""
+    lines = [ln for ln in err.strip().splitlines() if ln]
+    assert len(lines) == 1 and needle in lines[0]
+
+
+def test_plot_dir_checked_before_work(capsys, tmp_path):
+    afile = tmp_path / "x.png"
+    afile.write_text("")
+    code, out, err = run(capsys, "response", "--shape", "60sym", "--plot", str(afile))
+    assert code == 2 and out == "" and "plot" in err
+
+
+def test_liftoff_is_a_result(capsys):
+    code, out, _ = run(capsys, "response", "--shape", "74L", "--mu", "0.7", "--force-n", "5",
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["status"] == "liftoff" and d["peaks"][0]["peak_amplitude_mm"] is None
+    assert d["designer_diagram"] is None and _no_nan(d)
+    # An invalid damper's FRF is null throughout (masked), the free one is still there.
+    entry = d["frf"]["forces"][0]
+    assert all(v is None for v in entry["damper"]["f_high_hz"])
+    assert all(v is not None for v in entry["free"]["f_high_hz"])

@@ -1,0 +1,155 @@
+"""Amplitude-layered blade response: physics identities, analytic k(psi), scaling law, gradients."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxdamp import Contacts, LoadCase, base_cycle, complex_stiffness, family_shape, five_numbers
+from jaxdamp.response import (BladeMode, DamperStiffness, damper_stiffness, design_peaks,
+                              designer_diagram, frf, no_damper, peak_frequency_hz, peak_response,
+                              response_amplitude_linear, scaled_stiffness, stuck_damper)
+from jaxdamp.status import RESULTS
+
+MODE = BladeMode()
+SHAPE = family_shape("60sym")
+
+
+def analytic(k_re, k_im_fn, psi_ref=1.0):
+    """A damper given by formulas (k_re constant, k_im a function of psi)."""
+    return DamperStiffness(lambda p: (jnp.zeros_like(p) + k_re, k_im_fn(jnp.asarray(p, float))),
+                           jnp.int32(0), jnp.asarray(float(k_re)), jnp.asarray(psi_ref))
+
+
+def test_defaults_give_a_few_percent_stick_rise_and_damper_dominated_gross_slip():
+    nums = five_numbers(base_cycle(SHAPE, 0.5))
+    rise = np.sqrt(1 + 1e-3 * MODE.r ** 2 * float(nums.k_re_fs) / MODE.k_b) - 1
+    assert 0.01 < rise < 0.05
+    assert 1e-3 * MODE.r ** 2 * float(nums.k_im_bc) > 5 * MODE.eta * MODE.k_b
+
+
+def test_frf_branches_solve_the_first_harmonic_equation():
+    d = damper_stiffness(SHAPE, 0.5, method="interpolated")
+    force = 5.0
+    a = jnp.geomspace(0.005, 3.0, 60)  # from below the static deflection 0.0095 mm
+    curve = jax.jit(lambda a: frf(d, MODE, force, a))(a)
+    k_re, k_im = complex_stiffness(base_cycle(SHAPE, 0.5), MODE.r * a)
+    for f, has in ((curve.f_low_hz, curve.has_low), (curve.f_high_hz, curve.has_high)):
+        w = (np.asarray(f) / MODE.f0_hz) ** 2
+        D = MODE.k_b * (1 - w + 1j * MODE.eta) + 1e-3 * MODE.r ** 2 * (k_re + 1j * k_im)
+        resid = np.abs(D) * np.asarray(a) - force
+        assert np.all(np.abs(resid[np.asarray(has)]) < 1e-9 * force)
+        assert np.all(np.isfinite(np.asarray(f)))
+    # Below the static deflection F / (k_b + stiffening) there is no low branch (omega^2 < 0).
+    assert not bool(curve.has_low[0]) and bool(curve.has_high[0])
+    # Branches exist exactly below the peak amplitude and meet there.
+    peak = peak_response(d, MODE, force)
+    A = float(peak.peak_amplitude_mm)
+    both = np.asarray(curve.has_low & curve.has_high)
+    assert np.all(np.asarray(a)[both] < A) and np.all(np.asarray(a)[~np.asarray(curve.has_high)] > A)
+    near = frf(d, MODE, force, A * (1 - 1e-10))
+    assert float(near.f_high_hz - near.f_low_hz) < 1e-3
+    assert abs(float(near.f_high_hz) - float(peak.peak_frequency_hz)) < 1e-3
+
+
+def test_free_and_stuck_limits_are_the_linear_resonances():
+    force = 2.0
+    for d, k in ((no_damper(), 0.0), (stuck_damper(28000.0), 28000.0)):
+        p = peak_response(d, MODE, force)
+        assert float(p.peak_amplitude_mm) == pytest.approx(force / (MODE.eta * MODE.k_b), rel=1e-12)
+        f_exp = MODE.f0_hz * np.sqrt(1 + 1e-3 * MODE.r ** 2 * k / MODE.k_b)
+        assert float(p.peak_frequency_hz) == pytest.approx(f_exp, rel=1e-12)
+        # The linear FRF at the peak frequency has that amplitude (resonance of a linear system
+        # with hysteretic damping: |D| = eta k_b there).
+        amp = response_amplitude_linear(MODE, k, 0.0, force, p.peak_frequency_hz)
+        assert float(amp) == pytest.approx(float(p.peak_amplitude_mm), rel=1e-12)
+
+
+def test_every_root_of_an_isola_is_found():
+    # With r = 1 and eta k_b + 1e-3 k_Im(psi) = c (psi^2 - 6 psi + 11), F = 6 c gives
+    # A (eta k_b + 1e-3 k_Im) - F = c (A - 1)(A - 2)(A - 3): the main branch peaks at 1 mm, an
+    # isola spans 2 ... 3 mm.
+    c = 1.0
+    mode = BladeMode(r=1.0)
+    d = analytic(1000.0, lambda p: 1e3 * (c * (p * p - 6 * p + 11) - mode.eta * mode.k_b))
+    p = jax.jit(lambda f: peak_response(d, mode, f))(6.0 * c)
+    assert int(p.n_roots) == 3 and int(p.status) == RESULTS.ok
+    np.testing.assert_allclose(np.asarray(p.roots_mm)[:3], [1.0, 2.0, 3.0], rtol=1e-12)
+    assert not bool(p.found[3]) and float(p.roots_mm[3]) == 0.0
+    assert float(p.peak_amplitude_mm) == pytest.approx(1.0, rel=1e-12)
+    assert float(p.max_amplitude_mm) == pytest.approx(3.0, rel=1e-12)
+    assert float(p.psi_a_mrad) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_no_root_without_structural_damping_beyond_the_friction_force():
+    # eta = 0 and a damper whose dissipative modal force saturates at 1e-3 r^2 A k_Im -> 3 N.
+    mode = BladeMode(eta=0.0)
+    d = analytic(1000.0, lambda p: 3e3 * p / (p * p + 1e-2))
+    assert int(peak_response(d, mode, 10.0, amplitude_cap_mm=1e4).status) == RESULTS.no_root
+    ok = peak_response(d, mode, 1.0, amplitude_cap_mm=1e4)
+    assert int(ok.status) == RESULTS.ok
+    a = float(ok.peak_amplitude_mm)  # 3 a^2 / (a^2 + 0.01) = 1
+    assert a == pytest.approx(np.sqrt(0.01 / 2.0), rel=1e-12)
+
+
+def test_liftoff_is_reported():
+    p = design_peaks(family_shape("74L"), 0.7, force_n=5.0)
+    assert int(p.status) == RESULTS.liftoff
+
+
+@pytest.mark.parametrize("fd, c", [(500.0, 1.0), (2300.0, 1.0), (1000.0, 2.5), (700.0, 0.4)])
+def test_scaling_law_matches_direct_recomputation(fd, c):
+    ref = damper_stiffness(SHAPE, 0.5, Contacts(), LoadCase(1000.0), method="interpolated")
+    scaled = scaled_stiffness(ref, 1000.0, fd, contact_scale=c)
+    direct = complex_stiffness(
+        base_cycle(SHAPE, 0.5, Contacts(c * Contacts().kn, c * Contacts().kt), LoadCase(fd)),
+        jnp.asarray([0.01, 0.3, 0.7, 1.0, 1.5, 2.2, 4.0, 10.0]) * fd / 1000.0 / c)
+    psi = jnp.asarray([0.01, 0.3, 0.7, 1.0, 1.5, 2.2, 4.0, 10.0]) * fd / 1000.0 / c
+    got = scaled.k_of_psi(psi)
+    for g, e in zip(got, direct):
+        np.testing.assert_allclose(np.asarray(g), np.asarray(e), rtol=1e-9, atol=1e-9 * 3e4)
+
+
+def _peak_and_frequency(x):
+    theta_l, theta_r, br, mu, fd, f0, kb, eta, r, force = x
+    shape = SHAPE._replace(theta_l=theta_l, theta_r=theta_r, br_over_hr=br)
+    d = damper_stiffness(shape, mu, Contacts(), LoadCase(fd), method="interpolated")
+    p = peak_response(d, BladeMode(f0, kb, eta, r), force)
+    return jnp.stack([p.peak_amplitude_mm, p.peak_frequency_hz])
+
+
+def test_gradients_by_implicit_function_match_central_differences():
+    f = jax.jit(_peak_and_frequency)
+    jf = jax.jit(jax.jacfwd(_peak_and_frequency))
+    # F = 5 N: microslip (psi_a = 1.5 mrad, the interpolated range); F = 20 N: gross slip.
+    for force in (5.0, 20.0):
+        x = np.array([60.0, 60.0, 0.14, 0.5, 1000.0, 500.0, 500.0, 1e-3, 1.0, force])
+        jac = np.asarray(jf(x))
+        for i, h in enumerate(np.abs(x) * 1e-6):
+            e = np.zeros_like(x)
+            e[i] = h
+            fd = (np.asarray(f(x + e)) - np.asarray(f(x - e))) / (2 * h)
+            np.testing.assert_allclose(jac[:, i], fd, rtol=2e-5, atol=1e-9 * np.abs(jac).max(),
+                                       err_msg=f"F = {force}, input {i}")
+        assert np.all(np.isfinite(jac)) and np.abs(jac[0, 3]) > 0
+    # Reverse mode through the root (custom_root's transpose) gives the same Jacobian.
+    jrev = np.asarray(jax.jit(jax.jacrev(_peak_and_frequency))(x))
+    np.testing.assert_allclose(jrev, jac, rtol=1e-10, atol=1e-14)
+
+
+def test_designer_diagram_band_and_limits():
+    dd = designer_diagram(SHAPE, force_n=[0.2, 5.0, 50.0], fd_n=[100.0, 1000.0, 1e5],
+                          force_at_fd_n=5.0, mu=(0.3, 0.7))
+    assert np.all(dd.status == RESULTS.ok)
+    assert np.all(dd.band_force_mm[0] <= dd.peak_vs_force_mm) and np.all(
+        dd.peak_vs_force_mm <= dd.band_force_mm[1])
+    # The damper never does worse than free or stuck (k_Im >= 0), and at small force it is stuck.
+    assert np.all(dd.peak_vs_force_mm <= dd.free_vs_force_mm * (1 + 1e-9))
+    np.testing.assert_allclose(dd.peak_vs_force_mm[:, 0], dd.stuck_vs_force_mm[0], rtol=1e-9)
+    # A very heavy damper stays stuck: the classic optimum has the free/stuck value at both ends.
+    np.testing.assert_allclose(dd.peak_vs_fd_mm[:, -1], dd.stuck_vs_fd_mm[-1], rtol=1e-9)
+    assert np.all(dd.peak_vs_fd_mm[:, 1] < 0.5 * dd.free_vs_fd_mm[1])
+    # The scaled F_D = 1000 N column equals the direct F = 5 N column.
+    np.testing.assert_allclose(dd.peak_vs_fd_mm[:, 1], dd.peak_vs_force_mm[:, 1], rtol=1e-10)
+    f_stuck = MODE.f0_hz * np.sqrt(1 + 1e-3 * 28744.25647085 / MODE.k_b)
+    np.testing.assert_allclose(dd.stuck_frequency_hz, f_stuck, rtol=1e-8)
