@@ -438,7 +438,7 @@ DIAGRAM_MUS = (0.3, 0.4, 0.5, 0.6, 0.7)
 
 def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=None, *,
                      force_n=None, fd_n=None, force_at_fd_n=None, mu=DIAGRAM_MUS,
-                     method: str = "interpolated") -> DesignerDiagram:
+                     method: str = "exact", **options) -> DesignerDiagram:
     """The designer's diagram of one shape: peak A* against F (log-log) and against F_D at fixed
     F, for each mu (the band is their envelope), with the stuck and free limits.
 
@@ -457,7 +457,7 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
 
     @jax.jit
     def per_mu(m):
-        d = damper_stiffness(shape, m, contacts, load, method=method)
+        d = damper_stiffness(shape, m, contacts, load, method=method, **options)
         by_force = jax.vmap(lambda f: peak_response(d, mode, f).peak_amplitude_mm)(force_j)
         by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
                                                   f_fd).peak_amplitude_mm)(fds_j)

@@ -27,15 +27,15 @@ def _no_nan(x):
 def test_response_json_contract_and_figures(capsys, tmp_path):
     plots = tmp_path / "figs"
     code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n", "0.2,20",
-                       "--initial", "assembly", "--band", "--plot", str(plots), "--json")
+                       "--initial", "assembly", "--plot", str(plots), "--json")
     assert code == 0
     d = json.loads(out)
     assert _no_nan(d)
     assert {"inputs", "peaks", "frf", "designer_diagram", "status"} <= set(d)
     assert d["status"] == "ok"
     inp = d["inputs"]
-    assert inp["initial"] == "assembly" and inp["band"] is True
-    assert inp["stiffness_method"] == "interpolated" and "not available" in inp["stiffness_note"]
+    assert inp["initial"] == "assembly" and inp["stiffness_method"] == "exact"
+    assert d["schema_version"] == 2 and "jaxdamp_version" in d
     assert inp["force_n"] == [0.2, 20.0] and inp["f0_hz"] == 500.0 and inp["mu"] == 0.5
     low, high = d["peaks"]
     for p in d["peaks"]:

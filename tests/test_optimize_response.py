@@ -1,6 +1,5 @@
 """Response-based objective: worst case over mu and F_D, liftoff excluded."""
 
-import jax.numpy as jnp
 import numpy as np
 
 import optimize as opt

@@ -7,7 +7,7 @@ import pytest
 
 from jaxdamp import Contacts, LoadCase, base_cycle, complex_stiffness, family_shape, five_numbers
 from jaxdamp.response import (BladeMode, DamperStiffness, damper_stiffness, design_peaks,
-                              designer_diagram, frf, no_damper, peak_frequency_hz, peak_response,
+                              designer_diagram, frf, no_damper, peak_response,
                               response_amplitude_linear, scaled_stiffness, stuck_damper)
 from jaxdamp.status import RESULTS
 

@@ -6,26 +6,23 @@ and the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7)
 
 from __future__ import annotations
 
-import math
-import os
+from . import _common as C
 
-STIFFNESS_NOTE = ("k(psi_a) is the Base-Cycle's complex stiffness: exact for psi_a >= psi_BC, the "
-                  "paper's linear microslip interpolation below. The exact travel-limited curve "
-                  "(which depends on --initial and gives --band) is not available yet: both flags "
-                  "are accepted and echoed, and do not change the numbers.")
+STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
+                  "amplitude from the --initial history; with --stiffness interpolated the paper's "
+                  "linear microslip interpolation between psi_fs and psi_BC (exact above psi_BC).")
 
 
 def register(sub) -> None:
-    from .cli import add_contact_args, add_load_args, add_shape_args
-    from .response import BladeMode
+    from ..response import BladeMode
 
     m = BladeMode()
     p = sub.add_parser("response", help="blade forced response with the damper: peaks, FRFs, "
                        "designer's diagram", description=__doc__ + "\n" + STIFFNESS_NOTE)
-    add_shape_args(p)
-    p.add_argument("--mu", type=float, default=0.5, help="friction coefficient, > 0 (default 0.5)")
-    add_contact_args(p)
-    add_load_args(p)
+    C.add_shape_args(p)
+    p.add_argument("--mu", type=float, default=0.5, help="friction coefficient, in (0, 5] (default 0.5)")
+    C.add_contact_args(p)
+    C.add_load_args(p)
     g = p.add_argument_group("blade mode (illustrative defaults, see jaxdamp.response.BladeMode)")
     g.add_argument("--f0-hz", type=float, default=m.f0_hz,
                    help=f"frequency with the platforms free, Hz, > 0 (default {m.f0_hz:g})")
@@ -37,42 +34,25 @@ def register(sub) -> None:
                    help=f"platform rotation per tip displacement r, mrad/mm, > 0 (default {m.r:g})")
     p.add_argument("--force-n", default="5,20,50",
                    help="modal excitation forces F, N, comma-separated, each > 0 (default 5,20,50)")
+    p.add_argument("--stiffness", default="exact", choices=("exact", "interpolated"),
+                   help="damper curve k(psi_a): exact steady cycles (default) or the paper's "
+                        "microslip interpolation")
     p.add_argument("--initial", default="gross_slip", choices=("gross_slip", "assembly"),
-                   help="initial contact state of the exact amplitude curve (echoed; only the "
-                        "interpolated curve exists yet)")
-    p.add_argument("--band", action="store_true",
-                   help="response band over histories (echoed; needs the exact curve, not yet)")
+                   help="contact history of the exact curve (default gross_slip)")
     p.add_argument("--plot", metavar="DIR", help="write frf.png and designer_diagram.png to DIR")
-    p.add_argument("--json", action="store_true", help="machine-readable output")
+    C.add_json_arg(p)
     p.set_defaults(func=run)
 
 
-register_cli = register  # the name jaxdamp.cli looks for
-
-
 def _forces(text):
-    try:
-        vals = [float(v) for v in str(text).split(",") if v.strip()]
-    except ValueError:
-        vals = []
-    if not vals or not all(math.isfinite(v) and v > 0 for v in vals):
-        raise ValueError(f"force_n must be comma-separated numbers in (0, inf) N; got {text!r}")
+    from .._validate import check_positive
+
+    vals = list(C.float_list(str(text), "--force-n"))
+    check_positive("force_n", vals, unit="N")
     return vals
 
 
-def _check_plot_dir(path):
-    if path is None:
-        return
-    if os.path.exists(path) and not os.path.isdir(path):
-        raise ValueError(f"plot must be a directory (writable); {path!r} is a file")
-    parent = path if os.path.isdir(path) else (os.path.dirname(os.path.abspath(path)) or ".")
-    if not os.path.isdir(parent) or not os.access(parent, os.W_OK):
-        raise ValueError(f"plot must be a writable directory (or one that can be created); got {path!r}")
-
-
-def _num(v):
-    v = float(v)
-    return v if math.isfinite(v) else None
+_num = C.number
 
 
 def _masked(values, mask):
@@ -83,33 +63,33 @@ def run(args) -> int:
     import jax.numpy as jnp
     import numpy as np
 
-    from .cli import emit, shape_from_args
-    from .params import Contacts, LoadCase, prepare_inputs
-    from .response import (BladeMode, designer_diagram, frf, frf_amplitude_grid, no_damper,
-                           stuck_damper, validate_mode)
-    from .status import RESULTS
+    from ..params import prepare_inputs
+    from ..response import (BladeMode, designer_diagram, frf, frf_amplitude_grid, no_damper,
+                            stuck_damper, validate_mode)
+    from ..status import RESULTS
 
     # Every check before any work.
-    shape = shape_from_args(args)
+    shape = C.shape_from_args(args)
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
     validate_mode(mode)
-    contacts, load = Contacts(args.kn, args.kt), LoadCase(args.fd, args.q, args.r_sin_beta)
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
     prepare_inputs(shape, args.mu, contacts, load)
-    _check_plot_dir(args.plot)
+    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
+    options = {"initial": args.initial} if args.stiffness == "exact" else {}
 
     import jax
 
-    from .response import damper_stiffness, peak_response
+    from ..response import damper_stiffness, peak_response
 
     @jax.jit
     def solve(force):
-        d = damper_stiffness(shape, args.mu, contacts, load)
+        d = damper_stiffness(shape, args.mu, contacts, load, args.stiffness, **options)
         return peak_response(d, mode, force), d.k_re_stuck, d.status
 
     @jax.jit
     def curves(force, top):
-        d = damper_stiffness(shape, args.mu, contacts, load)
+        d = damper_stiffness(shape, args.mu, contacts, load, args.stiffness, **options)
         grid = frf_amplitude_grid(top)
         stuck = stuck_damper(d.k_re_stuck)
         return (frf(d, mode, force, grid), frf(no_damper(), mode, force, grid),
@@ -146,7 +126,8 @@ def run(args) -> int:
 
     dd = None
     if RESULTS.valid(damper_status):
-        dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)))
+        dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)),
+                              method=args.stiffness, **options)
 
     def rows(a):
         return [[_num(v) for v in row] for row in np.atleast_2d(a)]
@@ -166,33 +147,30 @@ def run(args) -> int:
               "fd": args.fd, "q": args.q, "r_sin_beta": args.r_sin_beta,
               "f0_hz": args.f0_hz, "modal_stiffness_n_per_mm": args.modal_stiffness_n_per_mm,
               "loss_factor": args.loss_factor, "psi_per_mm": args.psi_per_mm,
-              "force_n": forces, "initial": args.initial, "band": bool(args.band),
-              "stiffness_method": "interpolated", "stiffness_note": STIFFNESS_NOTE}
+              "force_n": forces, "initial": args.initial,
+              "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
-    payload = {"inputs": inputs, "status": RESULTS(int(worst)).name, "peaks": peaks,
-               "frf": frf_json, "designer_diagram": dd_json}
+    doc = C.document(RESULTS(int(worst)).name, {"inputs": inputs, "peaks": peaks, "frf": frf_json,
+                                                "designer_diagram": dd_json})
 
     if args.plot:
-        import matplotlib
+        from ..plotting.response import designer_diagram_figure, frf_figure
 
-        matplotlib.use("Agg")
-        from .plotting_response import designer_diagram_figure, frf_figure
-
-        os.makedirs(args.plot, exist_ok=True)
+        plot_dir.mkdir(parents=True, exist_ok=True)
         ok = [(f, cs) for f, v, cs in frfs if v]
         if ok:
             fig = frf_figure([cs[0] for _, cs in ok], [f for f, _ in ok],
                              [cs[1] for _, cs in ok], [cs[2] for _, cs in ok])
-            fig.savefig(os.path.join(args.plot, "frf.png"), dpi=120)
+            fig.savefig(plot_dir / "frf.png", dpi=120)
         if dd is not None:
             fig = designer_diagram_figure(dd)
-            fig.savefig(os.path.join(args.plot, "designer_diagram.png"), dpi=120)
+            fig.savefig(plot_dir / "designer_diagram.png", dpi=120)
 
     lines = [f"Blade response, mu = {args.mu:g}, F_D = {args.fd:g} N; f0 = {args.f0_hz:g} Hz, "
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "
              f"r = {args.psi_per_mm:g} mrad/mm",
-             f"  damper stiffness: interpolated (initial = {args.initial} echoed; exact curve "
-             "not available yet)",
+             f"  damper stiffness: {args.stiffness}"
+             + (f" (from a {args.initial} history)" if args.stiffness == "exact" else ""),
              f"  {'F, N':>8} {'A*, mm':>11} {'f*, Hz':>10} {'psi_a, mrad':>12}  status"]
     for p in peaks:
         def fmt(v, spec):
@@ -204,6 +182,6 @@ def run(args) -> int:
                          if p["isola"] else ""))
     if args.plot:
         lines.append(f"  figures written to {args.plot}")
-    emit(args, payload, "\n".join(lines))
+    C.emit(args, doc, "\n".join(lines))
     return 0
 
