@@ -23,7 +23,9 @@ from .check import check_design as check_design
 from .design import DEFAULT_BOUNDS as DEFAULT_BOUNDS
 from .design import DesignSpace as DesignSpace
 from .design import VARIABLES as VARIABLES
+from .design import design_of as design_of
 from .design import design_space as design_space
+from .design import unit_of as unit_of
 from .grid import GridResult as GridResult
 from .grid import grid_search as grid_search
 from .grid import heatmap as heatmap
