@@ -41,7 +41,7 @@ import numpy as np
 from .linalg import solve3
 from .cycle import mechanics
 from .geometry import DamperShape
-from .harmonics import moment
+from .geometry import platform_moment
 from .params import Contacts, LoadCase, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
 from .statics import contact_columns, full_slip_state
@@ -256,13 +256,8 @@ def _half_fourier(dv, M0, dM, a_dv, branch):
 
 
 def _half_moment(shape, load, half: TravelHalf):
-    holder = _Holder(shape, load)
-    return moment(holder, half.N0, half.T0), moment(holder, half.dN, half.dT)
-
-
-class _Holder(NamedTuple):
-    shape: DamperShape
-    load: LoadCase
+    return (platform_moment(shape, load, half.N0, half.T0),
+            platform_moment(shape, load, half.dN, half.dT))
 
 
 def _half_energy(half: TravelHalf, F_D):
@@ -459,14 +454,13 @@ def moment_loop(ac: AmplitudeCycle):
     """The (psi, M) loop of the steady cycle as vertices: psi in mrad about the loop centre
     (forward extreme = +psi_a), M in N mm; forward half then backward half (numpy arrays)."""
     psis, ms = [], []
-    holder = _Holder(ac.shape, ac.load)
     q = float(ac.load.q_star)
     top = float(ac.psi_a)
     for half, branch in ((ac.forward, 1.0), (ac.backward, -1.0)):
         act = np.asarray(half.active)
         dv = np.asarray(half.dv)[act]
-        m0 = np.asarray(moment(holder, half.N0, half.T0))[act]
-        dm = np.asarray(moment(holder, half.dN, half.dT))[act]
+        m0 = np.asarray(platform_moment(ac.shape, ac.load, half.N0, half.T0))[act]
+        dm = np.asarray(platform_moment(ac.shape, ac.load, half.dN, half.dT))[act]
         start = top if branch > 0 else -top
         cum = np.concatenate([[0.0], np.cumsum(dv)])
         psis.extend(start - branch * psi_mrad(cum, q))

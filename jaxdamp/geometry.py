@@ -124,3 +124,14 @@ def full_slip_slide_rates(shape: DamperShape) -> jnp.ndarray:
     right = jnp.cos(tl) / s
     left = jnp.cos(tr) / s
     return jnp.stack([right, left, left], -1)
+
+
+def platform_moment(shape: DamperShape, load, N, T):
+    """Platform moment M_P (N mm) of contact forces N, T (units of F_D, last axis = contact) for a
+    shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta))."""
+    from .conventions import moment_coefficients
+
+    geo = section_geometry(shape)
+    fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
+                                 load.r_sin_beta)
+    return N @ fn + T @ ft

@@ -19,22 +19,14 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .conventions import moment_coefficients, psi_mrad, stiffness_from_fourier, travel_mm
+from .conventions import psi_mrad, stiffness_from_fourier, travel_mm
 from .cycle import BaseCycle, HalfCycle
-from .geometry import section_geometry
-
-
-def _vertical_moment_factor(bc: BaseCycle):
-    """Coefficients (per N, per T) of M_P for each contact, in N mm per unit force (units of F_D)."""
-    geo = section_geometry(bc.shape)
-    return moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], bc.load.F_D, bc.load.q_star,
-                               bc.load.r_sin_beta)
+from .geometry import platform_moment
 
 
 def moment(bc: BaseCycle, N, T):
     """Platform moment M_P (N mm) for contact forces N, T (units of F_D), last axis = contact."""
-    fn, ft = _vertical_moment_factor(bc)
-    return N @ fn + T @ ft
+    return platform_moment(bc.shape, bc.load, N, T)
 
 
 class MomentHalf(NamedTuple):

@@ -20,7 +20,8 @@ def test_json_contract(capsys):
                        "--kt", "3580", "--psi-a", "0.3,1.2", "--initial", "assembly", "--json")
     assert code == 0
     d = json.loads(out)
-    assert set(d) == {"inputs", "status", "amplitudes"} and d["status"] == "ok"
+    assert set(d) == {"inputs", "status", "amplitudes", "schema_version", "jaxdamp_version"}
+    assert d["status"] == "ok"
     assert d["inputs"]["psi_a_mrad"] == [0.3, 1.2] and d["inputs"]["initial"] == "assembly"
     assert d["inputs"]["mu"] == 0.5 and d["inputs"]["kn"] == 17900 and d["inputs"]["shape"] == "60sym"
     rows = d["amplitudes"]
@@ -58,7 +59,7 @@ def test_band_in_json_and_table(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["--psi-a", "0,1"], "--psi-a"), (["--psi-a", "abc"], "--psi-a"), (["--psi-a", "nan"], "--psi-a"),
+    (["--psi-a", "0,1"], "psi_a_mrad"), (["--psi-a", "abc"], "--psi-a"), (["--psi-a", "nan"], "psi_a_mrad"),
     (["--psi-a", "1", "--initial", "rest"], "--initial"), (["--psi-a", "1", "--kn", "-1"], "kn"),
 ])
 def test_bad_input_exits_2_with_one_line(capsys, argv, needle):
