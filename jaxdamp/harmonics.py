@@ -18,6 +18,7 @@ import jax.numpy as jnp
 from .conventions import moment_coefficients, psi_mrad, stiffness_from_fourier, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .geometry import section_geometry
+from .linalg import rowdot
 
 
 def _vertical_moment_factor(bc: BaseCycle):
@@ -30,7 +31,7 @@ def _vertical_moment_factor(bc: BaseCycle):
 def moment(bc: BaseCycle, N, T):
     """Platform moment M_P (N mm) for contact forces N, T (units of F_D), last axis = contact."""
     fn, ft = _vertical_moment_factor(bc)
-    return N @ fn + T @ ft
+    return rowdot(N, fn) + rowdot(T, ft)
 
 
 class MomentHalf(NamedTuple):
