@@ -46,7 +46,8 @@ def cache_dir() -> str | None:
 
 def configure_runtime() -> None:
     """What the CLI (not the library) decides for the process: float64, a headless matplotlib
-    backend, and the persistent compilation cache (second runs skip XLA compilation)."""
+    backend, synchronous CPU dispatch, and the persistent compilation cache (second runs skip XLA
+    compilation)."""
     if "matplotlib" in sys.modules:
         import matplotlib
 
@@ -56,6 +57,10 @@ def configure_runtime() -> None:
     import jax
 
     jax.config.update("jax_enable_x64", True)
+    # Run CPU calls on the calling thread: the default hand-off to a worker thread cost ~50 us of a
+    # ~200 us single Base-Cycle call (benchmarks/results/cpu_runtime_options.json); read when the
+    # CPU client is created, so it takes effect only before the first computation.
+    jax.config.update("jax_cpu_enable_async_dispatch", False)
     path = cache_dir()
     if path is not None and not jax.config.jax_compilation_cache_dir:
         try:
