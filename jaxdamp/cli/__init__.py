@@ -46,8 +46,7 @@ def cache_dir() -> str | None:
 
 def configure_runtime() -> None:
     """What the CLI (not the library) decides for the process: float64, a headless matplotlib
-    backend, synchronous CPU dispatch, and the persistent compilation cache (second runs skip XLA
-    compilation)."""
+    backend, and the persistent compilation cache (second runs skip XLA compilation)."""
     if "matplotlib" in sys.modules:
         import matplotlib
 
@@ -57,10 +56,6 @@ def configure_runtime() -> None:
     import jax
 
     jax.config.update("jax_enable_x64", True)
-    # Run CPU calls on the calling thread: the default hand-off to a worker thread cost ~50 us of a
-    # ~200 us single Base-Cycle call (benchmarks/results/cpu_runtime_options.json); read when the
-    # CPU client is created, so it takes effect only before the first computation.
-    jax.config.update("jax_cpu_enable_async_dispatch", False)
     path = cache_dir()
     if path is not None and not jax.config.jax_compilation_cache_dir:
         try:
@@ -69,6 +64,20 @@ def configure_runtime() -> None:
             return  # an unusable cache folder only costs compile time
         jax.config.update("jax_compilation_cache_dir", path)
         jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
+
+
+# Commands made of a few single-design calls run them on the calling thread: JAX's CPU client hands
+# each call to a worker thread by default, ~60 us of a ~210 us warm Base-Cycle call; batched
+# commands keep the default (benchmarks/results/cpu_runtime_options.json, no_async_dispatch).
+SYNC_DISPATCH_COMMANDS = frozenset({"statics", "design-br", "cycle", "grad", "section"})
+
+
+def _sync_dispatch() -> None:
+    """Read when the CPU client is created: effective only before the first computation (parsing
+    the arguments computes nothing)."""
+    import jax
+
+    jax.config.update("jax_cpu_enable_async_dispatch", False)
 
 
 def _builtin_registers():
@@ -136,6 +145,8 @@ def main(argv=None, extra_commands=()) -> int:
         parser = build_parser(tuple(extra_commands))
         args = parser.parse_args(argv)
         command = f"jaxdamp {args.command}"
+        if args.command in SYNC_DISPATCH_COMMANDS:
+            _sync_dispatch()
         return int(args.func(args) or 0)
     except UsageError as exc:
         print(str(exc), file=sys.stderr)
