@@ -33,6 +33,8 @@ OPTIONS = {
     "thunk_runtime_off": ("--xla_cpu_use_thunk_runtime=false", {}),
     "host_devices_2_no_async": ("--xla_force_host_platform_device_count=2",
                                 {"jax_cpu_enable_async_dispatch": False}),
+    "vector_width_512": ("--xla_cpu_prefer_vector_width=512", {}),
+    "fusion_emitters_off": ("--xla_cpu_use_fusion_emitters=false", {}),
 }
 CHUNKS = (256, 1024, 4096)  # swept in the "default" worker; the others run the default chunk
 
