@@ -130,8 +130,9 @@ def platform_moment(shape: DamperShape, load, N, T):
     """Platform moment M_P (N mm) of contact forces N, T (units of F_D, last axis = contact) for a
     shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta))."""
     from .conventions import moment_coefficients
+    from .linalg import rowdot
 
     geo = section_geometry(shape)
     fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
                                  load.r_sin_beta)
-    return N @ fn + T @ ft
+    return rowdot(N, fn) + rowdot(T, ft)

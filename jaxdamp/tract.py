@@ -22,7 +22,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .linalg import solve3
+from .linalg import rowdot, solve3
 
 STICK, SLIP, BACKSLIDE, OPEN = 0, 1, 2, 3
 STATE_NAMES = ("stick", "slip", "backslide", "open")
@@ -82,8 +82,8 @@ def _rates(mech: Mechanics, m, signs, y, ok, direction) -> TractRates:
     """Rates of a tract from its slipping mask m (float, (..., 3)) and slip solution y."""
     per = lambda v: jnp.broadcast_to(v, y.shape)  # noqa: E731  one set (3,) or all 8 (8, 3)
     kn, kt = per(mech.kn), per(mech.kt)
-    gn = direction * per(mech.gn0) + y @ mech.Q.T
-    gt = direction * per(mech.gt0) + y @ mech.P.T
+    gn = direction * per(mech.gn0) + rowdot(y[..., None, :], mech.Q)
+    gt = direction * per(mech.gt0) + rowdot(y[..., None, :], mech.P)
     dN = kn * gn
     dT = (1.0 - m) * (-kt * gt) + m * per(signs) * mech.mu * dN
     # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.

@@ -67,6 +67,20 @@ def configure_runtime() -> None:
         jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
 
 
+# Commands made of a few single-design calls run them on the calling thread: JAX's CPU client hands
+# each call to a worker thread by default, ~60 us of a ~210 us warm Base-Cycle call; batched
+# commands keep the default (benchmarks/results/cpu_runtime_options.json, no_async_dispatch).
+SYNC_DISPATCH_COMMANDS = frozenset({"statics", "design-br", "cycle", "grad", "section"})
+
+
+def _sync_dispatch() -> None:
+    """Read when the CPU client is created: effective only before the first computation (parsing
+    the arguments computes nothing)."""
+    import jax
+
+    jax.config.update("jax_cpu_enable_async_dispatch", False)
+
+
 def _builtin_registers():
     import importlib
 
@@ -132,6 +146,8 @@ def main(argv=None, extra_commands=()) -> int:
         parser = build_parser(tuple(extra_commands))
         args = parser.parse_args(argv)
         command = f"jaxdamp {args.command}"
+        if args.command in SYNC_DISPATCH_COMMANDS:
+            _sync_dispatch()
         return int(args.func(args) or 0)
     except UsageError as exc:
         print(str(exc), file=sys.stderr)

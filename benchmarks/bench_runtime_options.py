@@ -1,0 +1,157 @@
+"""JAX CPU runtime options, measured (issue 15): XLA flags, host device count, async dispatch,
+and the batching chunk, on the batched job (`jaxdamp.evaluate_designs`) and on one warm public
+`base_cycle` + `five_numbers` call.
+
+XLA flags must be set before JAX starts, so every option set runs in its own worker process. The
+workers are started and warmed first; then the parent asks them for one measurement each in turn,
+round after round (A B C A B C ...), so that the load of a shared machine hits every option alike.
+Reported: the median over rounds and the spread (min, max), with the load average of each round.
+
+    python benchmarks/bench_runtime_options.py [--quick] [--designs N] [--rounds R]
+
+Writes benchmarks/results/cpu_runtime_options.json.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+OUT = Path(__file__).parent / "results"
+
+# name -> (extra XLA_FLAGS, JAX config updates)
+OPTIONS = {
+    "default": ("", {}),
+    "host_devices_2": ("--xla_force_host_platform_device_count=2", {}),
+    "no_async_dispatch": ("", {"jax_cpu_enable_async_dispatch": False}),
+    "eigen_single_thread": ("--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1", {}),
+    "thunk_runtime_off": ("--xla_cpu_use_thunk_runtime=false", {}),
+    "host_devices_2_no_async": ("--xla_force_host_platform_device_count=2",
+                                {"jax_cpu_enable_async_dispatch": False}),
+    "vector_width_512": ("--xla_cpu_prefer_vector_width=512", {}),
+    "fusion_emitters_off": ("--xla_cpu_use_fusion_emitters=false", {}),
+}
+CHUNKS = (256, 1024, 4096)  # swept in the "default" worker; the others run the default chunk
+
+
+def worker(config: dict, n: int, single_calls: int, chunks) -> None:
+    """Serve measurements on stdin/stdout: 'go' -> one JSON line; 'quit' -> exit."""
+    import jax
+    import numpy as np
+
+    jax.config.update("jax_enable_x64", True)
+    for k, v in config.items():
+        jax.config.update(k, v)
+    import jaxdamp as jd
+
+    rng = np.random.default_rng(0)
+    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
+                           np.full(n, 0.8))
+    designs = jd.stack_designs(shape, rng.uniform(0.1, 0.9, n))
+    one = jd.DamperShape(60.0, 45.0, 0.1, 0.8)
+
+    def single():
+        return jax.block_until_ready(jd.five_numbers(jd.base_cycle(one, 0.5)))
+
+    for c in chunks:
+        jd.evaluate_designs(designs, chunk_size=c)
+    for _ in range(20):
+        single()
+    print(json.dumps({"ready": True, "devices": len(jax.devices())}), flush=True)
+    for line in sys.stdin:
+        if line.strip() != "go":
+            break
+        res = {}
+        for c in chunks:
+            t = time.perf_counter()
+            jd.evaluate_designs(designs, chunk_size=c)
+            res["base_cycles_per_s" if c is None else f"chunk_{c}"] = n / (time.perf_counter() - t)
+        ts = []
+        for _ in range(single_calls):
+            t = time.perf_counter()
+            single()
+            ts.append(time.perf_counter() - t)
+        res["single_latency_us"] = 1e6 * float(np.median(ts))
+        print(json.dumps(res), flush=True)
+
+
+def start(name, n, single_calls):
+    flags, config = OPTIONS[name]
+    env = dict(os.environ, JAX_PLATFORMS="cpu",
+               XLA_FLAGS=(os.environ.get("XLA_FLAGS", "") + " " + flags).strip())
+    chunks = list(CHUNKS) + [None] if name == "default" else [None]
+    cmd = [sys.executable, __file__, "--worker", json.dumps(config), "--designs", str(n),
+           "--single-calls", str(single_calls), "--chunks", json.dumps(chunks)]
+    return subprocess.Popen(cmd, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
+                            stderr=subprocess.PIPE, text=True)
+
+
+def main() -> int:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--quick", action="store_true")
+    p.add_argument("--designs", type=int, default=None)
+    p.add_argument("--rounds", type=int, default=None)
+    p.add_argument("--single-calls", type=int, default=300)
+    p.add_argument("--worker", default=None, help=argparse.SUPPRESS)
+    p.add_argument("--chunks", default="[null]", help=argparse.SUPPRESS)
+    args = p.parse_args()
+    if args.worker is not None:
+        worker(json.loads(args.worker), args.designs, args.single_calls, json.loads(args.chunks))
+        return 0
+    n = args.designs or (4096 if args.quick else 16384)
+    rounds = args.rounds or (3 if args.quick else 7)
+    sys.path.insert(0, str(Path(__file__).parent))
+    from bench_common import machine
+
+    procs = {name: start(name, n, args.single_calls) for name in OPTIONS}
+    ready, rejected = {}, {}
+    for name, proc in procs.items():
+        line = proc.stdout.readline()
+        if not line:
+            rejected[name] = proc.stderr.read().strip().splitlines()[-1:]
+            continue
+        ready[name] = json.loads(line)
+    samples = {name: [] for name in ready}
+    loads = []
+    for _ in range(rounds):
+        loads.append(os.getloadavg()[0])
+        for name in ready:
+            procs[name].stdin.write("go\n")
+            procs[name].stdin.flush()
+            samples[name].append(json.loads(procs[name].stdout.readline()))
+    for proc in procs.values():
+        if proc.poll() is None:
+            proc.stdin.write("quit\n")
+            proc.stdin.flush()
+            proc.wait(timeout=60)
+
+    import numpy as np
+
+    results = {}
+    for name, rows in samples.items():
+        keys = rows[0].keys()
+        results[name] = {
+            "xla_flags": OPTIONS[name][0], "jax_config": OPTIONS[name][1],
+            "devices": ready[name]["devices"],
+            **{k: {"median": float(np.median([r[k] for r in rows])),
+                   "min": float(np.min([r[k] for r in rows])),
+                   "max": float(np.max([r[k] for r in rows]))} for k in keys}}
+    out = {"machine": machine(), "designs": n, "rounds": rounds,
+           "load_average_1min_per_round": loads,
+           "units": {"base_cycles_per_s": "designs (= Base-Cycles) per s, evaluate_designs, default chunk",
+                     "chunk_*": "the same at that chunk_size (designs per device per call)",
+                     "single_latency_us": "median us of a warm five_numbers(base_cycle(...))"},
+           "options": results, "rejected": rejected}
+    OUT.mkdir(exist_ok=True)
+    (OUT / "cpu_runtime_options.json").write_text(json.dumps(out, indent=1) + "\n")
+    print(json.dumps(out, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
