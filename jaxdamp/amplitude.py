@@ -41,6 +41,7 @@ import numpy as np
 from .linalg import solve3
 from .cycle import mechanics
 from .geometry import DamperShape
+from .fourier import half_fourier
 from .geometry import platform_moment
 from .params import Contacts, LoadCase, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
@@ -223,38 +224,6 @@ def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
             jnp.min(N))
 
 
-def _unit_circle(x):
-    """tau = arccos(x), sin(tau) >= 0, NaN-free at |x| = 1 (double where); breakpoints within 1e-12
-    of an extreme are put on it (as in harmonics: the rounding of sqrt(1 - x^2) there is ~1e-8)."""
-    inside = jnp.abs(x) < 1.0 - 1e-12
-    xs = jnp.where(inside, x, 0.0)
-    tau = jnp.where(inside, jnp.arccos(xs), jnp.where(x > 0, 0.0, jnp.pi))
-    sin = jnp.where(inside, jnp.sqrt(jnp.where(inside, 1.0 - xs * xs, 1.0)), 0.0)
-    return tau, sin
-
-
-def _half_fourier(dv, M0, dM, a_dv, branch):
-    """int M cos(tau) dtau and int M sin(tau) dtau over a half of piecewise-linear M, closed form.
-
-    The travel from the half's start is cum; x = cos(tau) = branch (1 - cum / a_dv): branch = +1
-    for the forward half (tau in [0, pi]), -1 for the backward one (tau in [pi, 2 pi]). On a segment
-    M = alpha + beta x, so int M cos = alpha [sin] + beta/2 [tau + sin x] and int M sin = -int M dx.
-    The same integrals as `harmonics` (there for the Base-Cycle's halves plus one stretch).
-    """
-    cum = jnp.cumsum(dv) - dv
-    x1 = jnp.clip(branch * (1.0 - cum / a_dv), -1.0, 1.0)
-    x2 = jnp.clip(branch * (1.0 - (cum + dv) / a_dv), -1.0, 1.0)
-    beta = -branch * a_dv * dM
-    alpha = M0 - beta * x1
-    t1, s1 = _unit_circle(x1)
-    t2, s2 = _unit_circle(x2)
-    if branch < 0:
-        t1, s1, t2, s2 = 2 * jnp.pi - t1, -s1, 2 * jnp.pi - t2, -s2
-    f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
-    f_sin = alpha * (x1 - x2) + 0.5 * beta * (x1 * x1 - x2 * x2)
-    return jnp.sum(f_cos), jnp.sum(f_sin)
-
-
 def _half_moment(shape, load, half: TravelHalf):
     return (platform_moment(shape, load, half.N0, half.T0),
             platform_moment(shape, load, half.dN, half.dT))
@@ -270,8 +239,8 @@ def _loop_numbers(shape, load, psi_a, fwd: TravelHalf, bwd: TravelHalf):
     a_dv = travel_mm(psi_a, load.q_star)
     m0f, dmf = _half_moment(shape, load, fwd)
     m0b, dmb = _half_moment(shape, load, bwd)
-    c1, s1 = _half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
-    c2, s2 = _half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
+    c1, s1 = half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
+    c2, s2 = half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
     k_re = (c1 + c2) / (jnp.pi * psi_a)
     k_im = -(s1 + s2) / (jnp.pi * psi_a)
     # oint M dpsi (psi in rad): trapezoids on the linear segments, dpsi = -branch dv / q*.

@@ -21,6 +21,7 @@ import numpy as np
 
 from .conventions import psi_mrad, stiffness_from_fourier, travel_mm
 from .cycle import BaseCycle, HalfCycle
+from .fourier import half_fourier
 from .geometry import platform_moment
 
 
@@ -44,37 +45,9 @@ def moment_half(bc: BaseCycle, half: HalfCycle, total_dv) -> MomentHalf:
     return MomentHalf(jnp.append(half.dv, stretch), jnp.append(m0, m_end), jnp.append(dm, 0.0))
 
 
-def _unit_circle(x):
-    """tau = arccos(x) and sin(tau) >= 0, with gradients guarded at |x| = 1 (double where).
-
-    Breakpoints within 1e-12 of an extreme are put on it: sqrt(1 - x^2) would turn their last-bit
-    rounding into ~1e-8 changes of sin(tau), while moving a breakpoint of the continuous M(tau) by
-    ~1e-6 rad changes the integrals by ~1e-12 relative."""
-    inside = jnp.abs(x) < 1.0 - 1e-12
-    xs = jnp.where(inside, x, 0.0)
-    tau = jnp.where(inside, jnp.arccos(xs), jnp.where(x > 0, 0.0, jnp.pi))
-    sin = jnp.where(inside, jnp.sqrt(jnp.where(inside, 1.0 - xs * xs, 1.0)), 0.0)
-    return tau, sin
-
-
 def _half_fourier(seg: MomentHalf, a_dv, branch):
-    """Sum over segments of int M cos(tau) dtau and int M sin(tau) dtau, in closed form.
-
-    branch = +1 for the forward half (x = cos tau from 1 to -1, tau in [0, pi]), -1 for backward.
-    """
-    cum = jnp.cumsum(seg.dv) - seg.dv
-    x1 = branch * (1.0 - cum / a_dv)
-    x2 = branch * (1.0 - (cum + seg.dv) / a_dv)
-    x2 = x2.at[-1].set(-branch * 1.0)  # the stretch ends exactly at the far extreme
-    beta = -branch * a_dv * seg.dM  # dM/dx along the segment
-    alpha = seg.M0 - beta * x1
-    t1, s1 = _unit_circle(x1)
-    t2, s2 = _unit_circle(x2)
-    if branch < 0:
-        t1, s1, t2, s2 = 2 * jnp.pi - t1, -s1, 2 * jnp.pi - t2, -s2
-    f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
-    f_sin = alpha * (x1 - x2) + 0.5 * beta * (x1 * x1 - x2 * x2)
-    return jnp.sum(f_cos), jnp.sum(f_sin)
+    """`fourier.half_fourier` of a Base-Cycle half completed by its full-slip stretch."""
+    return half_fourier(seg.dv, seg.M0, seg.dM, a_dv, branch, ends_at_extreme=True)
 
 
 def _work(seg: MomentHalf, branch, q_star):
