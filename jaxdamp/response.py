@@ -382,16 +382,22 @@ def _design_peaks(shape, mu, contacts, load, mode, force_n):
                          force_n)
 
 
-def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
-                 method: str = "exact") -> Peaks:
-    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
+def prepare_scene(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()):
+    """Validated design (`params.prepare_inputs`) and blade mode (`validate_mode`) as float arrays:
+    what every compiled response, HBM and time-integration entry point takes."""
     from .params import Contacts, LoadCase, prepare_inputs
 
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     validate_mode(mode)
-    mode = BladeMode(*(jnp.asarray(v, float) for v in mode))
+    return shape, mu, contacts, load, BladeMode(*(jnp.asarray(v, float) for v in mode))
+
+
+def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+                 method: str = "exact") -> Peaks:
+    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     force = jnp.asarray(force_n, float)
     if method == "interpolated":
         run = _design_peaks

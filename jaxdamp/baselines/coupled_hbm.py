@@ -279,14 +279,9 @@ def coupled_hbm(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode
     harmonics: odd harmonics of the motion, e.g. (1,), (1, 3), (1, 3, 5). Compiled once per
     (harmonics, n_time, n_periods, n_steps); force_n may be traced (vmap over force levels).
     """
-    from ..params import Contacts, LoadCase, prepare_inputs
-    from ..response import validate_mode
+    from ..response import prepare_scene
 
-    contacts = Contacts() if contacts is None else contacts
-    load = LoadCase() if load is None else load
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
-    validate_mode(mode)
-    mode = BladeMode(*(jnp.asarray(v, float) for v in mode))
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     return _coupled(shape, mu, contacts, load, mode, jnp.asarray(force_n, float),
                     tuple(int(h) for h in harmonics), n_time, n_periods, n_steps)
 

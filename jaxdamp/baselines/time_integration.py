@@ -113,14 +113,9 @@ def steady_state(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMod
     and report the last period (see module doc). A start on the expected steady motion (x0 at its
     crest, e.g. from a harmonic-balance solution) shortens the transient; the steady state does
     not depend on it where it is unique."""
-    from ..params import Contacts, LoadCase, prepare_inputs
-    from ..response import validate_mode
+    from ..response import prepare_scene
 
-    contacts = Contacts() if contacts is None else contacts
-    load = LoadCase() if load is None else load
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
-    validate_mode(mode)
-    mode = BladeMode(*(jnp.asarray(v, float) for v in mode))
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     return _integrate(shape, mu, contacts, load, mode, jnp.asarray(force_n, float),
                       jnp.asarray(frequency_hz, float), jnp.asarray(x0, float),
                       jnp.asarray(v0, float), jnp.asarray(phase0, float), n_periods,

@@ -93,6 +93,19 @@ def add_load_args(p) -> None:
     p.add_argument("--r-sin-beta", type=float, default=0.0, help="r sin(beta), mm (default 0)")
 
 
+def add_design_args(p, mu_default=None) -> None:
+    """Shape, friction, contact and load arguments: one Design's worth (mu required unless a
+    default is given)."""
+    add_shape_args(p)
+    if mu_default is None:
+        p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
+    else:
+        p.add_argument("--mu", type=float, default=mu_default,
+                       help=f"friction coefficient, in (0, 5] (default {mu_default:g})")
+    add_contact_args(p)
+    add_load_args(p)
+
+
 def add_json_arg(p) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output (one JSON document)")
 

@@ -16,10 +16,7 @@ from . import _common as C
 def register(sub) -> None:
     p = sub.add_parser("amplitude", help="exact steady cycles at prescribed amplitudes psi_a "
                        "(microslip included), from a named initial state; optionally the band")
-    C.add_shape_args(p)
-    p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
-    C.add_contact_args(p)
-    C.add_load_args(p)
+    C.add_design_args(p)
     p.add_argument("--psi-a", required=True,
                    help="platform rotation amplitudes, mrad, comma-separated, each in (0, 10000]")
     p.add_argument("--initial", default="gross_slip",

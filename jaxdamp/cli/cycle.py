@@ -9,10 +9,7 @@ NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
 
 def register(sub) -> None:
     p = sub.add_parser("cycle", help="the Base-Cycle: five numbers, transitions, energies")
-    C.add_shape_args(p)
-    p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
-    C.add_contact_args(p)
-    C.add_load_args(p)
+    C.add_design_args(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
 

@@ -18,10 +18,7 @@ def register(sub) -> None:
 
     p = sub.add_parser("grad", help="derivatives of psi_BC, k_Re,BC, k_Im,BC, psi_fs, k_Re,fs "
                                     "w.r.t. the angles, b_R/h_R, 2b_L/h_L, mu, kn, kt (AD)")
-    C.add_shape_args(p)
-    p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
-    C.add_contact_args(p)
-    C.add_load_args(p)
+    C.add_design_args(p)
     p.add_argument("--psi-a", type=float, default=None,
                    help="also differentiate k_Im at this amplitude, mrad, in [0, 1e9]")
     p.add_argument("--mode", choices=MODES, default="fwd",

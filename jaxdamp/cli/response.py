@@ -19,10 +19,7 @@ def register(sub) -> None:
     m = BladeMode()
     p = sub.add_parser("response", help="blade forced response with the damper: peaks, FRFs, "
                        "designer's diagram", description=__doc__ + "\n" + STIFFNESS_NOTE)
-    C.add_shape_args(p)
-    p.add_argument("--mu", type=float, default=0.5, help="friction coefficient, in (0, 5] (default 0.5)")
-    C.add_contact_args(p)
-    C.add_load_args(p)
+    C.add_design_args(p, mu_default=0.5)
     g = p.add_argument_group("blade mode (illustrative defaults, see jaxdamp.response.BladeMode)")
     g.add_argument("--f0-hz", type=float, default=m.f0_hz,
                    help=f"frequency with the platforms free, Hz, > 0 (default {m.f0_hz:g})")

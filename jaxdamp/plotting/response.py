@@ -17,6 +17,17 @@ def _frf_line(ax, curve, **kw):
     return ax.plot(f, amp, **kw)
 
 
+def _finish(fig, ax, xlabel, ylabel, title):
+    """Labels, a log grid, the legend and the title of a one-panel response figure."""
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    ax.set_title(title)
+    fig.tight_layout()
+    return fig
+
+
 def frf_figure(curves, forces_n, free_curves=None, stuck_curves=None, *, title=None):
     """FRFs (first-harmonic tip amplitude, mm, against frequency, Hz) at several forces: with the
     damper (solid), without it (free, dashed) and with it stuck (dotted), log amplitude axis.
@@ -36,13 +47,8 @@ def frf_figure(curves, forces_n, free_curves=None, stuck_curves=None, *, title=N
             _frf_line(ax, stuck_curves[i], color=col, lw=0.9, ls=":",
                       label="damper stuck" if i == 0 else None)
     ax.set_yscale("log")
-    ax.set_xlabel("frequency, Hz")
-    ax.set_ylabel("tip amplitude A (first harmonic), mm")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(title or "Forced response, amplitude-layered (first harmonic)")
-    fig.tight_layout()
-    return fig
+    return _finish(fig, ax, "frequency, Hz", "tip amplitude A (first harmonic), mm",
+                   title or "Forced response, amplitude-layered (first harmonic)")
 
 
 def designer_diagram_figure(dd, *, title=None):
@@ -91,13 +97,8 @@ def harmonic_error_figure(forces_n, single, references, *, title=None):
         ax.plot(forces_n, err, "o-", color=f"C{i}", label=f"|H=1 - {label}| / {label}")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ax.set_xlabel("modal force F, N")
-    ax.set_ylabel("relative error of the single-harmonic peak")
-    ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    ax.set_title(title or "Where one harmonic is not enough")
-    fig.tight_layout()
-    return fig
+    return _finish(fig, ax, "modal force F, N", "relative error of the single-harmonic peak",
+                   title or "Where one harmonic is not enough")
 
 
 __all__ = ["frf_figure", "designer_diagram_figure", "harmonic_error_figure"]
