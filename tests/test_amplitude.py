@@ -10,7 +10,7 @@ import pytest
 import jaxdamp as jd
 from jaxdamp.amplitude import (amplitude_cycle, assembly_state, check_admissible,
                                gross_slip_state, moment_loop, transitions_chart)
-from jaxdamp.hbm import hbm_aft
+from jaxdamp.baselines import hbm_aft
 from jaxdamp.status import RESULTS
 from jaxdamp.baselines.timemarch import assemble, march_amplitude, march_model
 

@@ -10,7 +10,7 @@ counts as one box). After `fig.canvas.draw()` each text's window extent (pixels)
 and no marker may hide under a legend drawn inside the axes. Nothing is excluded: a failure is
 fixed in the figure's layout.
 
-The figures come from `jaxdamp.study.study_figures`, the code that writes the study's PNGs, for the
+The figures come from `jaxdamp.plotting.study.study_figures`, the code that writes the study's PNGs, for the
 five shapes at mu = 0.7 and 0.3 (74L lifts off at 0.7: its placeholder panels are covered too).
 """
 
@@ -23,7 +23,7 @@ from matplotlib.text import Annotation
 
 from jaxdamp.geometry import paper_tables
 from jaxdamp.params import REFERENCE_KN, REFERENCE_KT, Contacts, LoadCase
-from jaxdamp.scoring import score_table
+from jaxdamp.paper.scoring import score_table
 from jaxdamp.paper.study import DEFAULT_SHAPES, compute_cases, result_entry
 from jaxdamp.plotting.study import study_figures
 
@@ -199,7 +199,7 @@ def test_sweep_heatmap_has_a_clean_layout():
     import numpy as np
 
     from jaxdamp.batch import sweep
-    from jaxdamp.sweep_plot import heatmap_figure
+    from jaxdamp.plotting.sweep import heatmap_figure
 
     # Centred b_R (the longest suptitle), a 4 x 4 grid with the family's corners.
     res = sweep(np.linspace(40.0, 90.0, 4), np.linspace(40.0, 90.0, 4), [0.7, 0.3])
