@@ -37,6 +37,7 @@ def register(sub) -> None:
     p.add_argument("--initial", default="gross_slip", choices=("gross_slip", "assembly"),
                    help="contact history of the exact curve (default gross_slip)")
     p.add_argument("--plot", metavar="DIR", help="write frf.png and designer_diagram.png to DIR")
+    C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
 
@@ -94,7 +95,9 @@ def run(args) -> int:
 
     peaks, frfs = [], []
     damper_status = RESULTS.ok
+    bar = C.progress_bar(args, total=len(forces) + 1, desc="response", unit="step")
     for force in forces:
+        bar.update(1)
         p, k_stuck, dstat = solve(jnp.asarray(force))
         damper_status = int(dstat)
         valid = bool(RESULTS.valid(p.status))
@@ -122,12 +125,15 @@ def run(args) -> int:
         frf_json["forces"].append(entry)
 
     dd = None
+    bar.set_description("designer's diagram")
     if RESULTS.valid(damper_status):
         # 21 levels per decade-spanning sweep: enough for a readable diagram at half the cost.
         dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)),
                               force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
                                   float(load.F_D) / 30.0, float(load.F_D) * 30.0, 21),
                               method=args.stiffness, **options)
+    bar.update(1)
+    bar.close()
 
     def rows(a):
         return [[_num(v) for v in row] for row in np.atleast_2d(a)]
