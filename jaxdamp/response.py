@@ -149,6 +149,65 @@ def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
     return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
 
 
+def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
+                        envelope: str = "linear") -> DamperStiffness:
+    """A damper curve known on an amplitude grid (mrad); status, stuck limit and amplitude scale
+    from `base`. Between grid points k_Im is linear (envelope="linear"), or the larger ("upper") or
+    smaller ("lower") of the two neighbouring values: a conservative envelope of a bound curve that
+    is monotone between grid points. Beyond the ends the end values hold."""
+    grid = jnp.asarray(psi_grid_mrad, float)
+    k_re, k_im = jnp.asarray(k_re, float), jnp.asarray(k_im, float)
+    pick = {"upper": jnp.maximum, "lower": jnp.minimum}.get(envelope)
+
+    def k_of_psi(psi):
+        psi = jnp.asarray(psi, float)
+        if pick is None:
+            return jnp.interp(psi, grid, k_re), jnp.interp(psi, grid, k_im)
+        right = jnp.clip(jnp.searchsorted(grid, psi), 0, grid.size - 1)
+        left = jnp.clip(right - 1, 0, grid.size - 1)
+        return jnp.interp(psi, grid, k_re), pick(k_im[left], k_im[right])
+
+    return base._replace(k_of_psi=k_of_psi)
+
+
+def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+              psi_grid_mrad=None, n_samples: int = 128):
+    """Bounds of the peak amplitude A* (mm) over every admissible contact history.
+
+    At each amplitude every history's steady cycle has k_Im inside the band
+    (`jaxdamp.band.amplitude_band`), and the peak equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F
+    gives a smaller A for a larger k_Im: the peaks of the band's lower and upper k_Im curves bracket
+    the peak of every history. The band is tabulated on psi_grid_mrad (default: 16 amplitudes from
+    0.2 psi_fs to 3 psi_BC) and interpolated linearly between them. Returns (Peaks with the band's
+    lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
+    bound curves)."""
+    from .band import amplitude_band
+
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    base = _interpolated(shape, mu, contacts, load)
+    if psi_grid_mrad is None:
+        psi_ref = float(base.psi_ref_mrad)
+        psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
+    grid = np.asarray(psi_grid_mrad, float)
+    bands = [amplitude_band(shape, mu, float(a), contacts, load, n_samples=n_samples, refine=False)
+             for a in grid]
+    k = np.array([b.bounds for b in bands])  # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max
+    k = np.where(np.isfinite(k), k, 0.0)
+    # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
+    k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
+    low = tabulated_stiffness(grid, k_re_mid, k[:, 2], base, envelope="lower")
+    high = tabulated_stiffness(grid, k_re_mid, k[:, 3], base, envelope="upper")
+    force = jnp.asarray(force_n, float)
+    forces = force.reshape(-1)
+    pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
+
+    def solve(damper):  # the damper curve is a closure: jit over the forces only
+        return jax.tree_util.tree_map(
+            pick, jax.jit(jax.vmap(lambda f: peak_response(damper, mode, f)))(forces))
+
+    return solve(low), solve(high), grid, k
+
+
 def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) -> DamperStiffness:
     """The paper's scaling law: k(psi; F_D, c kn, c kt) from the curve at (F_D0, kn, kt).
 
@@ -376,10 +435,18 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last], status)
 
 
-@jax.jit
-def _design_peaks(shape, mu, contacts, load, mode, force_n):
-    return peak_response(damper_stiffness(shape, mu, contacts, load, method="interpolated"), mode,
-                         force_n)
+_PEAK_PROGRAMS: dict = {}
+
+
+def _compiled_peaks(method: str, options: tuple):
+    """One compiled peak solver per stiffness method and options, reused by every call."""
+    if (method, options) not in _PEAK_PROGRAMS:
+        def run(shape, mu, contacts, load, mode, force_n):
+            d = damper_stiffness(shape, mu, contacts, load, method=method, **dict(options))
+            return peak_response(d, mode, force_n)
+
+        _PEAK_PROGRAMS[method, options] = jax.jit(run)
+    return _PEAK_PROGRAMS[method, options]
 
 
 def prepare_scene(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()):
@@ -395,15 +462,11 @@ def prepare_scene(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMo
 
 
 def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
-                 method: str = "exact") -> Peaks:
+                 method: str = "exact", **options) -> Peaks:
     """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     force = jnp.asarray(force_n, float)
-    if method == "interpolated":
-        run = _design_peaks
-    else:
-        run = jax.jit(lambda s, m, c, l, md, f: peak_response(
-            damper_stiffness(s, m, c, l, method=method), md, f))
+    run = _compiled_peaks(method, tuple(sorted(options.items())))
     if force.ndim == 0:
         return run(shape, mu, contacts, load, mode, force)
     return jax.vmap(run, in_axes=(None, None, None, None, None, 0))(shape, mu, contacts, load,

@@ -153,3 +153,20 @@ def test_designer_diagram_band_and_limits():
     np.testing.assert_allclose(dd.peak_vs_fd_mm[:, 1], dd.peak_vs_force_mm[:, 1], rtol=1e-10)
     f_stuck = MODE.f0_hz * np.sqrt(1 + 1e-3 * 28744.25647085 / MODE.k_b)
     np.testing.assert_allclose(dd.stuck_frequency_hz, f_stuck, rtol=1e-8)
+
+
+def test_peak_band_brackets_every_named_history():
+    """The band of k(psi_a) over all admissible histories bounds each history's k_Im pointwise, and
+    the peak equation is monotone in k_Im: the band's peaks bracket the peak of the gross-slip and
+    of the assembly history (computed independently, by their own exact cycles)."""
+    from jaxdamp.response import peak_band
+
+    highest, lowest, grid, k = peak_band(SHAPE, 0.5, force_n=[2.0, 5.0])
+    assert np.all(k[:, 2] <= k[:, 3])
+    for initial in ("gross_slip", "assembly"):
+        p = design_peaks(SHAPE, 0.5, force_n=jnp.asarray([2.0, 5.0]), initial=initial)
+        a = np.asarray(p.peak_amplitude_mm)
+        assert np.all(np.asarray(lowest.peak_amplitude_mm) <= a + 1e-12), initial
+        assert np.all(a <= np.asarray(highest.peak_amplitude_mm) + 1e-12), initial
+    # Below gross slip the histories differ: the band is a real band there.
+    assert float(highest.peak_amplitude_mm[0]) > 1.2 * float(lowest.peak_amplitude_mm[0])

@@ -36,6 +36,9 @@ def register(sub) -> None:
                         "microslip interpolation")
     p.add_argument("--initial", default="gross_slip", choices=("gross_slip", "assembly"),
                    help="contact history of the exact curve (default gross_slip)")
+    p.add_argument("--band", action="store_true",
+                   help="also the peak's bounds over every admissible contact history (the band "
+                        "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
     p.add_argument("--plot", metavar="DIR", help="write frf.png and designer_diagram.png to DIR")
     C.add_progress_arg(p)
     C.add_json_arg(p)
@@ -124,6 +127,17 @@ def run(args) -> int:
                            "f_high_hz": _masked(cur.f_high_hz, cur.has_high & ok)}
         frf_json["forces"].append(entry)
 
+    if args.band:
+        from ..response import peak_band
+
+        bar.set_description("band over histories")
+        highest, lowest, _, _ = peak_band(shape, args.mu, contacts, load, mode,
+                                          jnp.asarray(forces))
+        for i, p in enumerate(peaks):
+            ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
+            p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
+                         "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
+
     dd = None
     bar.set_description("designer's diagram")
     if RESULTS.valid(damper_status):
@@ -153,7 +167,7 @@ def run(args) -> int:
               "fd": args.fd, "q": args.q, "r_sin_beta": args.r_sin_beta,
               "f0_hz": args.f0_hz, "modal_stiffness_n_per_mm": args.modal_stiffness_n_per_mm,
               "loss_factor": args.loss_factor, "psi_per_mm": args.psi_per_mm,
-              "force_n": forces, "initial": args.initial,
+              "force_n": forces, "initial": args.initial, "band": bool(args.band),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
     doc = C.document(RESULTS(int(worst)).name, {"inputs": inputs, "peaks": peaks, "frf": frf_json,
