@@ -145,12 +145,26 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_
     harmonic. Both agree at psi_a >= psi_BC, where gross slip erases the history.
     """
     if method == "interpolated":
-        return _interpolated_stiffness(bc, psi_a_mrad)
+        return _bucketed(_interpolated_stiffness, bc, psi_a_mrad)
     if method != "exact":
         raise ValueError(f"method must be exact or interpolated; got {method!r}")
     if initial not in ("gross_slip", "assembly"):
         raise ValueError(f"initial must be gross_slip or assembly; got {initial!r}")
-    return _exact_stiffness(bc, psi_a_mrad, initial)
+    return _bucketed(partial(_exact_stiffness, initial=initial), bc, psi_a_mrad)
+
+
+def _bucketed(kernel, bc, psi_a_mrad):
+    """kernel(bc, psi) on concrete amplitudes padded to a power of two (at least 8, repeating the
+    last one), so that a new number of amplitudes does not compile a new program."""
+    if isinstance(psi_a_mrad, jax.core.Tracer):
+        return kernel(bc, psi_a_mrad)
+    psi = np.asarray(psi_a_mrad, float)
+    flat = psi.reshape(-1)
+    n = max(flat.size, 1)
+    size = max(8, 1 << int(np.ceil(np.log2(n))))
+    padded = np.concatenate([flat, np.full(size - flat.size, flat[-1] if flat.size else 1.0)])
+    k_re, k_im = kernel(bc, padded)
+    return k_re[: flat.size].reshape(psi.shape), k_im[: flat.size].reshape(psi.shape)
 
 
 @partial(jax.jit, static_argnames=("initial",))

@@ -45,3 +45,17 @@ def test_derivatives_come_back_as_designs():
     assert float(d.load.F_D) * 1000.0 == pytest.approx(float(jac.values.psi_bc), rel=1e-9)
     assert jax.tree_util.tree_structure(d) == jax.tree_util.tree_structure(
         jd.Design(jd.DamperShape(0.0, 0.0, 0.0, 0.0), 0.0, jd.Contacts(0.0, 0.0), jd.LoadCase(0.0, 0.0, 0.0)))
+
+
+def test_complex_stiffness_compiles_once_for_many_numbers_of_amplitudes():
+    from jaxdamp import harmonics
+
+    bc = jd.base_cycle(jd.family_shape("74R"), 0.5)
+    jd.complex_stiffness(bc, [1.0, 2.0], method="interpolated")
+    before = harmonics._interpolated_stiffness._cache_size()
+    for n in (1, 3, 5, 8):
+        k_re, k_im = jd.complex_stiffness(bc, np.linspace(0.5, 4.0, n), method="interpolated")
+        assert k_re.shape == (n,)
+    assert harmonics._interpolated_stiffness._cache_size() == before
+    # A scalar stays a scalar.
+    assert np.shape(jd.complex_stiffness(bc, 2.0, method="interpolated")[0]) == ()
