@@ -382,6 +382,9 @@ def _design_peaks(shape, mu, contacts, load, mode, force_n):
                          force_n)
 
 
+_DESIGN_PEAKS = {}
+
+
 def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
                  method: str = "exact") -> Peaks:
     """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
@@ -396,8 +399,12 @@ def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMod
     if method == "interpolated":
         run = _design_peaks
     else:
-        run = jax.jit(lambda s, m, c, l, md, f: peak_response(
-            damper_stiffness(s, m, c, l, method=method), md, f))
+        # One compiled kernel per method, reused by every later call (a new jit per call would
+        # recompile the amplitude cycles each time).
+        run = _DESIGN_PEAKS.get(method)
+        if run is None:
+            run = _DESIGN_PEAKS[method] = jax.jit(lambda s, m, c, l, md, f: peak_response(
+                damper_stiffness(s, m, c, l, method=method), md, f))
     if force.ndim == 0:
         return run(shape, mu, contacts, load, mode, force)
     return jax.vmap(run, in_axes=(None, None, None, None, None, 0))(shape, mu, contacts, load,
