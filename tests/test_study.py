@@ -193,7 +193,7 @@ def _png_size(path):
 def test_figures_exist_and_are_real_pngs(with_figures):
     out, s = with_figures
     files = [f["file"] for f in s["figures"]]
-    for kind in ("section", "tracks", "moment", "stretched", "stiffness"):
+    for kind in ("section", "tracks", "moment", "stretched", "stiffness", "amplitude_stiffness"):
         for shape in ("60sym", "74L"):
             assert f"figures/{kind}_{shape}.png" in files
     assert {"figures/energy.png", "figures/family.png", "figures/key_figure.png"} <= set(files)
@@ -278,3 +278,100 @@ def test_key_figure_has_its_own_heading(with_figures):
     assert md.index("](figures/key_figure.png)") > head
     assert md.index("](figures/key_figure.png)") < md.index("\n## ", head + 5)
     assert md.count("](figures/key_figure.png)") == 1
+
+
+# ---------------------------------------------------------------- k(psi_a) band and peak response
+def _arr(v):
+    import numpy as np
+
+    return np.array([np.nan if x is None else x for x in v], float)
+
+
+def test_stiffness_band_entries_have_status_gaps_and_finite_or_null_numbers(full):
+    import math
+
+    _, s = full
+    bands = s["stiffness_band"]
+    assert list(bands) == list(DEFAULT_SHAPES)
+    for shape, per in bands.items():
+        assert list(per) == MU_KEYS, shape
+        for mu, e in per.items():
+            if s["results"][shape][mu]["liftoff"]:
+                assert e == {"status": "liftoff"}, (shape, mu)
+                continue
+            assert e["status"] == "ok", (shape, mu)
+            grid = e["band"]["psi_a_mrad"]
+            assert len(grid) >= 2 and all(isinstance(x, float) for x in grid)
+            assert grid[0] < e["psi_fs_mrad"] and grid[-1] > e["psi_bc_mrad"]
+            for key in ("k_re_min", "k_re_max", "k_im_min", "k_im_max", "n_valid", "status"):
+                assert len(e["band"][key]) == len(grid), (shape, mu, key)
+            for k in ("k_re", "k_im"):
+                g = e["gap"][k]
+                assert g["side"] in ("inside", "above", "below")
+                assert isinstance(g["gap"], float) and math.isfinite(g["gap"]) and g["gap"] >= 0.0
+                assert g["pct"] is None or (math.isfinite(g["pct"]) and g["pct"] >= 0.0)
+                assert g["psi_a_mrad"] in grid
+                assert (g["gap"] == 0.0) == (g["side"] == "inside")
+
+
+def test_band_holds_both_named_states_and_the_exact_base_cycle_beyond_psi_bc(full):
+    """Every amplitude of the band: both named states' exact k lie in [min, max]; beyond psi_BC
+    the paper's curve is the Base-Cycle's own (stretched-cycle) first harmonic, an admissible
+    history computed by another route (jaxdamp.harmonics), so it lies in the band too."""
+    import numpy as np
+
+    _, s = full
+    for shape, per in s["stiffness_band"].items():
+        for mu, e in per.items():
+            if "band" not in e:
+                continue
+            b, c = e["band"], e["curve"]
+            grid = np.array(b["psi_a_mrad"])
+            at = [int(np.argmin(np.abs(np.array(c["psi_a_mrad"]) - p))) for p in grid]
+            for j, k in enumerate(("k_re", "k_im")):
+                lo, hi = _arr(b[f"{k}_min"]), _arr(b[f"{k}_max"])
+                for initial in ("gross_slip", "assembly"):
+                    v = _arr(c[initial][k])[at]
+                    have = np.isfinite(v)
+                    assert np.all((lo[have] <= v[have]) & (v[have] <= hi[have])), (shape, mu, initial, k)
+                v = _arr(c["interpolated"][k])[at]
+                beyond = grid >= e["psi_bc_mrad"] * (1 + 1e-9)
+                tol = 1e-9 * np.nanmax(np.abs(hi))
+                assert np.all((lo[beyond] - tol <= v[beyond]) & (v[beyond] <= hi[beyond] + tol)), (shape, mu, k)
+
+
+def test_peak_response_entries_are_physical_and_mark_liftoff(full):
+    """A* lies in (0, F/(eta k_b)] (k_Im >= 0); its frequency between the free f0 and the stuck
+    damper's f0 sqrt(1 + 1e-3 r^2 k_Re,fs / k_b) (0 <= k_Re <= the stick stiffness)."""
+    _, s = full
+    pr = s["peak_response"]
+    md, forces = pr["mode"], pr["forces_n"]
+    assert forces and list(pr["results"]) == list(DEFAULT_SHAPES)
+    for shape, per in pr["results"].items():
+        for mu, e in per.items():
+            if s["results"][shape][mu]["liftoff"]:
+                assert e["liftoff"] and e["status"] == "liftoff" and "exact" not in e
+                continue
+            assert e["status"] == "ok" and not e["liftoff"]
+            f_stuck = md["f0_hz"] * (1 + 1e-3 * md["r"] ** 2 * s["results"][shape][mu]["k_re_fs"] / md["k_b"]) ** 0.5
+            for method in ("exact", "interpolated"):
+                r = e[method]
+                for i, f in enumerate(forces):
+                    a, hz = r["amplitude_mm"][i], r["frequency_hz"][i]
+                    assert r["status"][i] == "ok" and r["n_roots"][i] >= 1, (shape, mu, method, f)
+                    assert 0.0 < a <= f / (md["eta"] * md["k_b"]) * (1 + 1e-9), (shape, mu, method, f)
+                    assert md["f0_hz"] <= hz <= f_stuck * (1 + 1e-12), (shape, mu, method, f)
+                    assert abs(r["psi_a_mrad"][i] - md["r"] * a) <= 1e-12 * a
+
+
+def test_report_shows_the_gaps_and_the_peak_response(full):
+    out, s = full
+    report = (out / "report.md").read_text()
+    assert "The paper's interpolation against the band of exact cycles" in report
+    assert "The shapes compared on peak blade response" in report
+    g = s["stiffness_band"]["60sym"]["0.5"]["gap"]["k_re"]
+    if g["gap"] > 0:
+        assert f"({g['pct']:.1f} %, {g['side']}) at ψ_a = {g['psi_a_mrad']:.3f}" in report
+    a = s["peak_response"]["results"]["60sym"]["0.5"]["exact"]["amplitude_mm"][0]
+    assert f"| 60sym | 0.5 | {a:.3f} |" in report
+    assert "| 74L | 0.7 | LIFTOFF |" in report

@@ -191,6 +191,8 @@ def build_report(summary: dict) -> Doc:
     _five_numbers(doc, res, shapes)
     _scores(doc, summary, shapes)
     _findings(doc, summary, shapes)
+    _interpolation_gaps(doc, summary, shapes)
+    _peak_response(doc, summary, shapes)
     _work(doc, res, summary.get("energies", {}), shapes)
     _statics(doc, summary.get("statics", {}), shapes)
     _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}), shapes)
@@ -287,6 +289,89 @@ def _scores(doc, summary, names):
     doc.table(["μ", "indicator"] + shapes, rows)
     if sc["excluded"]:
         doc.p("Not ranked: " + "; ".join(f"{s} at μ = {m} ({why})" for s, m, why in sc["excluded"]) + ".")
+
+
+def _gap_cell(g):
+    if g.get("gap") is None:
+        return "—"
+    if g["gap"] == 0.0:
+        return "0 (inside)"
+    return f"{fmt(g['gap'], 0)} ({fmt(g['pct'], 1)} %, {g['side']}) at ψ_a = {fmt(g['psi_a_mrad'], 3)}"
+
+
+def _interpolation_gaps(doc, summary, shapes):
+    bands = summary.get("stiffness_band")
+    if not bands:
+        return
+    doc.h(1, f"The paper's interpolation against the band of exact cycles: {shapes}")
+    some = next((e["band"] for per in bands.values() for e in per.values() if "band" in e), None)
+    grid = ("" if some is None else
+            f"{len(some['psi_a_mrad'])} amplitudes from 0.2 ψ_fs to 1.5 ψ_BC, {some['n_samples']} "
+            "sampled admissible initial states each plus the polytope's vertices, not refined, "
+            "the band widened to hold the two named states (gross slip, assembly)")
+    doc.p("The band at an amplitude ψ_a is the range of k_Re and k_Im (N mm/mrad) of the exact "
+          "steady cycles over every statically admissible initial state (" + grid + "). The gap is "
+          "how far the paper's linear microslip interpolation lies outside the band (0 inside), "
+          "largest over the amplitudes, in N mm/mrad and in % of the band bound it passes (above "
+          "the maximum or below the minimum). The band is sampled, so it is an inner estimate: "
+          "a gap can only be overstated by the sampling. Figures: the k(ψ_a) figures below.")
+    rows = []
+    for s, per in bands.items():
+        for m, e in per.items():
+            if "gap" not in e:
+                rows.append([s, m, e["status"].upper(), "—", "—"])
+                continue
+            rows.append([s, m, e["status"], _gap_cell(e["gap"]["k_re"]), _gap_cell(e["gap"]["k_im"])])
+    doc.table(["shape", "μ", "status", "k_Re gap (N mm/mrad)", "k_Im gap (N mm/mrad)"], rows)
+    missed = sum(e["band"]["named_outside_samples"] for per in bands.values() for e in per.values()
+                 if "band" in e)
+    doc.p(f"Band bounds that the samples missed and a named state set: {missed}.")
+
+
+def _peak_response(doc, summary, shapes):
+    pr = summary.get("peak_response")
+    if not pr:
+        return
+    md, forces = pr["mode"], pr["forces_n"]
+    doc.h(1, f"The shapes compared on peak blade response: {shapes}")
+    free = [f / (md["eta"] * md["k_b"]) if md["eta"] * md["k_b"] > 0 else None for f in forces]
+    doc.p(f"One blade mode (jaxdamp.response.BladeMode defaults, illustrative: f0 = {md['f0_hz']:g} Hz, "
+          f"k_b = {md['k_b']:g} N/mm, η = {md['eta']:g}, r = {md['r']:g} mrad/mm) with the damper as "
+          "a complex spring; A* is the peak tip amplitude (mm) at modal force F (N), f* its "
+          "frequency (Hz), from the exact k(ψ_a) (steady cycles from a gross-slip history, the "
+          "default) and, for comparison, the paper's interpolation. Without the damper A* = "
+          + ", ".join(f"{fmt(a, 1)} mm at {f:g} N" for a, f in zip(free, forces))
+          + f" at f0 = {md['f0_hz']:g} Hz. Smaller A* is better. LIFTOFF: no cycle, no damper curve.")
+    rows = []
+    for s, per in pr["results"].items():
+        for m, e in per.items():
+            if e.get("liftoff"):
+                rows.append([s, m] + ["LIFTOFF"] * (3 * len(forces)))
+                continue
+            cells = []
+            for i in range(len(forces)):
+                a, f = e["exact"]["amplitude_mm"][i], e["exact"]["frequency_hz"][i]
+                ai = e["interpolated"]["amplitude_mm"][i]
+                cells += [fmt(a, 3) if a is not None else e["exact"]["status"][i], fmt(f, 1),
+                          "—" if a is None or ai is None else f"{fmt(ai, 3)} ({_pct(100 * (ai - a) / a)})"]
+            rows.append([s, m] + cells)
+    head = []
+    for f in forces:
+        head += [f"A* at {f:g} N (mm)", f"f* at {f:g} N (Hz)", f"A* interpolated at {f:g} N (mm)"]
+    doc.table(["shape", "μ"] + head, rows)
+    best = []
+    for m in summary["meta"]["mus"]:
+        for i, f in enumerate(forces):
+            vals = {s: per[m]["exact"]["amplitude_mm"][i] for s, per in pr["results"].items()
+                    if m in per and not per[m].get("liftoff")
+                    and per[m]["exact"]["amplitude_mm"][i] is not None}
+            if vals:
+                s_best = min(vals, key=vals.get)
+                s_worst = max(vals, key=vals.get)
+                best.append(f"μ = {m}, F = {f:g} N: lowest A* {s_best} ({fmt(vals[s_best], 3)} mm), "
+                            f"highest {s_worst} ({fmt(vals[s_worst], 3)} mm)")
+    if best:
+        doc.items(best)
 
 
 def _findings(doc, summary, shapes):

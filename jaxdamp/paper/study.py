@@ -4,7 +4,10 @@ Writes into the output directory:
 - `study.json`: {"results": {shape: {mu: {psi_fs_mrad, k_re_fs, psi_bc_mrad, k_re_bc, k_im_bc, w_R1,
   w_L1, w_L2, w_M, liftoff, converged}}}, "contacts": {kn, kt}, ...} with mu keys "0.7", "0.5", "0.3"
   (numbers are null for a case that lifts off: it has no cycle), plus the load case, the paper
-  comparison, the Table 11 scores, the checked findings and the run time;
+  comparison, the Table 11 scores, the checked findings and the run time; "stiffness_band":
+  {shape: {mu: exact k(psi_a) from both named initial states, the band over all admissible initial
+  states, the paper's interpolation and its largest gap to the band}}; "peak_response": the peak
+  blade response A* and its frequency at PEAK_FORCES_N for the default BladeMode;
 - `figures/*.png`, `tables/*.csv`, `report.md` and `report.html`.
 
 Every jit-compiled function is compiled once and reused across shapes and mu (same array shapes).
@@ -14,8 +17,11 @@ from __future__ import annotations
 
 import csv
 import json
+import math
 import time
 from pathlib import Path
+
+import numpy as np
 
 from ..status import status_of
 
@@ -187,6 +193,221 @@ def write_tables(out: Path, summary: dict) -> list[str]:
     return files
 
 
+# ---------------------------------------------------------------- k(psi_a): exact, band, interpolation
+BAND_AMPLITUDES = 9  # band amplitudes per design, from BAND_LO_FS psi_fs to BAND_HI_BC psi_BC
+BAND_SAMPLES = 128  # admissible initial states sampled per amplitude (no refinement: the cost)
+BAND_LO_FS = 0.2
+BAND_HI_BC = 1.5
+CURVE_PER_BAND = 4  # exact curves: this many intervals per band interval (band points included)
+NAMED_STATES = ("gross_slip", "assembly")
+GAP_ROUNDING = 1e-9  # relative: a gap below this times the band's bound is rounding, reported as 0
+
+
+def _num(v):
+    """A JSON number: None for NaN / inf."""
+    v = float(v)
+    return v if math.isfinite(v) else None
+
+
+def _nums(a):
+    return [_num(v) for v in np.asarray(a, float).ravel()]
+
+
+def interpolation_gap(psi, k, lo, hi) -> dict:
+    """Largest distance (N mm/mrad) of the interpolated k (at the amplitudes psi, mrad) outside the
+    band [lo, hi] (0 inside), the amplitude where it occurs, the side, and the gap in % of the band
+    bound it passes. None-valued when no amplitude has a band."""
+    k, lo, hi = (np.asarray(x, float) for x in (k, lo, hi))
+    ok = np.isfinite(k) & np.isfinite(lo) & np.isfinite(hi)
+    if not ok.any():
+        return {"gap": None, "pct": None, "psi_a_mrad": None, "side": None}
+    below, above = np.where(ok, lo - k, -np.inf), np.where(ok, k - hi, -np.inf)
+    gap = np.maximum(np.maximum(below, above), 0.0)
+    # A gap at the rounding level of the bound (the interpolation is exact beyond psi_BC) is none.
+    gap = np.where(gap <= GAP_ROUNDING * np.maximum(np.abs(lo), np.abs(hi)), 0.0, gap)
+    gap = np.where(ok, gap, -np.inf)
+    i = int(np.argmax(gap))
+    side = "inside" if gap[i] <= 0 else ("below" if below[i] >= above[i] else "above")
+    bound = lo[i] if side == "below" else hi[i]
+    pct = 100.0 * gap[i] / abs(bound) if abs(bound) > 0 else None
+    return {"gap": float(gap[i]), "pct": None if pct is None else float(pct),
+            "psi_a_mrad": float(psi[i]), "side": side}
+
+
+def amplitude_grids(bc, n_amplitudes=BAND_AMPLITUDES):
+    """(psi_fs, psi_BC, curve amplitudes, band amplitudes) in mrad of one Base-Cycle: the curve grid
+    runs from BAND_LO_FS psi_fs to BAND_HI_BC psi_BC and holds the band grid as every
+    CURVE_PER_BAND-th point."""
+    from ..harmonics import five_numbers
+
+    nums = five_numbers(bc)
+    psi_fs, psi_bc = float(nums.psi_fs), float(nums.psi_bc)
+    psi = np.linspace(BAND_LO_FS * psi_fs, BAND_HI_BC * psi_bc, CURVE_PER_BAND * (n_amplitudes - 1) + 1)
+    return psi_fs, psi_bc, psi, psi[::CURVE_PER_BAND]
+
+
+def exact_curves(shapes, mus, psi, contacts, load) -> dict:
+    """{initial: (k_re, k_im, status)} with (designs, amplitudes) arrays: the exact steady cycles
+    of every design from both named initial states, in one batched call per state (one compiled
+    kernel for the whole study); k is NaN where the status is not valid."""
+    import jax
+
+    from ..amplitude import amplitude_curves
+    from ..status import RESULTS
+
+    stacked = jax.tree_util.tree_map(lambda *x: np.stack([np.asarray(v, float) for v in x]), *shapes)
+    out = {}
+    for initial in NAMED_STATES:
+        cv = amplitude_curves(stacked, np.asarray(mus, float), np.asarray(psi), contacts, load,
+                              initial=initial)
+        st = np.asarray(cv.status)
+        ok = np.asarray(RESULTS.valid(st))
+        out[initial] = (np.where(ok, np.asarray(cv.k_re), np.nan),
+                        np.where(ok, np.asarray(cv.k_im), np.nan), st)
+    return out
+
+
+def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitudes=BAND_AMPLITUDES,
+                         n_samples=BAND_SAMPLES) -> dict:
+    """For one design: the exact k_Re, k_Im (N mm/mrad) from both named initial states on the
+    `amplitude_grids` grid (`curves`: this design's row of `exact_curves`, computed here if None),
+    the paper's interpolation on it, the band over the admissible initial states at every
+    CURVE_PER_BAND-th amplitude, and the interpolation's largest gap to the band. The band is
+    sampled (n_samples states plus the polytope's vertices, not refined) and then widened to hold
+    the two named states' values (they are admissible states); `named_outside_samples` counts the
+    bounds that needed it. Figures and report read this entry."""
+    from ..band import amplitude_band
+    from ..harmonics import complex_stiffness
+    from ..status import RESULTS
+
+    if bool(bc.liftoff):
+        return {"status": RESULTS.liftoff.name}
+    psi_fs, psi_bc, psi, grid = amplitude_grids(bc, n_amplitudes)
+    if curves is None:
+        curves = {k: tuple(x[0] for x in v)
+                  for k, v in exact_curves([shape], [mu], psi[None], contacts, load).items()}
+    at_band = slice(None, None, CURVE_PER_BAND)
+    k_re_i, k_im_i = (np.asarray(x) for x in complex_stiffness(bc, psi, method="interpolated"))
+    bounds, n_valid, status = [], [], []
+    for p in grid:
+        b = amplitude_band(shape, mu, float(p), contacts, load, n_samples=n_samples, refine=False)
+        bounds.append(b.bounds)
+        n_valid.append(b.n_valid)
+        status.append(RESULTS(b.status).name)
+    bounds = np.array(bounds)  # (amplitudes, 4): k_re_min, k_re_max, k_im_min, k_im_max
+    missed = 0
+    for initial in NAMED_STATES:
+        kr, ki, _ = curves[initial]
+        for j, k in enumerate((kr[at_band], ki[at_band])):
+            have = np.isfinite(k)
+            lo_b, hi_b = bounds[:, 2 * j], bounds[:, 2 * j + 1]
+            out_lo = have & ~(k >= lo_b)  # NaN bound (no valid sample) counts as outside
+            out_hi = have & ~(k <= hi_b)
+            missed += int(out_lo.sum() + out_hi.sum())
+            bounds[:, 2 * j] = np.where(out_lo, np.fmin(lo_b, k), lo_b)
+            bounds[:, 2 * j + 1] = np.where(out_hi, np.fmax(hi_b, k), hi_b)
+    gap = {name: interpolation_gap(grid, k[at_band], bounds[:, 2 * j], bounds[:, 2 * j + 1])
+           for j, (name, k) in enumerate((("k_re", k_re_i), ("k_im", k_im_i)))}
+    band_ok = any(s in ("ok", "shakedown") for s in status)
+    return {
+        "status": "ok" if band_ok else status[0],
+        "psi_fs_mrad": psi_fs, "psi_bc_mrad": psi_bc,
+        "curve": {"psi_a_mrad": _nums(psi),
+                  **{initial: {"k_re": _nums(curves[initial][0]), "k_im": _nums(curves[initial][1]),
+                               "status": [RESULTS(int(s)).name for s in curves[initial][2]]}
+                     for initial in NAMED_STATES},
+                  "interpolated": {"k_re": _nums(k_re_i), "k_im": _nums(k_im_i)}},
+        "band": {"psi_a_mrad": _nums(grid), "n_samples": int(n_samples), "refined": False,
+                 **{name: _nums(bounds[:, j]) for j, name in
+                    enumerate(("k_re_min", "k_re_max", "k_im_min", "k_im_max"))},
+                 "n_valid": n_valid, "status": status, "named_outside_samples": missed},
+        "gap": gap,
+    }
+
+
+def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samples=BAND_SAMPLES,
+                    progress=None) -> dict:
+    """`stiffness_band_entry` of every design of the study ({shape: {mu key: entry}}), the exact
+    curves of all designs that do not lift off computed in one batch."""
+    from ..geometry import family_shape
+
+    live = [(s, m) for s, per in cycles.items() for m, bc in per.items() if not bool(bc.liftoff)]
+    curves = {}
+    if live:
+        psi = np.stack([amplitude_grids(cycles[s][m], n_amplitudes)[2] for s, m in live])
+        batch = exact_curves([family_shape(s) for s, _ in live], [float(m) for _, m in live], psi,
+                             contacts, load)
+        curves = {key: {k: tuple(x[i] for x in v) for k, v in batch.items()}
+                  for i, key in enumerate(live)}
+    out = {}
+    for s, per in cycles.items():
+        for m, bc in per.items():
+            out.setdefault(s, {})[m] = stiffness_band_entry(
+                family_shape(s), float(m), contacts, load, bc, curves.get((s, m)), n_amplitudes,
+                n_samples)
+            if progress is not None:
+                progress.update(1)
+    return out
+
+
+# ---------------------------------------------------------------- peak blade response
+PEAK_FORCES_N = (5.0, 20.0)  # modal excitation forces of the shape comparison on peak response
+
+
+def _peaks_kernel(method):
+    import jax
+
+    from ..response import damper_stiffness, peak_response
+
+    def run(shape, mu, contacts, load, mode, forces):
+        damper = damper_stiffness(shape, mu, contacts, load, method=method)
+        return jax.vmap(lambda f: peak_response(damper, mode, f))(forces)
+
+    return jax.jit(run)
+
+
+_PEAKS = {}
+
+
+def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N) -> dict:
+    """Peak tip amplitude A* (mm), its frequency (Hz) and psi_a = r A* (mrad) of the default
+    BladeMode with this damper at each force (N), from the exact k(psi_a) (gross-slip history) and,
+    for comparison, the paper's interpolation. One compiled kernel per method, shared by all
+    designs. A design that lifts off has no damper curve: numbers null, status liftoff."""
+    import jax.numpy as jnp
+
+    from ..params import prepare_inputs
+    from ..response import BladeMode
+    from ..status import RESULTS
+
+    if liftoff:
+        return {"status": RESULTS.liftoff.name, "liftoff": True}
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    mode = BladeMode(*(jnp.asarray(v, float) for v in BladeMode()))
+    entry = {"status": "ok", "liftoff": False, "forces_n": [float(f) for f in forces]}
+    for method in ("exact", "interpolated"):
+        if method not in _PEAKS:
+            _PEAKS[method] = _peaks_kernel(method)
+        p = _PEAKS[method](shape, mu, contacts, load, mode, jnp.asarray(forces, float))
+        st = [RESULTS(int(s)).name for s in np.asarray(p.status)]
+        ok = np.array([s == "ok" for s in st])
+        entry[method] = {
+            "amplitude_mm": [_num(a) if o else None for a, o in zip(np.asarray(p.peak_amplitude_mm), ok)],
+            "frequency_hz": [_num(f) if o else None for f, o in zip(np.asarray(p.peak_frequency_hz), ok)],
+            "psi_a_mrad": [_num(a) if o else None for a, o in zip(np.asarray(p.psi_a_mrad), ok)],
+            "n_roots": [int(n) for n in np.asarray(p.n_roots)],
+            "status": st}
+        if method == "exact" and not ok.all():
+            entry["status"] = next(s for s in st if s != "ok")
+    return entry
+
+
+def blade_mode_dict() -> dict:
+    from ..response import BladeMode
+
+    return {k: float(v) for k, v in BladeMode()._asdict().items()}
+
+
 def check_study_inputs(shapes, mus, kn=None, kt=None):
     """ValueError naming the parameter unless the study's inputs are valid (nothing is computed);
     returns the Contacts (kn, kt default to the reference pair). `run_study` calls it first."""
@@ -207,10 +428,13 @@ def check_study_inputs(shapes, mus, kn=None, kt=None):
     return validate_contacts(Contacts(float(kn), float(kt)))
 
 
-def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=None):
+def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=None,
+                  band_amplitudes=BAND_AMPLITUDES, band_samples=BAND_SAMPLES, peak_forces=PEAK_FORCES_N):
     """Every shape x mu Base-Cycle of the study and its summary dict (the content of study.json,
-    without figures). Returns (summary, cycles, summaries); progress: None or a tqdm-like bar
-    updated once per case. Inputs are checked before any work (`check_study_inputs`)."""
+    without figures), the exact k(psi_a) with its band and the interpolation's gap to it
+    (`stiffness_band_entry`), and the peak blade response (`peak_response_entry`). Returns
+    (summary, cycles, summaries); progress: None or a tqdm-like bar updated three times per case.
+    Inputs are checked before any work (`check_study_inputs`)."""
     import jax
 
     from ..params import LoadCase
@@ -223,6 +447,19 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
     ref = tables["reference_case"]
     load = LoadCase(ref["F_D"], ref["q_star"], ref["r_sin_beta"])
     cycles, summaries, statics, transitions = compute_cases(shapes, mus, contacts, load, progress)
+    t_cases = time.perf_counter() - t0
+    from ..geometry import family_shape
+
+    stiffness_band = stiffness_bands(cycles, contacts, load, band_amplitudes, band_samples, progress)
+    peaks = {}
+    t_band = time.perf_counter() - t0 - t_cases
+    for name, per in cycles.items():
+        for m, bc in per.items():
+            peaks.setdefault(name, {})[m] = peak_response_entry(
+                family_shape(name), float(m), contacts, load, bool(bc.liftoff), peak_forces)
+            if progress is not None:
+                progress.update(1)
+    t_peaks = time.perf_counter() - t0 - t_cases - t_band
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
@@ -243,8 +480,13 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
         "statics": statics,
         "transitions": transitions,
         "paper_transitions": paper_transitions(tables, shapes, [mu_key(m) for m in mus]),
+        "stiffness_band": stiffness_band,
+        "peak_response": {"mode": blade_mode_dict(), "forces_n": [float(f) for f in peak_forces],
+                          "results": peaks},
         "meta": {"shapes": list(shapes), "mus": [mu_key(m) for m in mus], "version": _version(),
-                 "jax": jax.__version__, "runtime_s": time.perf_counter() - t0},
+                 "jax": jax.__version__, "runtime_s": time.perf_counter() - t0,
+                 "runtime_parts_s": {"base_cycles": t_cases, "stiffness_band": t_band,
+                                     "peak_response": t_peaks}},
     }
     return summary, cycles, summaries
 

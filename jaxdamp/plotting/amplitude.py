@@ -64,10 +64,14 @@ def plot_amplitude_stiffness(shape, mu, contacts=None, load=None, psi_a_mrad=Non
         axis.plot(psi, d["gross_slip"][j], "C0-", label="exact, from gross slip")
         axis.plot(psi, d["assembly"][j], "C1-.", label="exact, from assembly")
         axis.plot(psi, d["interpolated"][j], "k--", lw=1, label="paper's interpolation")
-        for x, name in ((d["psi_fs"], "psi_fs"), (d["psi_bc"], "psi_BC")):
+        # Labels inside the axes on an opaque box (the dotted line passes behind), at two heights
+        # so that they stay apart when psi_fs and psi_BC coincide (a mechanism that goes straight
+        # to gross slip).
+        for x, name, y in ((d["psi_fs"], "psi_fs", 0.97), (d["psi_bc"], "psi_BC", 0.86)):
             axis.axvline(x, color="0.5", ls=":", lw=1)
-            axis.annotate(name, (x, 1.0), xycoords=("data", "axes fraction"), ha="center",
-                          va="bottom", fontsize=8)
+            axis.annotate(name, (x, y), xycoords=("data", "axes fraction"), ha="center",
+                          va="top", fontsize=8, zorder=5,
+                          bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none"))
         axis.set_xlabel("psi_a (mrad)")
         axis.set_ylabel(f"{label} (N mm/mrad)")
         axis.grid(alpha=0.3)

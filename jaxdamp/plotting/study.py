@@ -50,6 +50,16 @@ def study_figures(cycles, summaries, summary):
                "interpolation in the microslip range between them (cf. Fig. 15, Appendix B). Right: "
                "the same curves zoomed on the microslip range.",
                "Complex stiffness (Fig. 15, Appendix B)")
+    for s, per in summary.get("stiffness_band", {}).items():
+        fig = amplitude_stiffness_figure(s, per)
+        if fig is not None:
+            yield (fig, f"amplitude_stiffness_{s}.png",
+                   f"{s}: k_Re (top) and k_Im (bottom) against ψ_a, one column per μ: the exact "
+                   "steady cycles at each amplitude from the gross-slip (solid) and the assembly "
+                   "(dash-dot) initial state, the band over all admissible initial states (shaded; "
+                   f"{_band_words(per)}), the paper's linear interpolation (dashed); ψ_fs and ψ_BC "
+                   "dotted. The interpolation's largest gap to the band is in the report's table.",
+                   "k(ψ_a): exact, band and the paper's interpolation")
     yield (P.plot_energy(summary["results"], summary["energies"]), "energy.png",
            "Work shape factors (top) and energy dissipated per Base-Cycle (bottom) per contact; "
            "black diamonds: w_M and ∮M dψ (cf. Appendix B/C).", "Dissipated energy per contact")
@@ -64,6 +74,60 @@ def study_figures(cycles, summaries, summary):
 
 
 
+def amplitude_data(entry) -> dict:
+    """The study's stiffness_band entry of one design as `plot_amplitude_stiffness` data (NaN for
+    null)."""
+    import numpy as np
+
+    def arr(v):
+        return np.array([np.nan if x is None else x for x in v], float)
+
+    c, b = entry["curve"], entry["band"]
+    return {"psi_a_mrad": arr(c["psi_a_mrad"]), "psi_fs": entry["psi_fs_mrad"],
+            "psi_bc": entry["psi_bc_mrad"],
+            **{k: (arr(c[k]["k_re"]), arr(c[k]["k_im"])) for k in ("gross_slip", "assembly",
+                                                                    "interpolated")},
+            "band": (arr(b["psi_a_mrad"]), np.stack([arr(b[k]) for k in
+                                                     ("k_re_min", "k_re_max", "k_im_min", "k_im_max")],
+                                                    axis=1))}
+
+
+def _band_words(per) -> str:
+    b = next((e["band"] for e in per.values() if "band" in e), None)
+    if b is None:
+        return "none"
+    return (f"{len(b['psi_a_mrad'])} amplitudes, drawn linear between them, {b['n_samples']} sampled states each plus the "
+            "polytope's vertices, widened to hold both named states")
+
+
+def amplitude_stiffness_figure(shape, per):
+    """One figure per shape: columns per mu, rows k_Re and k_Im (`plot_amplitude_stiffness` on the
+    study's data); a mu that lifts off gets an empty panel saying so. None if every mu lifts off."""
+    import matplotlib.pyplot as plt
+
+    from .amplitude import plot_amplitude_stiffness
+
+    if not any("curve" in e for e in per.values()):
+        return None
+    fig, axes = plt.subplots(2, len(per), figsize=(5.2 * len(per), 7.6), squeeze=False,
+                             layout="constrained")
+    for j, (m, e) in enumerate(per.items()):
+        col = axes[:, j]
+        if "curve" not in e:
+            for a in col:
+                a.text(0.5, 0.5, f"μ = {m}: {e['status'].upper()}\n(no cycle)", ha="center",
+                       va="center", transform=a.transAxes)
+                a.set_xticks([])
+                a.set_yticks([])
+            continue
+        plot_amplitude_stiffness(None, None, ax=col, data=amplitude_data(e))
+        col[0].set_title(f"μ = {m}")
+        if j != len(per) - 1 and col[-1].get_legend() is not None:
+            col[-1].get_legend().remove()
+    fig.suptitle(f"{shape}: complex stiffness against amplitude")
+    return fig
+
+
 def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[dict]:
     """Every figure of the study as PNG; returns [{file, caption, section}] (paths relative to out/..)."""
     import matplotlib.pyplot as plt
@@ -73,7 +137,7 @@ def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[d
     for fig, name, caption, section in study_figures(cycles, summaries, summary):
         fig.savefig(out / name, dpi=110)
         plt.close(fig)
-        shape = name[:-4].split("_", 1)[1] if name[:-4].split("_", 1)[-1] in cycles else None
+        shape = name[:-4].rsplit("_", 1)[-1] if name[:-4].rsplit("_", 1)[-1] in cycles else None
         figs.append({"file": f"{out.name}/{name}", "caption": caption, "section": section, "shape": shape})
         if progress is not None:
             progress.update(1)
@@ -114,8 +178,8 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     t0 = time.perf_counter()
     check_study_inputs(shapes, mus, kn, kt)
     out = Path(out)
-    n_fig = (5 * len(shapes) + 2 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
-    bar = tqdm(total=len(shapes) * len(mus) + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
+    n_fig = (6 * len(shapes) + 2 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
+    bar = tqdm(total=3 * len(shapes) * len(mus) + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
     summary, cycles, summaries = compute_study(shapes, mus, kn, kt, bar)
     if figures:
         bar.set_description("Figures")
