@@ -1,7 +1,11 @@
 """Issue 15, jobs 2-4: the amplitude-layered direct method against HBM-AFT on the jobs users run.
 
     python benchmarks/jobs_layered.py            # full: results/jobs_layered.json + jobs_*.png
-    python benchmarks/jobs_layered.py --quick    # reduced sizes (< ~3 min), same outputs
+    python benchmarks/jobs_layered.py --quick    # reduced sizes, same outputs
+
+Runtime on the shared 2-core machine (load 3-7): full 12 min; quick 3.7 min with a cold
+compilation cache (XLA compiles the exact-curve peak search ~75 s and its jacfwd ~90 s), 70 s
+with the persistent cache warm (`jaxdamp.cli.configure_runtime`, as the CLI).
 
 `benchmarks/jobs.py` calls `job_curve(quick)`, `job_response(quick)` and `job_gradient(quick)`;
 each returns a JSON-able dict with "ratio_vs_hbm" (HBM-AFT's time at the target accuracy over the
