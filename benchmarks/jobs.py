@@ -19,8 +19,9 @@ Job 1, "one amplitude": k_Im at psi_BC.
   finest settings, flagged, when the sweep does not reach 1e-4); the ratio is that time over the
   direct method's time for the same batch.
 
-Jobs 2-4 (whole curve, forced response, gradient of the peak) need the exact-amplitude and
-forced-response modules: `job_curve`, `job_response`, `job_gradient` return None until then.
+Jobs 2-4 (whole curve, forced response, gradient of the peak) are `benchmarks/jobs_layered.py`
+(its full run writes results/jobs_layered.json and the Pareto charts jobs_curve.png,
+jobs_response.png, jobs_gradient.png); this script reports their summaries.
 
 All calls run with JAX's async dispatch off (`jax_cpu_enable_async_dispatch = False`, both sides
 alike): on CPU the default hands every call to a worker thread, a fixed cost that would dominate
@@ -213,25 +214,34 @@ def stack_one(design: jd.Design) -> jd.Design:
     return jax.tree_util.tree_map(lambda x: None if x is None else jnp.asarray(x)[None], design)
 
 
-# ---------------------------------------------------------------- jobs 2-4 (not yet)
+# ---------------------------------------------------------------- jobs 2-4
+def _summary(result: dict) -> dict:
+    keep = ("ratio_vs_hbm", "target_1000x_met", "sizes", "extrapolated")
+    return {k: result[k] for k in keep if k in result} | {"details": "results/jobs_layered.json"}
+
+
 def job_curve(cfg: dict, log=print):
-    """Job 2, whole curve: k_Re, k_Im at 64 amplitudes from 0.05 to 3 psi_BC plus psi_BC, direct
-    (exact amplitude cycles) vs an HBM-AFT amplitude sweep, 1000 designs. NOT IMPLEMENTED: needs
-    the exact-amplitude module; returns None."""
-    return None
+    """Job 2, whole curve (benchmarks/jobs_layered.py): exact amplitude cycles at 64 amplitudes plus
+    psi_BC against an HBM-AFT amplitude sweep handed psi_BC."""
+    import jobs_layered
+
+    return _summary(jobs_layered.job_curve(cfg is QUICK))
 
 
 def job_response(cfg: dict, log=print):
-    """Job 3, forced response: peak at 10 excitation levels and the FRF at 200 frequencies,
-    amplitude-layered direct vs coupled HBM-AFT with continuation, 100 designs. NOT IMPLEMENTED:
-    needs the forced-response module; returns None."""
-    return None
+    """Job 3, forced response (benchmarks/jobs_layered.py): amplitude-layered peaks at 10 forces
+    and FRFs against coupled HBM-AFT with continuation."""
+    import jobs_layered
+
+    return _summary(jobs_layered.job_response(cfg is QUICK))
 
 
 def job_gradient(cfg: dict, log=print):
-    """Job 4, gradient of job 3's peak w.r.t. the shape: AD vs finite differences of HBM-AFT.
-    NOT IMPLEMENTED: needs job 3; returns None."""
-    return None
+    """Job 4, gradient of job 3's peak w.r.t. the shape (benchmarks/jobs_layered.py): AD through
+    the root against central differences of coupled HBM-AFT."""
+    import jobs_layered
+
+    return _summary(jobs_layered.job_gradient(cfg is QUICK))
 
 
 # ---------------------------------------------------------------- raw floor
