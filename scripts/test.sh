@@ -3,4 +3,5 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-exec .venv/bin/python -m pytest "$@"
+# Two workers: one per core (the suite is mostly XLA compilation, one thread each).
+exec .venv/bin/python -m pytest -n 2 "$@"

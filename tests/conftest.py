@@ -1,4 +1,6 @@
+import getpass
 import os
+import tempfile
 
 import jax
 import pytest
@@ -8,6 +10,12 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 # Float64 is enabled here explicitly; importing jaxdamp never changes JAX's configuration.
 jax.config.update("jax_enable_x64", True)
+# The test processes (pytest-xdist workers, subprocesses) share one persistent compilation cache,
+# so a program compiled by one worker is loaded by the next: the suite is compile-bound on 2 cores.
+# Cache keys include the program's fingerprint, so a changed program never reuses a stale entry.
+jax.config.update("jax_compilation_cache_dir",
+                  os.path.join(tempfile.gettempdir(), f"jaxdamp-tests-{getpass.getuser()}"))
+jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
 # Implicit rank promotion hides shape bugs (a (3,) meeting a (n, 3) by accident): make it an error.
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
