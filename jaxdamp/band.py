@@ -123,14 +123,14 @@ def _refine(shape, mu, contacts, load, psi, T0, sign, which, lam, rho, lr, scale
     def step(carry, _):
         T, ost = carry
         f, df = jax.vmap(jax.value_and_grad(objective))(T, sign, which)
-        g = T @ G.T + h
+        g = T @ G.T + h[None]
         dg = jnp.broadcast_to(G, (T.shape[0],) + G.shape)
         _, grad = al_value_and_grad(f, df, g, dg, state)
         upd, ost = opt.update(grad, ost, T)
         return (T + upd, ost), None
 
     (T, _), _ = jax.lax.scan(step, (T0, opt.init(T0)), None, length=steps)
-    return T, T @ G.T + h
+    return T, T @ G.T + h[None]
 
 
 def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
@@ -180,7 +180,7 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
             al = al_update(al, g, cfg)
         Tr = np.asarray(Tr)
         P, n0, G, h = (np.asarray(v) for v in admissible_polytope(shape, mu))
-        ok_state = np.all(Tr @ G.T + h >= -ADMISSIBLE_TOL, axis=1)
+        ok_state = np.all(Tr @ G.T + h[None] >= -ADMISSIBLE_TOL, axis=1)
         kr, ki, st = jax.device_get(jax.vmap(lambda t: _k_of_state(
             shape, mu, contacts, load, psi, t, jnp.asarray(P), jnp.asarray(n0)))(jnp.asarray(Tr)))
         got = np.where(which == 0, kr, ki)

@@ -261,7 +261,7 @@ def test_curves_gradients_nan_free_and_match_fd():
         np.testing.assert_allclose(grad[i0], fd, rtol=2e-5, atol=1e-6 * np.max(np.abs(fd)))
         if initial == "assembly":
             tangent = jnp.asarray(rng.normal(size=x.shape)) * jnp.asarray(
-                [1, 1, 0.01, 0.01, 100, 20, 0.05])
+                [[1, 1, 0.01, 0.01, 100, 20, 0.05]])
             _, jvp = jax.jit(lambda x, t: jax.jvp(f, (x,), (t,)))(x, tangent)
             # Designs are independent: forward mode = the gradient rows dotted with the tangent.
             assert np.all(np.isfinite(np.asarray(jvp)))

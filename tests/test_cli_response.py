@@ -58,7 +58,7 @@ def test_response_json_contract_and_figures(capsys, tmp_path):
 
 @pytest.mark.parametrize("argv,needle", [
     (["--force-n", "5,-1"], "force_n"),
-    (["--force-n", "abc"], "force_n"),
+    (["--force-n", "abc"], "--force-n"),
     (["--loss-factor", "2"], "eta"),
     (["--f0-hz", "0"], "f0_hz"),
     (["--psi-per-mm", "-1"], "r"),
