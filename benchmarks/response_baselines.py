@@ -103,7 +103,7 @@ def figure(result):
     import matplotlib
 
     matplotlib.use("Agg")
-    from jaxdamp.plotting_response import harmonic_error_figure
+    from jaxdamp.plotting.response import harmonic_error_figure
 
     rows = [r for r in result["rows"] if r["H1_status"] == r["H3_status"] == r["H5_status"] == 0]
     fig = harmonic_error_figure([r["force_n"] for r in rows], [r["H1_mm"] for r in rows],
