@@ -54,7 +54,7 @@ def throughput(sizes, repeats=5) -> dict:
     out = {}
     big = random_designs(max(sizes))
     for n in sizes:
-        d = B._take(big, np.arange(n))
+        d = B.take(big, np.arange(n))
         reps = repeats if n < 50_000 else 3
         t = median_time(lambda: B.evaluate_designs(d), repeats=reps)
         out[str(n)] = n / t
@@ -81,7 +81,7 @@ def plain_vmap_throughput(sizes) -> dict:
     big = random_designs(max(sizes))
     out = {}
     for n in sizes:
-        d = jax.tree_util.tree_map(jnp.asarray, B._take(big, np.arange(n)))
+        d = jax.tree_util.tree_map(jnp.asarray, B.take(big, np.arange(n)))
         out[str(n)] = n / median_time(f, *d, repeats=3)
     return out
 
@@ -92,12 +92,11 @@ def gradient_costs() -> dict:
 
     "five": the five numbers; "all": the five numbers and k_Im(psi_a) (what jaxdamp.gradients
     differentiates). grad is reverse mode for one scalar output (k_Im,BC)."""
-    dv = G.design_variables(jd.family_shape("60sym"), 0.5, jd.Contacts())
-    load = jd.LoadCase(*(jnp.asarray(v, float) for v in jd.LoadCase()))
+    dv = jd.Design(jd.family_shape("60sym"), 0.5).prepared()
     psi_a = jnp.asarray(3.0)
-    five = lambda d, p, lo: jnp.stack(list(G.outputs(d, p, lo)[0])[:5])  # noqa: E731
-    every = lambda d, p, lo: jnp.stack(list(G.outputs(d, p, lo)[0]))  # noqa: E731
-    k_im = lambda d, p, lo: G.outputs(d, p, lo)[0].k_im_bc  # noqa: E731
+    five = lambda d, p: jnp.stack(list(G.outputs(d, p)[0])[:5])  # noqa: E731
+    every = lambda d, p: jnp.stack(list(G.outputs(d, p)[0]))  # noqa: E731
+    k_im = lambda d, p: G.outputs(d, p)[0].k_im_bc  # noqa: E731
     programs = {
         "forward_five": jax.jit(five),
         "jacfwd_five": jax.jit(jax.jacfwd(five)),
@@ -108,8 +107,8 @@ def gradient_costs() -> dict:
         "jacfwd_all": jax.jit(jax.jacfwd(every)),
         "jacrev_all": jax.jit(jax.jacrev(every)),
     }
-    res = {"compile_s": {k: compile_time(f, dv, psi_a, load) for k, f in programs.items()}}
-    res["warm_ms"] = interleaved_ms(programs, dv, psi_a, load, repeats=100)
+    res = {"compile_s": {k: compile_time(f, dv, psi_a) for k, f in programs.items()}}
+    res["warm_ms"] = interleaved_ms(programs, dv, psi_a, repeats=100)
     w = res["warm_ms"]
     res["ratio_to_forward"] = {k: w[k] / w["forward_all" if k.endswith("_all") else "forward_five"]
                                for k in w if not k.startswith("forward")}
@@ -124,8 +123,10 @@ def gradient_costs() -> dict:
 
 
 def batch_compile_times() -> dict:
-    d = random_designs(B.DEFAULT_CHUNK)
-    return {f"evaluate_designs_chunk{B.DEFAULT_CHUNK}_pairs{p}": compile_time(B._summaries, d, p)
+    chunk = B.default_chunk("cpu")
+    d = jax.tree_util.tree_map(jnp.asarray, B.take(random_designs(chunk), np.arange(chunk)))
+    run = jax.jit(jax.vmap(B.summary_kernel, in_axes=(0, None)), static_argnums=1)
+    return {f"evaluate_designs_chunk{chunk}_pairs{p}": compile_time(run, d, p)
             for p in (1, jd.cycle.MAX_PAIRS)}
 
 
@@ -165,7 +166,7 @@ def main():
     two = two_device_throughput(sizes)
     res["throughput_designs_per_s"]["evaluate_designs_2_host_devices"] = two["designs_per_s"]
     res["chunk_sweep_designs_per_s"] = {"1_device": chunk_sweep(), "2_host_devices": two["chunk_sweep"],
-                                        "default_chunk": B.DEFAULT_CHUNK}
+                                        "default_chunk": B.default_chunk("cpu")}
     one = res["throughput_designs_per_s"]["evaluate_designs_1_device"]
     best = max(max(one.values()), max(two["designs_per_s"].values()))
     ratios = res["gradients"]["ratio_to_forward"]
