@@ -57,7 +57,7 @@ def own(target: str) -> bool:
 
 def test_no_module_imports_another_modules_underscore_name():
     """Private functions, classes and constants stay in their module. A package's private helper
-    modules (`jaxdamp._validate`, `jaxdamp.cli._common`) may be imported inside that package."""
+    modules (`jaxdamp._validate`, `jaxdamp.cli.common`) may be imported inside that package."""
     known = {m for m, _ in modules()}
     bad = []
     for module, path in modules():

@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 import jaxdamp.cli as cli
-from jaxdamp.cli import _common as C
+from jaxdamp.cli import common as C
 
 from helpers import one_error_line, run_cli
 

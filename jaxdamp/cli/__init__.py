@@ -16,7 +16,7 @@ import os
 import sys
 
 # The helpers a command module outside jaxdamp (an entry point) may use.
-from ._common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
+from .common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
                       add_progress_arg, add_shape_args, check_output_dir, check_output_file,
                       contacts_echo, document, emit, float_list, load_echo, progress_bar)
 
@@ -121,7 +121,7 @@ def build_parser(extra_commands=()):
     (register functions, for tests and embedding)."""
     import argparse
 
-    from ._common import Parser
+    from .common import Parser
 
     parser = Parser(prog="jaxdamp",
                     description="Underplatform damper Base-Cycles by the direct method.\n\n" + UNITS,

@@ -10,7 +10,7 @@ are undefined (no valid cycle) are null.
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 
 def register(sub) -> None:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _common as C
+from . import common as C
 
 
 def register(sub) -> None:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
 

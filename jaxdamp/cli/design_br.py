@@ -4,7 +4,7 @@ b_R/h_R is what this command computes, so it takes no --br (a custom shape is --
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 
 def register(sub) -> None:

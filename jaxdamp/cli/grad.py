@@ -3,7 +3,7 @@ design variables, by forward- or reverse-mode AD through the solver."""
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 # JSON key of each differentiated output and its field in jaxdamp.gradients' results.
 JSON_OUTPUTS = (("psi_bc_mrad", "psi_bc"), ("k_im_bc", "k_im_bc"), ("k_re_bc", "k_re_bc"),

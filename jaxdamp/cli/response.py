@@ -6,7 +6,7 @@ and the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7)
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
                   "amplitude from the --initial history; with --stiffness interpolated the paper's "

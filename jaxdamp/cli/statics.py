@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from . import _common as C
+from . import common as C
 
 
 def register(sub) -> None:

@@ -10,7 +10,7 @@ import sys
 
 import numpy as np
 
-from . import _common as C
+from . import common as C
 
 MAX_DESIGNS = 2_000_000
 MAX_BYTES = 2 * 1024**3
