@@ -20,7 +20,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import machine, median_time  # noqa: E402
+from bench_common import random_shapes, machine, median_time  # noqa: E402
 from jaxdamp.amplitude import amplitude_curves  # noqa: E402
 from jaxdamp.status import RESULTS  # noqa: E402
 
@@ -28,10 +28,7 @@ OUT = Path(__file__).parent / "results"
 
 
 def designs(n, seed=0):
-    rng = np.random.default_rng(seed)
-    shape = jd.DamperShape(rng.uniform(45, 85, n), rng.uniform(45, 85, n), rng.uniform(-0.1, 0.2, n),
-                           np.full(n, 0.8))
-    return shape, rng.uniform(0.2, 0.8, n)
+    return random_shapes(n, seed, angles=(45, 85), br=(-0.1, 0.2), mu=(0.2, 0.8))
 
 
 def main():

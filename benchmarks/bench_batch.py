@@ -27,7 +27,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import interleaved_ms, machine, median_time  # noqa: E402
+from bench_common import random_shapes, interleaved_ms, machine, median_time  # noqa: E402
 from jaxdamp import batch as B  # noqa: E402
 from jaxdamp import gradients as G  # noqa: E402
 
@@ -43,10 +43,7 @@ def compile_time(jitted, *args):
 
 
 def random_designs(n, seed=0):
-    rng = np.random.default_rng(seed)
-    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
-                           np.full(n, 0.8))
-    return B.stack_designs(shape, rng.uniform(0.1, 0.9, n))
+    return B.stack_designs(*random_shapes(n, seed))
 
 
 def throughput(sizes, repeats=5) -> dict:

@@ -11,7 +11,26 @@ import jax
 import numpy as np
 
 
-def machine() -> dict:
+def loadavg() -> list[float]:
+    """1-, 5- and 15-minute load averages."""
+    try:
+        return [float(x) for x in Path("/proc/loadavg").read_text().split()[:3]]
+    except OSError:
+        return list(os.getloadavg())
+
+
+def random_shapes(n, seed=0, angles=(35.0, 90.0), br=(-0.3, 0.4), mu=(0.1, 0.9)):
+    """(DamperShape, mu) of n random designs: uniform angles (deg), b_R/h_R and mu; 2b_L/h_L 0.8."""
+    import jaxdamp as jd
+
+    rng = np.random.default_rng(seed)
+    shape = jd.DamperShape(rng.uniform(*angles, n), rng.uniform(*angles, n), rng.uniform(*br, n),
+                           np.full(n, 0.8))
+    return shape, rng.uniform(*mu, n)
+
+
+def machine(note: str | None = None) -> dict:
+    """The machine a run is recorded on (CPU, devices, versions, float64, load at the start)."""
     cpu = platform.processor()
     try:
         for line in Path("/proc/cpuinfo").read_text().splitlines():
@@ -20,13 +39,13 @@ def machine() -> dict:
                 break
     except OSError:
         pass
-    try:
-        load = os.getloadavg()[0]
-    except OSError:
-        load = None
-    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
+    info = {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "jax": jax.__version__,
-            "devices": [str(d) for d in jax.devices()], "load_average_1min_at_start": load}
+            "devices": [str(d) for d in jax.devices()], "float64": bool(jax.config.jax_enable_x64),
+            "load_average_1min_at_start": loadavg()[0]}
+    if note:
+        info["note"] = note
+    return info
 
 
 def median_time(fn, *args, repeats=7):

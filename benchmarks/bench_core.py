@@ -17,12 +17,11 @@ from pathlib import Path
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import interleaved_ms, machine, median_time  # noqa: E402
+from bench_common import random_shapes, interleaved_ms, machine, median_time  # noqa: E402
 from jaxdamp.linalg import solve3  # noqa: E402
 from jaxdamp import cycle, tract  # noqa: E402
 
@@ -30,10 +29,7 @@ OUT = Path(__file__).parent / "results"
 
 
 def designs(n, seed=0):
-    rng = np.random.default_rng(seed)
-    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
-                           np.full(n, 0.8))
-    return shape, rng.uniform(0.1, 0.9, n)
+    return random_shapes(n, seed, angles=(35, 90), br=(-0.3, 0.4), mu=(0.1, 0.9))
 
 
 def five(bc):

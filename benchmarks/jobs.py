@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 import time
 from pathlib import Path
@@ -51,7 +50,7 @@ import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines import hbm_aft_kernel, time_march_kernel  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import machine  # noqa: E402
+from bench_common import loadavg as load_averages, machine  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 TARGET = 1e-4
@@ -78,7 +77,7 @@ def timed(fn, *args, repeats=5):
 
 
 def loadavg() -> float:
-    return os.getloadavg()[0]
+    return load_averages()[0]
 
 
 # ---------------------------------------------------------------- the three methods, one design

@@ -49,8 +49,6 @@ function theorem), all 10 forces and M designs in one jit. HBM-AFT: central fini
 from __future__ import annotations
 
 import json
-import os
-import platform
 import sys
 import time
 from pathlib import Path
@@ -64,6 +62,7 @@ import numpy as np  # noqa: E402
 
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.cli import configure_runtime  # noqa: E402
+from bench_common import loadavg, machine as common_machine  # noqa: E402
 
 # float64, a headless matplotlib backend and the persistent compilation cache (as the CLI): a
 # second run skips most XLA compilation. Timings are warm either way (compilation is not timed).
@@ -95,27 +94,9 @@ RESPONSE = {"full": dict(designs=40, direct_repeats=3, hbm_nt=(64, 256), hbm_ste
 
 
 # ----------------------------------------------------------------------------- common
-def loadavg() -> list[float]:
-    try:
-        return [float(x) for x in Path("/proc/loadavg").read_text().split()[:3]]
-    except OSError:
-        return list(os.getloadavg())
-
-
 def machine() -> dict:
-    cpu = platform.processor()
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    return {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
-            "python": platform.python_version(), "jax": jax.__version__,
-            "devices": [str(d) for d in jax.devices()], "float64": bool(jax.config.jax_enable_x64),
-            "note": "2 CPU cores shared with other jobs (load ~10): timings are noisy; the two "
-                    "sides are timed round-robin in the same run, medians of repeats"}
+    return common_machine("2 CPU cores shared with other jobs (load ~10): timings are noisy; the two "
+                          "sides are timed round-robin in the same run, medians of repeats")
 
 
 def timed_once(fn, *args):
@@ -382,6 +363,14 @@ def _hbm_pareto(runs):
     return points
 
 
+def _hbm_at_target(m: dict):
+    """Coupled HBM-AFT's Pareto points (one per Nt) from the shared measurements, and the time per
+    run at the target error (jobs 3 and 4 both rest on them)."""
+    points = _hbm_pareto(m["hbm_runs"])
+    t_run, how = time_at_target([{"error": p["error"], "time_s": p["time_s"]} for p in points])
+    return points, t_run, how
+
+
 def job_response(quick: bool) -> dict:
     t0 = time.perf_counter()
     m = _response_measurements(quick)
@@ -389,10 +378,9 @@ def job_response(quick: bool) -> dict:
     M = cfg["designs"]
     n_f = int(FORCES_N.size)
     t_direct = m["direct_times"]["direct_response"]["median_s"]
-    points = _hbm_pareto(m["hbm_runs"])
+    points, t_run, how = _hbm_at_target(m)
     for p in points:
         p["job_time_s_extrapolated"] = p["time_s"] * n_f * M
-    t_run, how = time_at_target([{"error": p["error"], "time_s": p["time_s"]} for p in points])
     st = np.asarray(m["direct_out"][2])
     res = {"job": "response", "machine": machine(), "config": cfg, "designs_run_direct": M,
            "forces_n": [float(f) for f in FORCES_N], "frf_points_per_force": 2 * N_FRF,
@@ -431,8 +419,7 @@ def job_gradient(quick: bool) -> dict:
     M = cfg["designs"]
     n_f, n_v = int(FORCES_N.size), len(SHAPE_VARS)
     t_direct = m["direct_times"]["direct_gradient"]["median_s"]
-    points = _hbm_pareto(m["hbm_runs"])
-    t_run, how = time_at_target([{"error": p["error"], "time_s": p["time_s"]} for p in points])
+    points, t_run, how = _hbm_at_target(m)
     G = np.asarray(m["grad_out"])
     res = {"job": "gradient", "machine": machine(), "config": cfg, "designs_run_direct": M,
            "variables": list(SHAPE_VARS), "forces_n": [float(f) for f in FORCES_N],

@@ -17,6 +17,7 @@ import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
+from bench_common import median_time  # noqa: E402
 from jaxdamp import family_shape  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm, solve_at_frequency  # noqa: E402
 from jaxdamp.baselines.time_integration import start_on_harmonics, steady_state  # noqa: E402
@@ -28,23 +29,13 @@ FORCES = (2.0, 5.0, 10.0, 20.0, 50.0)
 MU = 0.5
 
 
-def timed(fn, *a, repeat=5):
-    jax.block_until_ready(fn(*a))  # compile
-    ts = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        jax.block_until_ready(fn(*a))
-        ts.append(time.perf_counter() - t)
-    return float(np.median(ts))
-
-
 def main():
     shape, mode = family_shape("60sym"), BladeMode()
     peak = jax.jit(lambda f: peak_response(damper_stiffness(shape, MU, method="interpolated"), mode, f))
     curve = jax.jit(lambda f, top: frf(damper_stiffness(shape, MU, method="interpolated"), mode, f,
                                        frf_amplitude_grid(top)))
-    t_peak = timed(peak, jnp.asarray(20.0))
-    t_frf = timed(curve, jnp.asarray(20.0), jnp.asarray(2.6))
+    t_peak = median_time(peak, jnp.asarray(20.0), repeats=5)
+    t_frf = median_time(curve, jnp.asarray(20.0), jnp.asarray(2.6), repeats=5)
     rows = []
     for force in FORCES:
         lay = peak(jnp.asarray(force))
