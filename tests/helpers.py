@@ -54,3 +54,15 @@ def one_error_line(err: str) -> str:
     assert len(lines) == 1, err
     assert "Traceback" not in err
     return lines[0]
+
+
+def assert_leaf_close(name, a, b, rtol=1e-12):
+    """Arrays equal (integers, booleans) or within rtol of each element and of the array's scale."""
+    a, b = np.asarray(a), np.asarray(b)
+    assert a.shape == b.shape, name
+    if a.dtype.kind in "bi":
+        assert np.array_equal(a, b), name
+        return
+    scale = np.max(np.abs(b)) if b.size else 0.0
+    bad = np.abs(a - b) > rtol * np.abs(b) + rtol * scale
+    assert not bad.any(), (name, int(bad.sum()), np.max(np.abs(a - b) / (np.abs(b) + 1e-300)))

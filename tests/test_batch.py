@@ -18,6 +18,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
+from helpers import assert_leaf_close
 from jaxdamp import batch as B
 
 EXACT_FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -71,17 +72,6 @@ def loop_summary(cycles):
     for f in FLAGS:
         cols[f] = np.array([np.asarray(getattr(bc, f)) for bc in cycles])
     return cols
-
-
-def assert_leaf_close(name, a, b, rtol=1e-12):
-    a, b = np.asarray(a), np.asarray(b)
-    assert a.shape == b.shape, name
-    if a.dtype.kind in "bi":
-        assert np.array_equal(a, b), name
-        return
-    scale = np.max(np.abs(b)) if b.size else 0.0
-    bad = np.abs(a - b) > rtol * np.abs(b) + rtol * scale
-    assert not bad.any(), (name, int(bad.sum()), np.max(np.abs(a - b) / (np.abs(b) + 1e-300)))
 
 
 # ------------------------------------------------------------------ stacking

@@ -17,23 +17,13 @@ import numpy as np
 import jaxdamp as jd
 from jaxdamp import batch as B
 from jaxdamp.cycle import MAX_PAIRS, MAX_TRACTS
+from helpers import assert_leaf_close
 from jaxdamp.linalg import rowdot
 
 EXACT_FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
 FLAGS = ("converged", "liftoff", "failed", "half_cycles", "status")
 HARD = (("90L", 0.5), ("90R", 0.5), ("90R", 0.3), ("74R", 0.7), ("60sym", 0.02), ("74L", 0.05),
         ("45sym", 0.9), ("90L", 0.7))
-
-
-def close(name, a, b, rtol=1e-12):
-    a, b = np.asarray(a), np.asarray(b)
-    assert a.shape == b.shape, name
-    if a.dtype.kind in "bi":
-        assert np.array_equal(a, b), name
-        return
-    scale = np.max(np.abs(b)) if b.size else 0.0
-    bad = np.abs(a - b) > rtol * np.abs(b) + rtol * scale
-    assert not bad.any(), (name, int(bad.sum()), np.max(np.abs(a - b) / (np.abs(b) + 1e-300)))
 
 
 @lru_cache(maxsize=None)
@@ -61,11 +51,11 @@ def test_fast_path_equals_reference_over_1000_designs_and_hard_cases():
     fast = B.evaluate_designs(d)
     ref = jax.tree_util.tree_map(np.asarray, jax.jit(jax.vmap(_reference))(d))
     for f in FLAGS:
-        close(f, getattr(fast, f), getattr(ref, f))
+        assert_leaf_close(f, getattr(fast, f), getattr(ref, f))
     for f in EXACT_FIELDS:
-        close(f, getattr(fast, f), getattr(ref, f))
+        assert_leaf_close(f, getattr(fast, f), getattr(ref, f))
     ok = ~fast.liftoff
-    close("k_re_bc", fast.k_re_bc[ok], ref.k_re_bc[ok], rtol=1e-6)
+    assert_leaf_close("k_re_bc", fast.k_re_bc[ok], ref.k_re_bc[ok], rtol=1e-6)
     # The set covers what the fast path must hand on: liftoff, a second stage (frozen mechanisms,
     # half-cycles longer than the first stage's tracts) and plain one-pair cycles.
     first = jax.jit(jax.vmap(B.first_stage_summary))(d)
@@ -100,4 +90,4 @@ def test_fast_path_gradients_equal_reference():
     got, want = jac(B.first_stage_summary), jac(_reference)
     for g, w in zip(jax.tree_util.tree_leaves(got), jax.tree_util.tree_leaves(want)):
         assert np.all(np.isfinite(g))
-        close("jacobian", g, w)
+        assert_leaf_close("jacobian", g, w)
