@@ -39,7 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .linalg import solve3
-from .cycle import mechanics
+from .cycle import bounded_loop, mechanics
 from .geometry import DamperShape
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -82,9 +82,11 @@ class TravelHalf(NamedTuple):
     failed: jnp.ndarray  # no consistent state set, or the tracts ran out before the travel
 
 
-def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS) -> TravelHalf:
+def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS,
+                loop: str = "scan") -> TravelHalf:
     """Tracts from a reversal at (N, T) over `travel` mm of relative platform motion (bounded masked
-    scan, so reverse-mode AD works). direction: +1 when dv increases, -1 when it decreases."""
+    scan, so reverse-mode AD works; loop="while" stops when the travel is spent: the same numbers,
+    values and forward mode only). direction: +1 when dv increases, -1 when it decreases."""
     scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
     start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
     lift0 = jnp.min(N) <= LIMIT_TOL
@@ -133,7 +135,7 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
                    line=jnp.where(advance, line, carry["line"]))
         return new, out
 
-    end, tr = jax.lax.scan(step, init, None, length=max_tracts)
+    end, tr = bounded_loop(step, init, max_tracts, loop)
     return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                       tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
                       end["liftoff"], end["failed"] | ~end["done"])
@@ -272,20 +274,58 @@ def _accelerate(mu, s0, s1, s2, have_history):
     return jnp.where(ok & admissible, guess, s2)
 
 
-def _empty_half(mech, max_tracts):
+def _empty_half(mech, max_tracts, loop="scan"):
     shapes = jax.eval_shape(lambda: travel_half(mech, jnp.ones(3), jnp.zeros(3), -1.0, 1.0,
-                                                max_tracts))
+                                                max_tracts, loop))
     return jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
+
+
+LOOPS = ("auto", "scan", "while")
 
 
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
                      initial="gross_slip", max_tracts: int = MAX_TRACTS,
-                     max_pairs: int = MAX_PAIRS) -> AmplitudeCycle:
+                     max_pairs: int = MAX_PAIRS, loop: str = "auto") -> AmplitudeCycle:
     """The steady cycle at psi_a (mrad): pure JAX (jit / vmap / grad), no validation.
 
     initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init at the forward extreme,
     units of F_D). Python-static. Problems are reported in `status`, never as NaN.
+
+    loop: how the bounded iterations (tracts of a half, halves of the iteration to a periodic
+    cycle) run; the numbers are the same. "scan" always runs every slot, masked: reverse mode
+    needs it, and under vmap every lane pays for MAX_PAIRS pairs. "while" stops when done (under
+    vmap: when the last lane is done, usually after 1-2 pairs); values and forward mode only.
+    "auto" (default) computes values with "while" and derivatives (jvp, jacfwd, grad, vjp) with
+    "scan", through a custom JVP rule.
     """
+    if loop not in LOOPS:
+        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
+    if loop == "auto":
+        return _auto_amplitude(initial, max_tracts, max_pairs, shape, mu, contacts, load, psi_a,
+                               N_init, T_init)
+    return _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, initial=initial,
+                           max_tracts=max_tracts, max_pairs=max_pairs, loop=loop)
+
+
+@partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2))
+def _auto_amplitude(initial, max_tracts, max_pairs, *design):
+    return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts, max_pairs=max_pairs,
+                           loop="while")
+
+
+@_auto_amplitude.defjvp
+def _auto_amplitude_jvp(initial, max_tracts, max_pairs, primals, tangents):
+    # The masked-scan program's own JVP (its transpose gives reverse mode): the derivatives are
+    # exactly those of loop="scan".
+    def scan(*design):
+        return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts,
+                               max_pairs=max_pairs, loop="scan")
+
+    return jax.jvp(scan, primals, tangents)
+
+
+def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial, max_tracts,
+                    max_pairs, loop) -> AmplitudeCycle:
     mech = mechanics(shape, mu, contacts, load)
     psi_ok = psi_a > 0.0
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
@@ -314,7 +354,7 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
         forward = (k % 2 == 0) | (k == -2)
         direction = jnp.where(forward, -1.0, 1.0)
         length = jnp.where(k == -2, a_dv, travel)
-        half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts)
+        half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts, loop)
         bad = half.liftoff | half.failed
         in_pairs = k >= 0
         is_fwd = in_pairs & forward
@@ -335,14 +375,22 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
                     pairs=c["pairs"] + is_bwd.astype(jnp.int32))
 
     def step(c, j):
-        return jax.lax.cond(c["stop"], lambda c, _: c, run_half, c, j), None
+        # Masked, not lax.cond: the scan form is the derivative program of loop="auto", and JAX
+        # cannot transpose a cond that vmap has turned into a select inside a custom JVP rule.
+        new = run_half(c, j)
+        return jax.tree_util.tree_map(lambda old, x: jnp.where(c["stop"], old, x), c, new), None
 
-    empty = _empty_half(mech, max_tracts)
+    empty = _empty_half(mech, max_tracts, loop)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
                 pairs=jnp.array(0, jnp.int32))
-    end, _ = jax.lax.scan(step, init, jnp.arange(n_halves))
+    if loop == "while":
+        _, end = jax.lax.while_loop(lambda c: (c[0] < n_halves) & ~c[1]["stop"],
+                                    lambda c: (c[0] + 1, run_half(c[1], c[0])),
+                                    (jnp.array(0), init))
+    else:
+        end, _ = jax.lax.scan(step, init, jnp.arange(n_halves))
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
     pre_lift, pre_fail = end["liftoff"], end["failed"]
@@ -363,7 +411,7 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
                           gap, npairs.astype(jnp.int32), status)
 
 
-_kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
+_kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))
 
 
 def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

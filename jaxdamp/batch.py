@@ -277,16 +277,21 @@ def two_stage(fast, full, batched, *shared, unfinished, **kwargs):
     return out
 
 
+# How a batch runs its tract and pair loops (base_cycle_kernel's loop). Under vmap a while loop runs
+# until the batch's slowest design is done, and the two stages already run short loops first.
+BATCH_LOOP = "scan"
+
+
 def _not_closed(r) -> np.ndarray:
     return ~(np.asarray(r.converged) | np.asarray(r.liftoff) | np.asarray(r.failed))
 
 
 def _cycle_one_pair(design: Design):
-    return base_cycle_kernel(*design, max_pairs=1)
+    return base_cycle_kernel(*design, max_pairs=1, loop=BATCH_LOOP)
 
 
 def _cycle_full(design: Design):
-    return base_cycle_kernel(*design)
+    return base_cycle_kernel(*design, loop=BATCH_LOOP)
 
 
 def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(), *,
@@ -308,7 +313,7 @@ FIRST_STAGE_TRACTS = 4
 def summary_kernel(design: Design, max_pairs: int = MAX_PAIRS,
                    max_tracts: int = MAX_TRACTS) -> DesignSummary:
     """Five numbers, work shape factors and status of one prepared Design (traceable)."""
-    bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts)
+    bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts, loop=BATCH_LOOP)
     nums = five_numbers(bc)
     w = work_shape_factors(bc)
     return DesignSummary(*nums, *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)

@@ -18,6 +18,7 @@ from .status import from_flags
 from .params import Contacts, LoadCase, prepare_inputs
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state
+from .linalg import vecmat
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     make_mechanics, next_event)
 
@@ -58,8 +59,12 @@ def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mec
     return make_mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, mu)
 
 
-def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS) -> HalfCycle:
-    """Run tracts from a reversal at (N, T) until gross slip (zero incremental stiffness)."""
+def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS,
+               loop: str = "scan") -> HalfCycle:
+    """Run tracts from a reversal at (N, T) until gross slip (zero incremental stiffness).
+
+    loop="scan" runs max_tracts masked steps (reverse-mode differentiable); loop="while" stops at
+    gross slip (same numbers, fewer steps; values and forward mode only)."""
     scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
     start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
     # Back-slide (Appendix A): a contact still sliding on the limit line it had at the reversal.
@@ -105,11 +110,37 @@ def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS) -
         )
         return new, out
 
-    end, tr = jax.lax.scan(step, init, None, length=max_tracts)
+    end, tr = bounded_loop(step, init, max_tracts, loop)
     exhausted = ~end["done"]
     return HalfCycle(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                      tr["active"], end["gross_dslip"], end["N"], end["T"], jnp.sum(tr["dv"]),
                      end["gross"], end["liftoff"], end["failed"] | exhausted)
+
+
+def bounded_loop(step, init, length: int, loop: str):
+    """(final carry, stacked outputs) of up to `length` calls of step(carry, None) -> (carry, out).
+
+    "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
+    once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
+    finished steps must be inactive rows, e.g. zero travel)."""
+    if loop == "scan":
+        return jax.lax.scan(step, init, None, length=length)
+    if loop != "while":
+        raise ValueError(f"loop must be scan or while; got {loop!r}")
+    rows = jax.eval_shape(lambda c: step(c, None)[1], init)
+    rows = jax.tree_util.tree_map(lambda r: jnp.zeros((length,) + r.shape, r.dtype), rows)
+
+    def cond(c):
+        i, carry, _ = c
+        return (i < length) & ~carry["done"]
+
+    def body(c):
+        i, carry, acc = c
+        carry, out = step(carry, None)
+        return i + 1, carry, jax.tree_util.tree_map(lambda a, o: a.at[i].set(o), acc, out)
+
+    _, end, acc = jax.lax.while_loop(cond, body, (jnp.array(0), init, rows))
+    return end, acc
 
 
 class BaseCycle(NamedTuple):
@@ -132,11 +163,40 @@ class BaseCycle(NamedTuple):
     status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the same facts as booleans
 
 
-@partial(jax.jit, static_argnames=("max_tracts", "max_pairs"))
-def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS):
+LOOPS = ("auto", "scan", "while")
+
+
+@partial(jax.jit, static_argnames=("max_tracts", "max_pairs", "loop"))
+def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS,
+                      loop="auto"):
     """The jit-compiled Base-Cycle without input checks: for use inside your own jit/vmap/grad
     (inputs as float arrays; kn, kt per contact (3,) or shared). `base_cycle` is the checked form.
+
+    loop: how the bounded iterations (tracts of a half-cycle, pairs of halves) run; the numbers are
+    the same. "scan" runs every slot, masked, which reverse-mode AD needs; "while" stops each loop
+    when it is done (values and forward mode only); "auto" (default) computes values with "while"
+    and derivatives (jvp, jacfwd, grad, vjp) with "scan", through a custom JVP rule.
     """
+    if loop not in LOOPS:
+        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
+    if loop == "auto":
+        return _auto_cycle(max_tracts, max_pairs, shape, mu, contacts, load)
+    return _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop)
+
+
+@partial(jax.custom_jvp, nondiff_argnums=(0, 1))
+def _auto_cycle(max_tracts, max_pairs, *design):
+    return _cycle_impl(*design, max_tracts, max_pairs, "while")
+
+
+@_auto_cycle.defjvp
+def _auto_cycle_jvp(max_tracts, max_pairs, primals, tangents):
+    # The masked-scan program's own JVP (its transpose gives reverse mode): the derivatives are
+    # exactly those of loop="scan".
+    return jax.jvp(lambda *d: _cycle_impl(*d, max_tracts, max_pairs, "scan"), primals, tangents)
+
+
+def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     mech = mechanics(shape, mu, contacts, load)
     start = full_slip_state(shape, mech.mu, START_FRICTION_SIGNS)
     liftoff0 = (start.min_normal <= 0.0) | ~start.solvable
@@ -145,8 +205,8 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
 
     def run_pair(carry, k):
         N, T, conv, stop, fwd_s, bwd_s, nhalf, prev = carry
-        fwd = half_cycle(mech, N, T, -1.0, max_tracts)
-        bwd = half_cycle(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts)
+        fwd = half_cycle(mech, N, T, -1.0, max_tracts, loop)
+        bwd = half_cycle(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts, loop)
         bad = fwd.liftoff | bwd.liftoff | fwd.failed | bwd.failed
         closed = (jnp.max(jnp.abs(bwd.N_end - N)) + jnp.max(jnp.abs(bwd.T_end - T))) <= CLOSE_TOL
         here = jnp.concatenate([N, T])
@@ -154,15 +214,23 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
         return (nxt[:3], nxt[3:], closed & ~bad, closed | bad, fwd, bwd, 2 * (k + 1), here)
 
     def pair(carry, k):
-        # Once the cycle has closed (or failed) the remaining iterations are skipped; under vmap
-        # lax.cond becomes a select and both branches run, which keeps the program static.
-        stop = carry[3]
-        return jax.lax.cond(stop, lambda c, _: c, run_pair, carry, k), None
+        # Once the cycle has closed (or failed) the remaining pairs change nothing. Masked, not
+        # lax.cond: the scan form is the derivative program of loop="auto", and JAX cannot
+        # transpose a cond that vmap has turned into a select inside a custom JVP rule.
+        new = run_pair(carry, k)
+        return jax.tree_util.tree_map(lambda old, x: jnp.where(carry[3], old, x), carry, new), None
 
-    shapes = jax.eval_shape(lambda: half_cycle(mech, N0, T0, -1.0, max_tracts))
+    shapes = jax.eval_shape(lambda: half_cycle(mech, N0, T0, -1.0, max_tracts, loop))
     empty = jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
     init = (N0, T0, jnp.array(False), liftoff0, empty, empty, jnp.array(0), jnp.zeros(6))
-    (_, _, conv, _, fwd, bwd, nhalf, _), _ = jax.lax.scan(pair, init, jnp.arange(max_pairs))
+    if loop == "while":
+        def more(c):
+            return (c[0] < max_pairs) & ~c[1][3]
+
+        _, (_, _, conv, _, fwd, bwd, nhalf, _) = jax.lax.while_loop(
+            more, lambda c: (c[0] + 1, run_pair(c[1], c[0])), (jnp.array(0), init))
+    else:
+        (_, _, conv, _, fwd, bwd, nhalf, _), _ = jax.lax.scan(pair, init, jnp.arange(max_pairs))
     liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
     failed = ~liftoff0 & (fwd.failed | bwd.failed)
     converged = conv & ~liftoff
@@ -181,7 +249,7 @@ def equilibrium_residual(mech: Mechanics, half: HalfCycle):
     is rigid and massless, so sum_i (-N_i a_i + T_i c_i) + F_D e_y = 0 and the rates balance; a
     residual above rounding means the linear solves lost their digits (ill-conditioning)."""
     def imbalance(N, T, load):
-        return jnp.abs(-N @ mech.a + T @ mech.c + load)
+        return jnp.abs(-vecmat(N, mech.a) + vecmat(T, mech.c) + load)
 
     active = half.active[:, None]
     forces = jnp.max(jnp.where(active, imbalance(half.N0, half.T0, CENTRIFUGAL_LOAD[None]), 0.0))

@@ -41,6 +41,15 @@ def rowdot(x, y):
     return x[..., 0] * y[..., 0] + x[..., 1] * y[..., 1] + x[..., 2] * y[..., 2]
 
 
+def vecmat(x, m):
+    """x @ m for a trailing 3-vector x (..., 3) and 3x3 m (..., 3, 3), as explicit products and
+    sums: sum_i x[..., i] m[..., i, :]. For the same reason as `rowdot`: XLA on CPU runs every tiny
+    dot as its own kernel, while products and sums fuse with their neighbours."""
+    lead = jnp.broadcast_shapes(jnp.shape(x)[:-1], jnp.shape(m)[:-2])  # explicit (rank promotion)
+    x, m = jnp.broadcast_to(x, lead + (3,)), jnp.broadcast_to(m, lead + (3, 3))
+    return x[..., 0, None] * m[..., 0, :] + x[..., 1, None] * m[..., 1, :] + x[..., 2, None] * m[..., 2, :]
+
+
 def solve3(m, b, rel_tol=1e-12):
     """Solve m x = b by Cramer's rule. Returns (x, ok); where the matrix is (numerically) singular,
     ok is False and x is 0, with the determinant guarded by the double-where pattern."""
