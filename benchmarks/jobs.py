@@ -256,10 +256,15 @@ def base_cycles_per_s(n: int, repeats: int) -> dict:
 
 
 def single_latency_us(repeats: int) -> dict:
-    """A warm public `five_numbers(base_cycle(shape, mu))` call, median us."""
+    """A warm public single-design call with its five numbers, median us: `jd.cycle_numbers` (the
+    single-design entry point), and `five_numbers(base_cycle(...))` (the whole cycle returned)."""
     shape = jd.family_shape("60sym")
-    t, spread, _ = timed(lambda: jd.five_numbers(jd.base_cycle(shape, 0.5)), repeats=repeats)
+    t, spread, _ = timed(lambda: jd.cycle_numbers(shape, 0.5), repeats=repeats)
+    t_bc, spread_bc, _ = timed(lambda: jd.five_numbers(jd.base_cycle(shape, 0.5)), repeats=repeats)
     return {"us": 1e6 * t, "us_min_max": [1e6 * spread[0], 1e6 * spread[1]],
+            "call": "jaxdamp.cycle_numbers(family_shape('60sym'), 0.5)",
+            "five_numbers_base_cycle_us": 1e6 * t_bc,
+            "five_numbers_base_cycle_us_min_max": [1e6 * spread_bc[0], 1e6 * spread_bc[1]],
             "load_average_1min": loadavg()}
 
 

@@ -51,7 +51,9 @@ from .gradients import k_im_gradient_at as k_im_gradient_at
 from .harmonics import SMALL_ROTATION_MRAD as SMALL_ROTATION_MRAD
 from .harmonics import FiveNumbers as FiveNumbers
 from .harmonics import SmallRotationWarning as SmallRotationWarning
+from .harmonics import CycleNumbers as CycleNumbers
 from .harmonics import complex_stiffness as complex_stiffness
+from .harmonics import cycle_numbers as cycle_numbers
 from .harmonics import cycle_work as cycle_work
 from .harmonics import five_numbers as five_numbers
 from .harmonics import five_numbers_kernel as five_numbers_kernel

@@ -105,13 +105,17 @@ def five_numbers(bc: BaseCycle) -> FiveNumbers:
     limit SMALL_ROTATION_MRAD (e.g. kt = 1 N/mm gives psi_BC ~ 7000 mrad). Traceable: inside
     jit/vmap/grad it is `five_numbers_kernel`."""
     nums = five_numbers_kernel(bc)
-    psi = nums.psi_bc
-    if not isinstance(psi, jax.core.Tracer) and np.any(np.asarray(psi) > SMALL_ROTATION_MRAD):
-        warnings.warn(f"psi_BC = {float(np.max(np.asarray(psi))):.4g} mrad exceeds the small-rotation "
-                      f"limit of {SMALL_ROTATION_MRAD:g} mrad: the contact stiffness is too low for "
-                      "the load (see docs/model.md, validated range)", SmallRotationWarning,
-                      stacklevel=2)
+    warn_small_rotation(nums.psi_bc, stacklevel=3)
     return nums
+
+
+def warn_small_rotation(psi_bc, stacklevel=2):
+    """SmallRotationWarning where a (concrete) psi_BC exceeds SMALL_ROTATION_MRAD."""
+    if not isinstance(psi_bc, jax.core.Tracer) and np.any(np.asarray(psi_bc) > SMALL_ROTATION_MRAD):
+        warnings.warn(f"psi_BC = {float(np.max(np.asarray(psi_bc))):.4g} mrad exceeds the "
+                      f"small-rotation limit of {SMALL_ROTATION_MRAD:g} mrad: the contact stiffness "
+                      "is too low for the load (see docs/model.md, validated range)",
+                      SmallRotationWarning, stacklevel=stacklevel)
 
 
 @jax.jit
@@ -206,3 +210,73 @@ def cycle_work(bc: BaseCycle, psi_a_mrad=None):
     """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle)."""
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else psi_a_mrad
     return _gross_slip_stiffness(bc, psi)[2]
+
+
+class CycleNumbers(NamedTuple):
+    """The five numbers of one design's Base-Cycle and its status (numpy scalars: psi in mrad, k in
+    N mm/mrad; status a jaxdamp.RESULTS code; the numbers are zero where the damper lifts off)."""
+
+    psi_fs: np.float64
+    k_re_fs: np.float64
+    psi_bc: np.float64
+    k_re_bc: np.float64
+    k_im_bc: np.float64
+    status: int
+
+
+# The packed input vector of `cycle_numbers`: shape (4), mu, kn (3), kt (3), F_D, q*, r sin beta.
+_PACKED = 14
+
+
+@jax.jit
+def _numbers_packed(v):
+    """Base-Cycle + five numbers of one design from one packed vector, as one stacked vector.
+
+    One input and one output buffer, and loops that stop when done (loop="while"): a single call's
+    cost is the number of small kernels and buffers it runs (benchmarks/bench_single.py)."""
+    from .cycle import base_cycle_kernel
+    from .geometry import DamperShape
+    from .params import Contacts, LoadCase
+
+    bc = base_cycle_kernel(DamperShape(v[0], v[1], v[2], v[3]), v[4],
+                           Contacts(v[5:8], v[8:11]), LoadCase(v[11], v[12], v[13]), loop="while")
+    nums = five_numbers_kernel(bc)
+    return jnp.stack([*nums, bc.status.astype(float)])
+
+
+def cycle_numbers(shape, mu=None, contacts=None, load=None) -> CycleNumbers:
+    """psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC and the status of one design, for a single
+    design fast (one compiled call: ~50 us warm on a CPU core, against ~150 us for
+    `five_numbers(base_cycle(...))`, which returns the whole cycle).
+
+    shape: a DamperShape (mu required) or a Design; inputs as for `base_cycle`, checked the same
+    way (ValueError naming the parameter and range; Float64Required in float32). The same numbers
+    as `five_numbers(base_cycle(...))` (the same arithmetic, loops that stop when done). For values
+    only: under jit, vmap or grad use `five_numbers_kernel(base_cycle_kernel(...))`; for many
+    designs, `jaxdamp.evaluate_designs`.
+    """
+    from .design import as_design
+    from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
+
+    design = as_design(shape, mu, Contacts() if contacts is None else contacts,
+                       LoadCase() if load is None else load)
+    s, m, c, ld = design
+    if fast_ok(*design):  # plain numbers in range: no array work before the call
+        require_x64()
+        kn, kt = ((k,) * 3 if type(k) in (float, int) else tuple(k) for k in c)
+        v = np.array((s.theta_l, s.theta_r, s.br_over_hr, s.bl2_over_hl, m, *kn, *kt, *ld), float)
+    else:
+        s, m, c, ld = prepare_inputs(*design)
+        leaves = jax.tree_util.tree_leaves((s[:4], m, c, ld))
+        if s.x_d is not None or any(isinstance(x, jax.core.Tracer) for x in leaves):
+            raise ValueError("cycle_numbers takes one concrete design without x_d; under jit, "
+                             "vmap or grad, or with x_d, use five_numbers(base_cycle(...))")
+        v = np.concatenate([np.ravel(np.asarray(x, float)) for x in leaves])
+        if v.shape != (_PACKED,):
+            raise ValueError("cycle_numbers takes one design (scalar shape, mu and load; kn, kt "
+                             "scalar or (3,)); for many designs use jaxdamp.evaluate_designs")
+    out = np.asarray(_numbers_packed(v))
+    psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, status = out
+    if psi_bc > SMALL_ROTATION_MRAD:
+        warn_small_rotation(psi_bc, stacklevel=3)
+    return CycleNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, int(status))

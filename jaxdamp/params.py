@@ -62,14 +62,14 @@ def validate_load(load: LoadCase) -> LoadCase:
     return load
 
 
-# (lower, upper, lower bound open) of the scalar inputs in _fast_ok's order: theta_l, theta_r,
+# (lower, upper, lower bound open) of the scalar inputs in fast_ok's order: theta_l, theta_r,
 # br_over_hr, bl2_over_hl, mu, F_D, q_star, r_sin_beta. The same ranges as the per-parameter
 # checks, whose messages are used when this fast path fails.
 _RANGES = ((0.0, 90.0, True), (0.0, 90.0, True), (-0.5, 0.5, False), (0.0, 1.0, True),
            (0.0, 5.0, True), (0.0, math.inf, True), (0.0, math.inf, True), (-1e9, 1e9, False))
 
 
-def _fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
+def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
     """True when every input is a plain Python number (kn, kt may also be numpy (3,) arrays) inside
     its range: plain comparisons, no array work. Anything else goes through the full checks."""
     vals = (shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl, mu, *load)
@@ -96,7 +96,7 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
     from .geometry import DamperShape, validate_shape
 
     require_x64()
-    if not _fast_ok(shape, mu, contacts, load):
+    if not fast_ok(shape, mu, contacts, load):
         validate_shape(shape)
         validate_mu(mu)
         validate_contacts(contacts)

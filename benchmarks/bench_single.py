@@ -1,0 +1,118 @@
+"""One design at a time (issue 15): the warm single call, and a second CLI call.
+
+Single call, warm, synchronous CPU dispatch, median of interleaved repeats (all forms timed
+round-robin so machine load hits them alike):
+  * `jaxdamp.cycle_numbers(shape, mu)`: the single-design entry point (one packed input, one
+    output vector, loops that stop when done);
+  * `five_numbers(base_cycle(shape, mu))`: the whole cycle back to Python, then its numbers;
+  * the kernel alone with loop="scan" and loop="while" (five numbers in the same program).
+Second CLI call: `jaxdamp cycle --shape 60sym --mu 0.5` as a subprocess with a fresh persistent
+compilation cache, once cold (fills the cache), then warm repeats (median).
+
+    python benchmarks/bench_single.py            # writes results/single.json
+    python benchmarks/bench_single.py --quick    # fewer repeats, prints the JSON
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+jax.config.update("jax_enable_x64", True)
+jax.config.update("jax_cpu_enable_async_dispatch", False)
+
+import jaxdamp as jd  # noqa: E402
+from jaxdamp.harmonics import five_numbers_kernel  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_common import loadavg, machine  # noqa: E402
+
+OUT = Path(__file__).parent / "results"
+SHAPES = ("60sym", "74R", "90R")
+
+
+def _interleaved_us(programs: dict, repeats: int) -> dict:
+    for f in programs.values():
+        jax.block_until_ready(f())
+    times = {k: [] for k in programs}
+    for _ in range(repeats):
+        for k, f in programs.items():
+            t = time.perf_counter()
+            jax.block_until_ready(f())
+            times[k].append(time.perf_counter() - t)
+    return {k: {"median_us": 1e6 * float(np.median(v)), "p10_us": 1e6 * float(np.percentile(v, 10)),
+                "p90_us": 1e6 * float(np.percentile(v, 90))} for k, v in times.items()}
+
+
+def single_call(repeats: int) -> dict:
+    out = {}
+    for name in SHAPES:
+        shape = jd.family_shape(name)
+        design = jd.params.prepare_inputs(shape, 0.5, jd.Contacts(), jd.LoadCase())
+        kernels = {loop: jax.jit(lambda *d, loop=loop: jnp.stack(five_numbers_kernel(
+            jd.base_cycle_kernel(*d, loop=loop)))) for loop in ("scan", "while")}
+        programs = {
+            "cycle_numbers": lambda: jd.cycle_numbers(shape, 0.5),
+            "five_numbers(base_cycle)": lambda: jd.five_numbers(jd.base_cycle(shape, 0.5)),
+            "kernel_scan": lambda: kernels["scan"](*design),
+            "kernel_while": lambda: kernels["while"](*design),
+        }
+        got = np.array(jd.cycle_numbers(shape, 0.5)[:5])
+        ref = np.array(jd.five_numbers(jd.base_cycle(shape, 0.5)))
+        out[name] = {"load_average_1min": loadavg()[0], **_interleaved_us(programs, repeats),
+                     "max_abs_diff_vs_five_numbers_base_cycle": float(np.max(np.abs(got - ref)))}
+    return out
+
+
+def second_cli_call(repeats: int) -> dict:
+    exe = shutil.which("jaxdamp") or str(Path(sys.executable).with_name("jaxdamp"))
+    argv = [exe, "cycle", "--shape", "60sym", "--mu", "0.5"]
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, JAXDAMP_CACHE_DIR=cache)
+        times = []
+        for _ in range(repeats + 1):
+            t = time.perf_counter()
+            subprocess.run(argv, env=env, check=True, capture_output=True)
+            times.append(time.perf_counter() - t)
+        n_files = len(os.listdir(cache))
+    return {"command": " ".join(["jaxdamp"] + argv[1:]), "cold_s": times[0],
+            "warm_median_s": float(np.median(times[1:])), "warm_min_max_s": [min(times[1:]),
+                                                                              max(times[1:])],
+            "cache_files": n_files, "load_average_1min": loadavg()[0]}
+
+
+def main(argv=None) -> int:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--quick", action="store_true", help="fewer repeats; print instead of write")
+    args = p.parse_args(argv)
+    res = {"machine": machine("2 CPU cores shared with other jobs; synchronous dispatch"),
+           "single_call_us": single_call(300 if args.quick else 2000),
+           "second_cli_call": second_cli_call(3 if args.quick else 7),
+           "targets": {"single_call_us": 50.0, "second_cli_call_s": 1.5}}
+    res["targets_met"] = {
+        "single_call": all(v["cycle_numbers"]["median_us"] <= 50.0
+                           for v in res["single_call_us"].values()),
+        "second_cli_call": res["second_cli_call"]["warm_median_s"] <= 1.5}
+    text = json.dumps(res, indent=1)
+    if args.quick:
+        print(text)
+    else:
+        OUT.mkdir(exist_ok=True)
+        (OUT / "single.json").write_text(text + "\n")
+        print(json.dumps({k: res[k] for k in ("second_cli_call", "targets_met")}, indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
