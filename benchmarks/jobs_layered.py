@@ -263,7 +263,7 @@ def job_curve(quick: bool) -> dict:
 def _layered_one(shape, mu):
     """Peaks at the 10 forces and their FRFs (100 amplitudes, two branches) of one design."""
     damper = damper_stiffness(shape, mu, CONTACTS, LOAD, method="exact")
-    peaks = jax.vmap(lambda f: peak_response(damper, MODE, f))(FORCES_N)
+    peaks = peak_response(damper, MODE, FORCES_N)  # the 10 forces share one amplitude grid
 
     def curve(f, top):
         r = frf(damper, MODE, f, frf_amplitude_grid(top, N_FRF))
@@ -278,7 +278,7 @@ direct_response = jax.jit(jax.vmap(_layered_one))
 def _peaks_of_shape(x, mu):
     shape = jd.DamperShape(x[0], x[1], x[2], x[3])
     damper = damper_stiffness(shape, mu, CONTACTS, LOAD, method="exact")
-    return jax.vmap(lambda f: peak_response(damper, MODE, f).peak_amplitude_mm)(FORCES_N)
+    return peak_response(damper, MODE, FORCES_N).peak_amplitude_mm
 
 
 direct_gradient = jax.jit(jax.vmap(jax.jacfwd(_peaks_of_shape)))  # (M, 10 forces, 4 variables)

@@ -89,6 +89,14 @@ class DamperStiffness(NamedTuple):
     status: jnp.ndarray
     k_re_stuck: jnp.ndarray
     psi_ref_mrad: jnp.ndarray
+    # The same curve for values only (None: k_of_psi): the design held constant, so that searches
+    # (the peak's amplitude grid and root iterations) run the curve's value program even while an
+    # outer jacfwd/grad differentiates the design; only the root's IFT step uses k_of_psi.
+    k_values: KOfPsi | None = None
+
+    def values(self, psi):
+        """(k_re, k_im) at psi without derivatives with respect to the design."""
+        return (self.k_of_psi if self.k_values is None else self.k_values)(psi)
 
 
 def _interpolated(shape, mu, contacts, load) -> DamperStiffness:
@@ -114,13 +122,16 @@ def _exact(shape, mu, contacts, load, initial: str = "gross_slip") -> DamperStif
 
     base = _interpolated(shape, mu, contacts, load)
 
-    def k_of_psi(psi):
-        psi = jnp.asarray(psi, float)
-        cycles = jax.vmap(lambda a: amplitude_kernel(shape, mu, contacts, load, a,
-                                                     initial=initial))(psi.reshape(-1))
-        return cycles.k_re.reshape(psi.shape), cycles.k_im.reshape(psi.shape)
+    def curve(design):
+        def k_of_psi(psi):
+            psi = jnp.asarray(psi, float)
+            cycles = jax.vmap(lambda a: amplitude_kernel(*design, a, initial=initial))(
+                psi.reshape(-1))
+            return cycles.k_re.reshape(psi.shape), cycles.k_im.reshape(psi.shape)
+        return k_of_psi
 
-    return base._replace(k_of_psi=k_of_psi)
+    design = (shape, mu, contacts, load)
+    return base._replace(k_of_psi=curve(design), k_values=curve(jax.lax.stop_gradient(design)))
 
 
 STIFFNESS_METHODS: dict[str, Callable[..., DamperStiffness]] = {"interpolated": _interpolated,
@@ -218,12 +229,19 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
     """
     s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
 
-    def k_of_psi(psi):
-        k_re, k_im = ref.k_of_psi(jnp.asarray(psi, float) / s)
-        return contact_scale * k_re, contact_scale * k_im
+    def scaled(k_fn):
+        def k_of_psi(psi):
+            k_re, k_im = k_fn(jnp.asarray(psi, float) / s)
+            return contact_scale * k_re, contact_scale * k_im
+        return k_of_psi
 
-    return DamperStiffness(k_of_psi, ref.status, contact_scale * ref.k_re_stuck,
-                           ref.psi_ref_mrad * s)
+    def k_values(psi):  # the scaling held constant too
+        k_re, k_im = ref.values(jnp.asarray(psi, float) / jax.lax.stop_gradient(s))
+        c = jax.lax.stop_gradient(contact_scale)
+        return c * k_re, c * k_im
+
+    return DamperStiffness(scaled(ref.k_of_psi), ref.status, contact_scale * ref.k_re_stuck,
+                           ref.psi_ref_mrad * s, k_values)
 
 
 def stuck_damper(k_re_stuck) -> DamperStiffness:
@@ -311,7 +329,7 @@ def response_amplitude_linear(mode: BladeMode, k_re, k_im, force_n, frequency_hz
 N_GRID = 160  # bracketing grid points (log-spaced)
 GRID_DECADES = 7.0  # the grid spans [A_hi 10^-7, A_hi]
 MAX_ROOTS = 4
-REFINE_STEPS = 60  # safeguarded Newton/bisection steps per root (bounded scan)
+REFINE_STEPS = 60  # at most this many bracketed (Illinois) steps per root
 
 
 class Peaks(NamedTuple):
@@ -353,36 +371,52 @@ def peak_frequency_hz(damper: DamperStiffness, mode: BladeMode, amplitude_mm):
     return jnp.where(ok, mode.f0_hz * jnp.sqrt(jnp.where(ok, w, 1.0)), 0.0)
 
 
-def _bracketed_root(g, lo, hi, steps):
-    """Root of g in [lo, hi] (g(lo) g(hi) <= 0): Newton steps kept inside the bracket, bisection
-    where Newton leaves it; a bounded scan (no while_loop), values only."""
-    glo = g(lo)
-
-    def body(carry, _):
-        lo, hi, glo, x = carry
-        gx, dg = jax.jvp(g, (x,), (jnp.ones_like(x),))
-        same = jnp.sign(gx) == jnp.sign(glo)
-        lo, glo, hi = jnp.where(same, x, lo), jnp.where(same, gx, glo), jnp.where(same, hi, x)
-        okd = jnp.abs(dg) > 0
-        xn = x - gx / jnp.where(okd, dg, 1.0)
-        inside = okd & (xn > lo) & (xn < hi)
-        # Bisect also when Newton crawls (less than half the bracket gained over a step).
-        x_next = jnp.where(inside, xn, 0.5 * (lo + hi))
-        x_next = jnp.where(gx == 0, x, x_next)
-        return (lo, hi, glo, x_next), None
-
-    (lo, hi, _, x), _ = jax.lax.scan(body, (lo, hi, glo, 0.5 * (lo + hi)), None, length=steps)
-    return x
+ROOT_RTOL = 1e-13  # relative step (or bracket width) at which a root has converged
 
 
-def _root_ift(g, lo, hi, steps):
+def _bracketed_root(g, lo, hi, glo, ghi, steps):
+    """Root of g in [lo, hi] from g(lo) = glo, g(hi) = ghi of opposite signs: the Illinois
+    variant of regula falsi (superlinear, the bracket is kept), at most `steps` evaluations,
+    stopping when a step or the bracket is below ROOT_RTOL of the root.
+
+    Values only, and derivative-free: the damper curve's values run its fast program (loops that
+    stop when done), while a Newton step would need its derivative program. `_root_ift`
+    differentiates the root by the implicit function theorem, never through this loop, so it may
+    be a while loop (under vmap it runs until every root has converged)."""
+
+    def body(c):
+        i, lo, hi, glo, ghi, x, side, _ = c
+        d = ghi - glo
+        ok = d != 0
+        x_new = jnp.where(ok, (lo * ghi - hi * glo) / jnp.where(ok, d, 1.0), 0.5 * (lo + hi))
+        x_new = jnp.clip(x_new, lo, hi)
+        gx = g(x_new)
+        right = jnp.sign(gx) == jnp.sign(ghi)  # the root is left of x_new: x_new becomes hi
+        # Illinois: halve the value kept at the end that did not move twice in a row.
+        glo = jnp.where(right, jnp.where(side > 0, 0.5 * glo, glo), gx)
+        ghi = jnp.where(right, gx, jnp.where(side < 0, 0.5 * ghi, ghi))
+        lo, hi = jnp.where(right, lo, x_new), jnp.where(right, x_new, hi)
+        side = jnp.where(right, 1, -1)
+        tol = ROOT_RTOL * jnp.abs(x_new)
+        done = (gx == 0) | (jnp.abs(x_new - x) <= tol) | (hi - lo <= tol)
+        return i + 1, lo, hi, glo, ghi, x_new, side, done
+
+    def more(c):
+        return (c[0] < steps) & ~c[7]
+
+    start = (jnp.array(0), lo, hi, glo, ghi, hi, jnp.array(0), (hi - lo <= 0) | (glo == 0))
+    x = jax.lax.while_loop(more, body, start)[5]
+    return jnp.where(glo == 0, lo, x)
+
+
+def _root_ift(g, g_values, lo, hi, glo, ghi, steps):
     """A root of the scalar g in the bracket [lo, hi], differentiable by the implicit function
-    theorem (jax.lax.custom_root: dA* = -g_theta / g_A, through whatever g closes over)."""
-    lo = jax.lax.stop_gradient(lo)
-    hi = jax.lax.stop_gradient(hi)
+    theorem (jax.lax.custom_root: dA* = -g_theta / g_A, through whatever g closes over). The
+    search runs on g_values: g's values, with nothing to differentiate."""
+    lo, hi, glo, ghi = (jax.lax.stop_gradient(v) for v in (lo, hi, glo, ghi))
 
     def solve(f, x0):
-        return _bracketed_root(f, lo, hi, steps)
+        return _bracketed_root(g_values, lo, hi, glo, ghi, steps)
 
     def tangent_solve(f_lin, y):
         d = f_lin(jnp.ones_like(y))
@@ -392,6 +426,9 @@ def _root_ift(g, lo, hi, steps):
     return jax.lax.custom_root(g, 0.5 * (lo + hi), solve, tangent_solve)
 
 
+SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
+
+
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
                   max_roots: int = MAX_ROOTS, amplitude_cap_mm=None) -> Peaks:
     """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
@@ -399,40 +436,64 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
     log-spaced over GRID_DECADES below that bound (or below amplitude_cap_mm when eta = 0, default
     1e6 psi_ref / r). Each sign change is refined by safeguarded Newton/bisection; gradients by the
-    implicit function theorem. Pure JAX: jit, vmap (e.g. over F or designs), grad, jacfwd.
+    implicit function theorem. Pure JAX: jit, vmap (e.g. over designs), grad, jacfwd.
+
+    force_n: a scalar, or a 1-D array of forces (then every field has a leading force axis). The
+    forces of an array share one amplitude grid, since k(psi) does not depend on F (the layered
+    method's point): SHARED_GRID_FACTOR * n_grid points from GRID_DECADES below the smallest
+    force's bound to the largest's, as fine as one force's grid for forces within 10^3.5 of each
+    other (coarser beyond). The damper curve is evaluated once on it instead of once per force.
     """
     f = jnp.asarray(force_n, float)
+    if f.ndim > 1:
+        raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
+    forces = f.reshape(-1)
     damped = mode.eta * mode.k_b > 0
     cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None
            else jnp.asarray(amplitude_cap_mm, float))
-    a_hi = jnp.where(damped, f / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9), cap)
+    a_hi = jnp.where(damped, forces / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9),
+                     cap)
     a_hi = jax.lax.stop_gradient(a_hi)
-    grid = a_hi * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
+    if f.ndim == 0:
+        grid = a_hi[0] * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
+    else:
+        top = jnp.max(a_hi)
+        decades = GRID_DECADES + jnp.log10(top / jnp.min(a_hi))
+        grid = top * jnp.logspace(-1.0, 0.0, int(SHARED_GRID_FACTOR * n_grid)) ** decades
     grid = jnp.concatenate([jnp.zeros(1), grid])
+    cells_n = grid.size - 1
+    _, im_grid = _dyn(mode, damper.values, grid)
+    a_im = jax.lax.stop_gradient(grid * im_grid)  # g(a) = a im(a) - F for every force at once
 
-    def g_of(a):
-        return peak_residual(damper, mode, f, a)
+    def one_force(force):
+        def g_of(a):
+            return peak_residual(damper, mode, force, a)
 
-    gg = jax.lax.stop_gradient(g_of(grid))
-    change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
-    n_roots = jnp.sum(change).astype(jnp.int32)
-    # The first max_roots sign changes, in ascending order (cells without a change sort last).
-    cells = jnp.argsort(jnp.where(change, jnp.arange(n_grid), n_grid + 1))[:max_roots]
-    found = jnp.arange(max_roots) < n_roots
-    lo = grid[cells]
-    hi = grid[cells + 1]
+        def g_values(a):
+            return a * _dyn(mode, damper.values, a)[1] - jax.lax.stop_gradient(force)
 
-    def one(lo_i, hi_i):
-        return _root_ift(g_of, lo_i, hi_i, REFINE_STEPS)
+        gg = a_im - force
+        change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
+        n_roots = jnp.sum(change).astype(jnp.int32)
+        # The first max_roots sign changes, in ascending order (cells without a change sort last).
+        cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1))[:max_roots]
+        found = jnp.arange(max_roots) < n_roots
+        lo = grid[cells]
+        hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
 
-    roots = jax.vmap(one)(lo, hi)
-    roots = jnp.where(found, roots, 0.0)
-    freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
-    any_root = n_roots > 0
-    last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
-    status = RESULTS.promote(damper.status, ~any_root, RESULTS.no_root)
-    peak = roots[0]
-    return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last], status)
+        roots = jax.vmap(lambda *b: _root_ift(g_of, g_values, *b, REFINE_STEPS))(
+            lo, hi, gg[cells], gg[cells + 1])
+        roots = jnp.where(found, roots, 0.0)
+        freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
+                          0.0)
+        last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
+        status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
+        peak = roots[0]
+        return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last],
+                     status)
+
+    peaks = jax.vmap(one_force)(forces)
+    return jax.tree_util.tree_map(lambda x: x[0], peaks) if f.ndim == 0 else peaks
 
 
 _PEAK_PROGRAMS: dict = {}
@@ -527,7 +588,7 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
     @jax.jit
     def per_mu(m):
         d = damper_stiffness(shape, m, contacts, load, method=method, **options)
-        by_force = jax.vmap(lambda f: peak_response(d, mode, f).peak_amplitude_mm)(force_j)
+        by_force = peak_response(d, mode, force_j).peak_amplitude_mm  # one shared grid
         by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
                                                   f_fd).peak_amplitude_mm)(fds_j)
         stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)

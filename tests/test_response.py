@@ -81,6 +81,38 @@ def test_every_root_of_an_isola_is_found():
     assert float(p.psi_a_mrad) == pytest.approx(1.0, rel=1e-12)
 
 
+def test_a_force_array_shares_one_grid_and_finds_every_root():
+    # The isola of the previous test at forces around 6 c, with the analytic roots of
+    # c (A^3 - 6 A^2 + 11 A) = F: the shared grid must find the same roots as one call per force.
+    mode = BladeMode(r=1.0)
+    d = analytic(1000.0, lambda p: 1e3 * ((p * p - 6 * p + 11) - mode.eta * mode.k_b))
+    forces = jnp.array([0.5, 5.9, 6.0, 6.05, 40.0])
+    many = jax.jit(lambda f: peak_response(d, mode, f))(forces)
+    assert many.peak_amplitude_mm.shape == (5,)
+    for i, f in enumerate(np.asarray(forces)):
+        one = peak_response(d, mode, float(f))
+        assert int(many.n_roots[i]) == int(one.n_roots)
+        np.testing.assert_allclose(many.roots_mm[i], one.roots_mm, rtol=1e-12)
+        cubic = np.roots([1.0, -6.0, 11.0, -f])
+        real = np.sort(cubic[np.abs(cubic.imag) < 1e-9].real)
+        np.testing.assert_allclose(np.asarray(many.roots_mm[i])[: real.size], real, rtol=1e-11)
+    with pytest.raises(ValueError, match="force_n"):
+        peak_response(d, mode, jnp.ones((2, 2)))
+
+
+def test_exact_damper_values_are_its_curve_without_design_derivatives():
+    d = damper_stiffness(SHAPE, 0.5)
+    psi = jnp.geomspace(0.3, 8.0, 9)
+    np.testing.assert_allclose(d.values(psi)[1], d.k_of_psi(psi)[1], rtol=1e-12)
+
+    def through_values(mu):
+        return jnp.sum(damper_stiffness(SHAPE, mu).values(psi)[1])
+
+    assert float(jax.grad(through_values)(0.5)) == 0.0
+    scaled = scaled_stiffness(d, 1000.0, 1500.0, 2.0)
+    np.testing.assert_allclose(scaled.values(psi)[1], scaled.k_of_psi(psi)[1], rtol=1e-12)
+
+
 def test_no_root_without_structural_damping_beyond_the_friction_force():
     # eta = 0 and a damper whose dissipative modal force saturates at 1e-3 r^2 A k_Im -> 3 N.
     mode = BladeMode(eta=0.0)
