@@ -81,10 +81,21 @@ def _sync_dispatch() -> None:
     jax.config.update("jax_cpu_enable_async_dispatch", False)
 
 
-def _builtin_registers():
+def _builtin_registers(names=COMMANDS):
     import importlib
 
-    return [importlib.import_module(f"{__name__}.{name}").register for name in COMMANDS]
+    return [importlib.import_module(f"{__name__}.{name}").register for name in names]
+
+
+def _only_command(argv) -> str | None:
+    """The built-in command module that argv names first (`design-br` -> design_br), if any: then
+    the parser needs that command alone, and a call imports neither the other commands nor the
+    entry points' packages (optax, for optimize), a tenth of a second of a second call."""
+    if argv and isinstance(argv[0], str):
+        name = argv[0].replace("-", "_")
+        if name in COMMANDS:
+            return name
+    return None
 
 
 def _entry_point_registers():
@@ -116,9 +127,10 @@ def _loader(ep):
     return load
 
 
-def build_parser(extra_commands=()):
+def build_parser(extra_commands=(), only: str | None = None):
     """The parser: built-in commands, then entry points of `jaxdamp.commands`, then extra_commands
-    (register functions, for tests and embedding)."""
+    (register functions, for tests and embedding). only: one built-in command module's name, to
+    build the parser of that command alone."""
     import argparse
 
     from .common import Parser
@@ -127,6 +139,9 @@ def build_parser(extra_commands=()):
                     description="Underplatform damper Base-Cycles by the direct method.\n\n" + UNITS,
                     formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    if only is not None:
+        _builtin_registers((only,))[0](sub)
+        return parser
     registers = _builtin_registers()
     for load in _entry_point_registers():
         registers.append(load())
@@ -143,7 +158,9 @@ def main(argv=None, extra_commands=()) -> int:
     configure_runtime()
     command = "jaxdamp"
     try:
-        parser = build_parser(tuple(extra_commands))
+        argv = sys.argv[1:] if argv is None else list(argv)
+        only = None if extra_commands else _only_command(argv)
+        parser = build_parser(tuple(extra_commands), only=only)
         args = parser.parse_args(argv)
         command = f"jaxdamp {args.command}"
         if args.command in SYNC_DISPATCH_COMMANDS:

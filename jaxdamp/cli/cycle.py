@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import functools
+
 from . import common as C
 
 NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
@@ -14,20 +16,41 @@ def register(sub) -> None:
     p.set_defaults(func=run)
 
 
-def cycle_payload(bc) -> dict:
-    """The numbers of a BaseCycle; those that do not exist (liftoff, singular) are None."""
-    from ..cycle import transitions_chart
+def _cycle_numbers(bc):
+    """Everything the command prints, computed in one program (one trace and one compilation-cache
+    read per process instead of one per quantity: the second call's cost is mostly those)."""
     from ..energy import contact_energies, work_shape_factors
-    from ..harmonics import five_numbers
+    from ..harmonics import five_numbers_kernel
 
+    return bc, five_numbers_kernel(bc), contact_energies(bc), work_shape_factors(bc)
+
+
+@functools.lru_cache(maxsize=None)
+def _program():
+    import jax
+
+    from ..cycle import base_cycle_kernel
+
+    return jax.jit(lambda *design: _cycle_numbers(base_cycle_kernel(*design)))
+
+
+def cycle_payload(bc, nums=None, energy=None, factors=None) -> dict:
+    """The numbers of a BaseCycle; those that do not exist (liftoff, singular) are None. nums,
+    energy, factors: its five numbers, contact energies and work shape factors when computed
+    already (`_cycle_numbers`)."""
     import warnings
 
+    from ..cycle import transitions_chart
+    from ..harmonics import warn_small_rotation
+
+    if nums is None:
+        bc, nums, energy, factors = _cycle_numbers(bc)
     status = C.status_name(bc)
     # Ill-conditioned numbers are wrong numbers: they are not shown (null), only the status.
     exists = status not in ("liftoff", "singular", "ill_conditioned")
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        nums = five_numbers(bc)
+        warn_small_rotation(nums.psi_bc, stacklevel=2)
     p = {k: (C.number(v) if exists else None) for k, v in zip(NUMBER_KEYS, nums)}
     p["warnings"] = [str(w.message) for w in caught] if exists else []
     p["spans_mm"] = {"forward": C.number(bc.forward.span) if exists else None,
@@ -42,10 +65,9 @@ def cycle_payload(bc) -> dict:
             if row.get("stretch"):
                 entry["stretch"] = True
             tracts[row["half"]].append(entry)
-        energy = contact_energies(bc)
         p["tracts"] = tracts
         p["energy_Nmm"] = {**C.named(energy.contacts), "moment": C.number(energy.moment)}
-        p["work_shape_factors"] = {k: C.number(v) for k, v in work_shape_factors(bc)._asdict().items()}
+        p["work_shape_factors"] = {k: C.number(v) for k, v in factors._asdict().items()}
     else:
         p["tracts"] = None
         p["energy_Nmm"] = dict.fromkeys(("R1", "L1", "L2", "moment"))
@@ -54,15 +76,14 @@ def cycle_payload(bc) -> dict:
 
 
 def run(args) -> int:
-    from ..cycle import base_cycle
-    from ..params import validate_mu
+    from ..params import prepare_inputs, validate_mu
 
     shape = C.shape_from_args(args)
     validate_mu(args.mu)
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)
-    bc = base_cycle(shape, args.mu, contacts, load)
-    status = C.status_name(bc)
-    p = cycle_payload(bc)
+    results = _program()(*prepare_inputs(shape, args.mu, contacts, load))
+    status = C.status_name(results[0])
+    p = cycle_payload(*results)
     doc = C.document(status, p, shape=C.shape_echo(shape), mu=args.mu,
                      contacts=C.contacts_echo(contacts), load=C.load_echo(load))
     head = (f"Base-Cycle, mu = {args.mu:g}, kn = {args.kn:g} N/mm, kt = {args.kt:g} N/mm, "
