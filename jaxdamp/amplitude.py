@@ -39,7 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .linalg import solve3
-from .cycle import bounded_loop, mechanics
+from .cycle import bounded_loop, mechanics, tract_rows, zeros_of
 from .geometry import DamperShape
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -80,6 +80,11 @@ class TravelHalf(NamedTuple):
     gross_slip: jnp.ndarray  # reached gross slip before the end of the travel
     liftoff: jnp.ndarray
     failed: jnp.ndarray  # no consistent state set, or the tracts ran out before the travel
+
+
+def _travel_rows() -> dict:
+    """One recorded tract of a travel-limited half (dtypes resolved when traced: float64 if x64)."""
+    return tract_rows(stretch=jax.ShapeDtypeStruct((), bool))
 
 
 def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS,
@@ -135,7 +140,7 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
                    line=jnp.where(advance, line, carry["line"]))
         return new, out
 
-    end, tr = bounded_loop(step, init, max_tracts, loop)
+    end, tr = bounded_loop(step, init, max_tracts, loop, _travel_rows())
     return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                       tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
                       end["liftoff"], end["failed"] | ~end["done"])
@@ -274,10 +279,11 @@ def _accelerate(mu, s0, s1, s2, have_history):
     return jnp.where(ok & admissible, guess, s2)
 
 
-def _empty_half(mech, max_tracts, loop="scan"):
-    shapes = jax.eval_shape(lambda: travel_half(mech, jnp.ones(3), jnp.zeros(3), -1.0, 1.0,
-                                                max_tracts, loop))
-    return jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
+def _empty_half(max_tracts) -> TravelHalf:
+    """A TravelHalf of zeros (the iteration's initial value)."""
+    z3, b = jnp.zeros(3), jnp.array(False)
+    return TravelHalf(**zeros_of(_travel_rows(), max_tracts), N_end=z3, T_end=z3, gross_slip=b,
+                      liftoff=b, failed=b)
 
 
 LOOPS = ("auto", "scan", "while")
@@ -380,7 +386,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
         new = run_half(c, j)
         return jax.tree_util.tree_map(lambda old, x: jnp.where(c["stop"], old, x), c, new), None
 
-    empty = _empty_half(mech, max_tracts, loop)
+    empty = _empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),

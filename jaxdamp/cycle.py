@@ -110,25 +110,40 @@ def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS,
         )
         return new, out
 
-    end, tr = bounded_loop(step, init, max_tracts, loop)
+    end, tr = bounded_loop(step, init, max_tracts, loop, tract_rows())
     exhausted = ~end["done"]
     return HalfCycle(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                      tr["active"], end["gross_dslip"], end["N"], end["T"], jnp.sum(tr["dv"]),
                      end["gross"], end["liftoff"], end["failed"] | exhausted)
 
 
-def bounded_loop(step, init, length: int, loop: str):
+def tract_rows(**extra) -> dict:
+    """Shapes and dtypes of one tract's recorded row (a half's step output); extra: more fields."""
+    f, v = jax.ShapeDtypeStruct((), float), jax.ShapeDtypeStruct((3,), float)
+    return dict(dv=f, N0=v, T0=v, dN=v, dT=v, dslip=v, state=jax.ShapeDtypeStruct((3,), int),
+                active=jax.ShapeDtypeStruct((), bool), **extra)
+
+
+def zeros_of(rows: dict, length: int) -> dict:
+    """Arrays of zeros for `length` rows of the given shapes and dtypes."""
+    return {k: jnp.zeros((length,) + r.shape, r.dtype) for k, r in rows.items()}
+
+
+def bounded_loop(step, init, length: int, loop: str, rows: dict | None = None):
     """(final carry, stacked outputs) of up to `length` calls of step(carry, None) -> (carry, out).
 
     "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
     once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
-    finished steps must be inactive rows, e.g. zero travel)."""
+    finished steps must be inactive rows, e.g. zero travel). rows: the shapes and dtypes of one
+    step's outputs (a dict, as `tract_rows`), which spares tracing the step once more to find them
+    (tracing is most of a CLI call's cost)."""
     if loop == "scan":
         return jax.lax.scan(step, init, None, length=length)
     if loop != "while":
         raise ValueError(f"loop must be scan or while; got {loop!r}")
-    rows = jax.eval_shape(lambda c: step(c, None)[1], init)
-    rows = jax.tree_util.tree_map(lambda r: jnp.zeros((length,) + r.shape, r.dtype), rows)
+    if rows is None:
+        rows = jax.eval_shape(lambda c: step(c, None)[1], init)
+    rows = zeros_of(rows, length)
 
     def cond(c):
         i, carry, _ = c
@@ -220,8 +235,7 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
         new = run_pair(carry, k)
         return jax.tree_util.tree_map(lambda old, x: jnp.where(carry[3], old, x), carry, new), None
 
-    shapes = jax.eval_shape(lambda: half_cycle(mech, N0, T0, -1.0, max_tracts, loop))
-    empty = jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), shapes)
+    empty = _empty_half(max_tracts)
     init = (N0, T0, jnp.array(False), liftoff0, empty, empty, jnp.array(0), jnp.zeros(6))
     if loop == "while":
         def more(c):
@@ -241,6 +255,13 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
     return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
                      from_flags(liftoff, failed, converged, ill))
+
+
+def _empty_half(max_tracts: int) -> HalfCycle:
+    """A HalfCycle of zeros (the pair iteration's initial value)."""
+    z3, f, b = jnp.zeros(3), jnp.zeros(()), jnp.array(False)
+    return HalfCycle(**zeros_of(tract_rows(), max_tracts), gross_dslip=z3, N_end=z3, T_end=z3,
+                     span=f, gross_slip=b, liftoff=b, failed=b)
 
 
 def equilibrium_residual(mech: Mechanics, half: HalfCycle):

@@ -50,7 +50,7 @@ def test_every_builtin_command_is_a_module_with_register_and_run():
 
 def test_pyproject_declares_the_console_script_and_the_optimize_entry_point():
     meta = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
-    assert meta["scripts"]["jaxdamp"] == "jaxdamp.cli:main"
+    assert meta["scripts"]["jaxdamp"] == "jaxdamp.cli:console"
     group = meta["entry-points"][cli.ENTRY_POINT_GROUP]
     assert group == {"optimize": "optimize.cli:register"}
     # the declared object loads and registers the command
@@ -178,3 +178,25 @@ def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):
     assert run_cli(capsys, "statics", "--shape", "60sym", "--mu", "0.5")[0] == 0
     code, _, err = run_cli(capsys, "broken")
     assert code == 2 and "failed to load" in one_error_line(err)
+
+
+def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
+    """The console entry ends the process with os._exit after main(): the exit code and the whole
+    output must still arrive (here through pipes, as in scripts)."""
+    import json
+    import subprocess
+    import sys
+
+    env = {**__import__("os").environ, "JAXDAMP_CACHE_DIR": str(tmp_path / "cache")}
+    run = lambda *a: subprocess.run([sys.executable, "-m", "jaxdamp.cli", *a],  # noqa: E731
+                                    capture_output=True, text=True, env=env, timeout=300)
+    bad = run("cycle", "--shape", "60sym", "--mu", "9")
+    assert bad.returncode == 2 and bad.stdout == ""
+    assert bad.stderr.count("\n") == 1 and "mu" in bad.stderr
+    ok = run("cycle", "--shape", "60sym", "--mu", "0.5", "--json")
+    assert ok.returncode == 0, ok.stderr
+    doc = json.loads(ok.stdout)
+    assert doc["status"] == "ok"
+    # The paper's Table B value for 60sym at mu 0.5 (k_Im,BC = 4921), within the 0.7 % of the
+    # reference contact pair's fit (jaxdamp.params.REFERENCE_KN)
+    assert abs(doc["k_im_bc"] / 4921.0 - 1.0) < 0.007

@@ -1,7 +1,5 @@
 """`python -m jaxdamp.cli ...` (the same as the `jaxdamp` console script)."""
 
-import sys
+from . import console
 
-from . import main
-
-sys.exit(main())
+console()
