@@ -1,7 +1,7 @@
 """One design at a time (issue 15): the warm single call, and a second CLI call.
 
-Single call, warm, synchronous CPU dispatch, median of interleaved repeats (all forms timed
-round-robin so machine load hits them alike):
+Single call, warm, synchronous CPU dispatch, median of repeats in interleaved blocks of 50 calls
+of one form (the forms take turns, so machine load hits them alike):
   * `jaxdamp.cycle_numbers(shape, mu)`: the single-design entry point (one packed input, one
     output vector, loops that stop when done);
   * `five_numbers(base_cycle(shape, mu))`: the whole cycle back to Python, then its numbers;
@@ -42,15 +42,19 @@ OUT = Path(__file__).parent / "results"
 SHAPES = ("60sym", "74R", "90R")
 
 
+BLOCK = 50  # calls of one form in a row: a user's loop of calls keeps its program in the caches
+
+
 def _interleaved_us(programs: dict, repeats: int) -> dict:
     for f in programs.values():
         jax.block_until_ready(f())
     times = {k: [] for k in programs}
-    for _ in range(repeats):
+    for _ in range(max(repeats // BLOCK, 1)):
         for k, f in programs.items():
-            t = time.perf_counter()
-            jax.block_until_ready(f())
-            times[k].append(time.perf_counter() - t)
+            for _ in range(BLOCK):
+                t = time.perf_counter()
+                jax.block_until_ready(f())
+                times[k].append(time.perf_counter() - t)
     return {k: {"median_us": 1e6 * float(np.median(v)), "p10_us": 1e6 * float(np.percentile(v, 10)),
                 "p90_us": 1e6 * float(np.percentile(v, 90))} for k, v in times.items()}
 

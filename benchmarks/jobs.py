@@ -219,28 +219,19 @@ def _summary(result: dict) -> dict:
     return {k: result[k] for k in keep if k in result} | {"details": "results/jobs_layered.json"}
 
 
-def job_curve(cfg: dict, log=print):
-    """Job 2, whole curve (benchmarks/jobs_layered.py): exact amplitude cycles at 64 amplitudes plus
-    psi_BC against an HBM-AFT amplitude sweep handed psi_BC."""
+def layered_jobs(cfg: dict) -> dict:
+    """Jobs 2-4 (benchmarks/jobs_layered.py): 2, whole curve (exact amplitude cycles at 64
+    amplitudes plus psi_BC against an HBM-AFT amplitude sweep handed psi_BC); 3, forced response
+    (amplitude-layered peaks at 10 forces and FRFs against coupled HBM-AFT with continuation); 4,
+    gradient of job 3's peaks w.r.t. the shape (AD through the root against central differences
+    of coupled HBM-AFT). The full run writes results/jobs_layered.json and its charts, once."""
     import jobs_layered
 
-    return _summary(jobs_layered.job_curve(cfg is QUICK))
-
-
-def job_response(cfg: dict, log=print):
-    """Job 3, forced response (benchmarks/jobs_layered.py): amplitude-layered peaks at 10 forces
-    and FRFs against coupled HBM-AFT with continuation."""
-    import jobs_layered
-
-    return _summary(jobs_layered.job_response(cfg is QUICK))
-
-
-def job_gradient(cfg: dict, log=print):
-    """Job 4, gradient of job 3's peak w.r.t. the shape (benchmarks/jobs_layered.py): AD through
-    the root against central differences of coupled HBM-AFT."""
-    import jobs_layered
-
-    return _summary(jobs_layered.job_gradient(cfg is QUICK))
+    if cfg is QUICK:
+        out = {k: getattr(jobs_layered, f"job_{k}")(True) for k in ("curve", "response", "gradient")}
+    else:
+        out = jobs_layered.main(quick=False)
+    return {k: _summary(out[k]) for k in ("curve", "response", "gradient")}
 
 
 # ---------------------------------------------------------------- raw floor
@@ -319,8 +310,7 @@ def main(argv=None) -> int:
                 "ratio_vs_hbm", "ratio_vs_time_marching", "ratio_vs_hbm_extrapolated",
                 "ratio_vs_time_marching_extrapolated")},
             "target_rel_error": TARGET},
-            "curve": job_curve(cfg, log), "response": job_response(cfg, log),
-            "gradient": job_gradient(cfg, log)},
+            **layered_jobs(cfg)},
         "base_cycles_per_s": None, "single_latency_us": None,
     }
     tp = base_cycles_per_s(cfg["throughput_designs"], cfg["repeats"])
