@@ -183,8 +183,8 @@ def main(argv=None, extra_commands=()) -> int:
 def console() -> None:
     """The `jaxdamp` console script and `python -m jaxdamp.cli`: main(), then exit at once.
 
-    Interpreter teardown with JAX loaded (its client, thread pools and caches) takes ~0.35 s, a
-    quarter of a second CLI call; nothing of the command's is left to do by then (output is
+    Interpreter teardown with JAX loaded (its client, thread pools and caches) took about a third
+    of a second here, a quarter of a second CLI call; nothing of the command's is left to do by then (output is
     flushed, files are closed and the compilation cache is written when a program compiles), so the
     process ends with os._exit."""
     code = main()
