@@ -519,7 +519,7 @@ class StiffnessCurves(NamedTuple):
     k_re: jnp.ndarray  # N mm/mrad (zero where status is not ok / shakedown)
     k_im: jnp.ndarray
     status: jnp.ndarray  # RESULTS codes (int32)
-    cycles: jnp.ndarray  # pairs of halves run
+    cycles: jnp.ndarray  # pairs of halves run (of the Base-Cycle where its stretch is the cycle)
 
 
 def _batch_size(args):
@@ -569,6 +569,35 @@ def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs
     return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
 
 
+# Above psi_BC (by this relative margin) the steady cycle from a gross-slip history is the
+# Base-Cycle stretched by full slip at both ends, whose k is closed-form.
+STRETCH_MARGIN = 1e-9
+
+
+@jax.jit
+def _stretched_curves(shapes, mu, contacts, load, psi):
+    """Per (design, amplitude): k of the stretched Base-Cycle, whether it is the steady cycle from
+    gross slip there (Base-Cycle ok and psi >= psi_BC (1 + STRETCH_MARGIN)), and the Base-Cycle's
+    pairs of halves."""
+    from .cycle import base_cycle_kernel
+    from .harmonics import complex_stiffness, five_numbers_kernel
+
+    def one(s, m, c, ld, p):
+        bc = base_cycle_kernel(s, m, c, ld)
+        k_re, k_im = complex_stiffness(bc, p, method="interpolated")
+        use = (bc.status == RESULTS.ok) & (p >= five_numbers_kernel(bc).psi_bc * (1 + STRETCH_MARGIN))
+        return k_re, k_im, use, jnp.broadcast_to(bc.half_cycles // 2, p.shape)
+
+    return jax.vmap(one)(shapes, mu, contacts, load, psi)
+
+
+def _padded(index: np.ndarray) -> np.ndarray:
+    """index padded to a power of two (>= 16) by repeating its first entry: a new count of
+    elements then rarely compiles a new program."""
+    size = max(16, 1 << int(np.ceil(np.log2(max(index.size, 1)))))
+    return np.concatenate([index, np.full(size - index.size, index[0])])
+
+
 def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                      load: LoadCase = LoadCase(), *, initial="gross_slip",
                      max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
@@ -578,9 +607,12 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     read as one value per design). psi_a_mrad: (amplitudes,) shared or (designs, amplitudes), > 0.
     initial: "gross_slip" or "assembly". Returns StiffnessCurves with (designs, amplitudes) arrays.
 
-    Concrete inputs run in two stages: one pair of halves for every (design, amplitude), then the
-    full iteration only where the cycle did not close in one pair (under plain vmap every element
-    would pay for the longest iteration). Traced inputs (inside jit / grad) run `curves_kernel`.
+    Concrete inputs: from a gross-slip history, amplitudes at or above a design's psi_BC take the
+    Base-Cycle stretched by full slip at both ends, which is the steady cycle there (closed-form k;
+    the same numbers as the cycle to ~1e-11, tests/test_amplitude.py); the other (design,
+    amplitude) pairs run in two stages: one pair of halves each, then the full iteration only where
+    the cycle did not close in one pair. Traced inputs (inside jit / grad) run `curves_kernel`,
+    every cycle by the direct method.
     """
     from ._validate import check_range, is_concrete
 
@@ -607,16 +639,31 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     designs = _broadcast_designs(jax.tree_util.tree_map(lambda x: np.asarray(x, float), args), size)
     psi = np.broadcast_to(psi, (size, psi.shape[-1]))
     n_amp = psi.shape[1]
-    # Flatten (design, amplitude) pairs so that the second stage re-runs only the pairs that need it.
-    flat = jax.tree_util.tree_map(lambda x: jnp.repeat(x, n_amp, axis=0), designs)
-    flat_psi = jnp.asarray(psi.reshape(-1))
-    first = _flat_cycles(*flat, flat_psi, initial, max_tracts, 1)
-    again = np.nonzero(np.asarray(first.status) == RESULTS.not_converged)[0]
-    out = first
-    if max_pairs > 1 and again.size:
-        pad = 1 << int(np.ceil(np.log2(again.size)))
-        idx = np.concatenate([again, np.full(pad - again.size, again[0])])
-        sub = jax.tree_util.tree_map(lambda x: x[idx], flat)
-        rerun = _flat_cycles(*sub, flat_psi[idx], initial, max_tracts, max_pairs)
-        out = jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first, rerun)
-    return jax.tree_util.tree_map(lambda x: x.reshape(size, n_amp), out)
+    flat_psi = psi.reshape(-1)
+    if initial == "gross_slip":
+        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in _stretched_curves(
+            *designs, jnp.asarray(psi)))
+    else:
+        k_re, k_im, pairs = (np.zeros(flat_psi.size) for _ in range(3))
+        use = np.zeros(flat_psi.size, bool)
+    out = StiffnessCurves(flat_psi, k_re, k_im, np.where(use, RESULTS.ok, 0).astype(np.int32),
+                          pairs.astype(np.int32))
+    todo = np.nonzero(~use)[0]
+    if todo.size:
+        # The remaining (design, amplitude) pairs, flattened, so that the second stage re-runs
+        # only the pairs that need it.
+        idx = _padded(todo)
+        flat = jax.tree_util.tree_map(lambda x: jnp.repeat(x, n_amp, axis=0)[idx], designs)
+        sub_psi = jnp.asarray(flat_psi[idx])
+        first = _flat_cycles(*flat, sub_psi, initial, max_tracts, 1)
+        again = np.nonzero(np.asarray(first.status)[: todo.size] == RESULTS.not_converged)[0]
+        cyc = first
+        if max_pairs > 1 and again.size:
+            j = _padded(again)
+            sub = jax.tree_util.tree_map(lambda x: x[j], flat)
+            rerun = _flat_cycles(*sub, sub_psi[j], initial, max_tracts, max_pairs)
+            cyc = jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first,
+                                         rerun)
+        for field in ("k_re", "k_im", "status", "cycles"):
+            getattr(out, field)[todo] = np.asarray(getattr(cyc, field))[: todo.size]
+    return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)

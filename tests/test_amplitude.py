@@ -224,6 +224,32 @@ def test_curves_match_single_cycles():
                                        rtol=1e-12, atol=1e-9)
 
 
+def test_curves_above_psi_bc_are_the_stretched_base_cycle_and_match_the_cycles():
+    """amplitude_curves takes the stretched Base-Cycle (closed form) at psi_a >= psi_BC from gross
+    slip; curves_kernel (traced: every cycle by the direct method) is the reference, on random
+    designs with amplitudes on both sides of their psi_BC, liftoff included."""
+    from jaxdamp.amplitude import curves_kernel
+
+    rng = np.random.default_rng(11)
+    n = 24
+    shapes = jd.DamperShape(rng.uniform(40, 90, n), rng.uniform(40, 90, n), rng.uniform(-0.2, 0.3, n))
+    mu = rng.uniform(0.15, 0.85, n)
+    nums = jd.evaluate_designs(jd.stack_designs(shapes, mu, CONTACTS))
+    psi = np.geomspace(0.2, 12.0, 12)
+    above = (np.asarray(nums.status)[:, None] == RESULTS.ok) & (psi[None] > np.asarray(nums.psi_bc)[:, None])
+    assert 40 <= above.sum() <= above.size - 40  # both paths are exercised
+    got = jd.amplitude_curves(shapes, mu, psi, CONTACTS)
+    ref = jax.jit(lambda s, m: curves_kernel(s, m, CONTACTS, jd.LoadCase(), psi))(shapes, mu)
+    np.testing.assert_array_equal(got.status, ref.status)
+    np.testing.assert_array_equal(got.cycles, ref.cycles)
+    scale = np.max(np.abs(np.asarray(ref.k_re)))
+    for a, b in ((got.k_re, ref.k_re), (got.k_im, ref.k_im)):
+        np.testing.assert_allclose(np.asarray(a)[above], np.asarray(b)[above], rtol=1e-9,
+                                   atol=1e-9 * scale)
+        np.testing.assert_allclose(np.asarray(a)[~above], np.asarray(b)[~above], rtol=1e-9,
+                                   atol=1e-9 * scale)
+
+
 def test_curves_gradients_nan_free_and_match_fd():
     """Reverse- and forward-mode derivatives of k_Re + k_Im w.r.t. theta_L, theta_R, b_R/h, mu, kn,
     kt and psi_a: finite over random designs and amplitudes, including amplitudes whose reversal
