@@ -592,9 +592,12 @@ def _stretched_curves(shapes, mu, contacts, load, psi):
 
 
 def _padded(index: np.ndarray) -> np.ndarray:
-    """index padded to a power of two (>= 16) by repeating its first entry: a new count of
-    elements then rarely compiles a new program."""
-    size = max(16, 1 << int(np.ceil(np.log2(max(index.size, 1)))))
+    """index padded by repeating its first entry to a bucket size (multiples of an eighth of its
+    power of two, at least 16): a new count of elements rarely compiles a new program, and at most
+    ~1/8 of the work is padding."""
+    n = max(index.size, 1)
+    step = max(16, 1 << max(int(np.log2(n)) - 3, 0))
+    size = -(-n // step) * step
     return np.concatenate([index, np.full(size - index.size, index[0])])
 
 
