@@ -580,12 +580,12 @@ def _stretched_curves(shapes, mu, contacts, load, psi):
     gross slip there (Base-Cycle ok and psi >= psi_BC (1 + STRETCH_MARGIN)), and the Base-Cycle's
     pairs of halves."""
     from .cycle import base_cycle_kernel
-    from .harmonics import complex_stiffness, five_numbers_kernel
+    from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
     def one(s, m, c, ld, p):
         bc = base_cycle_kernel(s, m, c, ld)
-        k_re, k_im = complex_stiffness(bc, p, method="interpolated")
-        use = (bc.status == RESULTS.ok) & (p >= five_numbers_kernel(bc).psi_bc * (1 + STRETCH_MARGIN))
+        k_re, k_im, _ = jax.vmap(lambda a: gross_slip_stiffness(bc, a))(p)
+        use = (bc.status == RESULTS.ok) & (p >= base_cycle_amplitude(bc) * (1 + STRETCH_MARGIN))
         return k_re, k_im, use, jnp.broadcast_to(bc.half_cycles // 2, p.shape)
 
     return jax.vmap(one)(shapes, mu, contacts, load, psi)

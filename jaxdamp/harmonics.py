@@ -19,64 +19,16 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .conventions import psi_mrad, stiffness_from_fourier, travel_mm
-from .cycle import BaseCycle, HalfCycle
-from .fourier import half_fourier
-from .geometry import platform_moment
-
-
-def moment(bc: BaseCycle, N, T):
-    """Platform moment M_P (N mm) for contact forces N, T (units of F_D), last axis = contact."""
-    return platform_moment(bc.shape, bc.load, N, T)
-
-
-class MomentHalf(NamedTuple):
-    dv: jnp.ndarray  # (nt + 1,) segment lengths in mm of relative travel; last = gross-slip stretch
-    M0: jnp.ndarray  # (nt + 1,) moment at each segment start, N mm
-    dM: jnp.ndarray  # (nt + 1,) moment rate, N mm per mm of travel
-
-
-def moment_half(bc: BaseCycle, half: HalfCycle, total_dv) -> MomentHalf:
-    """Segments of one half of the moment cycle, completed to total_dv by a full-slip stretch."""
-    m0 = moment(bc, half.N0, half.T0)
-    dm = moment(bc, half.dN, half.dT)
-    stretch = jnp.maximum(total_dv - half.span, 0.0)
-    m_end = moment(bc, half.N_end, half.T_end)
-    return MomentHalf(jnp.append(half.dv, stretch), jnp.append(m0, m_end), jnp.append(dm, 0.0))
-
-
-def _half_fourier(seg: MomentHalf, a_dv, branch):
-    """`fourier.half_fourier` of a Base-Cycle half completed by its full-slip stretch."""
-    return half_fourier(seg.dv, seg.M0, seg.dM, a_dv, branch, ends_at_extreme=True)
-
-
-def _work(seg: MomentHalf, branch, q_star):
-    """oint M dpsi over a half (N mm): exact trapezoid on linear segments; psi in rad."""
-    m1 = seg.M0 + seg.dM * seg.dv
-    return jnp.sum(0.5 * (seg.M0 + m1) * (-branch) * seg.dv / q_star)
-
-
-def stretched_cycle(bc: BaseCycle, psi_a_mrad):
-    """Moment halves of the cycle at amplitude psi_a >= psi_BC (full-slip stretches at both ends)."""
-    total = 2.0 * travel_mm(psi_a_mrad, bc.load.q_star)
-    return moment_half(bc, bc.forward, total), moment_half(bc, bc.backward, total)
-
-
-def _gross_slip_stiffness(bc: BaseCycle, psi_a_mrad):
-    """(k_Re, k_Im, W) at psi_a >= psi_BC, from the stretched moment cycle.
-
-    A zero amplitude (a cycle that was never run, e.g. liftoff at cycle start) gives zeros, with
-    the division guarded so that no NaN reaches values or gradients."""
-    valid = psi_a_mrad > 0.0
-    psi = jnp.where(valid, psi_a_mrad, 1.0)
-    fwd, bwd = stretched_cycle(bc, psi)
-    a_dv = travel_mm(psi, bc.load.q_star)
-    c1, s1 = _half_fourier(fwd, a_dv, 1.0)
-    c2, s2 = _half_fourier(bwd, a_dv, -1.0)
-    k_re, k_im = stiffness_from_fourier(c1 + c2, s1 + s2, psi)
-    work = _work(fwd, 1.0, bc.load.q_star) + _work(bwd, -1.0, bc.load.q_star)
-    zero = jnp.zeros_like(k_re)
-    return jnp.where(valid, k_re, zero), jnp.where(valid, k_im, zero), jnp.where(valid, work, zero)
+from .conventions import psi_mrad, travel_mm
+from .cycle import BaseCycle
+# The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
+# (which uses it above psi_BC); these names stay importable from here.
+from .stretch import MomentHalf as MomentHalf
+from .stretch import base_cycle_amplitude as base_cycle_amplitude
+from .stretch import gross_slip_stiffness
+from .stretch import moment as moment
+from .stretch import moment_half as moment_half
+from .stretch import stretched_cycle as stretched_cycle
 
 
 class FiveNumbers(NamedTuple):
@@ -126,15 +78,10 @@ def five_numbers_kernel(bc: BaseCycle) -> FiveNumbers:
     # Moment rate per mm of travel, with the forward half's travel running in -dv.
     k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * travel_mm(1.0, q)
     psi_bc = base_cycle_amplitude(bc)
-    k_re_bc, k_im_bc, _ = _gross_slip_stiffness(bc, psi_bc)
+    k_re_bc, k_im_bc, _ = gross_slip_stiffness(bc, psi_bc)
     nums = FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
     # A cycle that lifted off stopped part-way: its numbers would look valid but mean nothing.
     return FiveNumbers(*(jnp.where(bc.liftoff, 0.0, v) for v in nums))
-
-
-def base_cycle_amplitude(bc: BaseCycle):
-    """psi_BC (mrad): half the larger of the two half-cycle spans, over q*."""
-    return psi_mrad(jnp.maximum(bc.forward.span, bc.backward.span) / 2.0, bc.load.q_star)
 
 
 def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_slip"):
@@ -190,7 +137,7 @@ def _interpolated_stiffness(bc: BaseCycle, psi_a_mrad):
 
     def one(psi):
         big = jnp.maximum(psi, nums.psi_bc)
-        k_re_g, k_im_g, _ = _gross_slip_stiffness(bc, big)
+        k_re_g, k_im_g, _ = gross_slip_stiffness(bc, big)
         width = nums.psi_bc - nums.psi_fs
         ok = width > 0
         frac = jnp.clip((psi - nums.psi_fs) / jnp.where(ok, width, 1.0), 0.0, 1.0)
@@ -209,7 +156,7 @@ def _interpolated_stiffness(bc: BaseCycle, psi_a_mrad):
 def cycle_work(bc: BaseCycle, psi_a_mrad=None):
     """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle)."""
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else psi_a_mrad
-    return _gross_slip_stiffness(bc, psi)[2]
+    return gross_slip_stiffness(bc, psi)[2]
 
 
 class CycleNumbers(NamedTuple):
