@@ -70,3 +70,21 @@ def interleaved_ms(programs: dict, *args, repeats=60) -> dict:
             jax.block_until_ready(f(*args))
             times[k].append(time.perf_counter() - t)
     return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
+
+
+def time_below(times, errors, target, first_label="first setting already below target (upper bound)"):
+    """(time, how) at which the error falls below target and stays below, settings ordered from
+    cheap to accurate: interpolated log-log between the two settings around the last crossing;
+    the first setting's time (an upper bound, how=first_label) when every error is below; None
+    when the last setting is still above ("not reached")."""
+    errs = np.array([max(e, 1e-300) for e in errors])
+    times = np.array(times, float)
+    above = np.nonzero(errs > target)[0]
+    if above.size == 0:
+        return float(times[0]), first_label
+    i = int(above[-1])
+    if i == len(errs) - 1:
+        return None, "not reached"
+    e0, e1, t0, t1 = np.log(errs[i]), np.log(errs[i + 1]), np.log(times[i]), np.log(times[i + 1])
+    frac = (np.log(target) - e0) / (e1 - e0)
+    return float(np.exp(t0 + frac * (t1 - t0))), "interpolated"

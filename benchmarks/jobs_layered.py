@@ -62,7 +62,7 @@ import numpy as np  # noqa: E402
 
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.cli import configure_runtime  # noqa: E402
-from bench_common import loadavg, machine as common_machine  # noqa: E402
+from bench_common import loadavg, machine as common_machine, time_below  # noqa: E402
 
 # float64, a headless matplotlib backend and the persistent compilation cache (as the CLI): a
 # second run skips most XLA compilation. Timings are warm either way (compilation is not timed).
@@ -130,17 +130,7 @@ def interleaved(programs: dict, repeats: int) -> tuple[dict, dict, list]:
 def time_at_target(points, target=TARGET):
     """Time at which the error falls below target and stays below (points cheap -> accurate),
     interpolated log-log between the bracketing settings. (time or None, how)."""
-    errs = np.array([max(p["error"], 1e-300) for p in points])
-    times = np.array([p["time_s"] for p in points])
-    above = np.nonzero(errs > target)[0]
-    if above.size == 0:
-        return float(times[0]), "first setting already below target (upper bound)"
-    i = int(above[-1])
-    if i == len(points) - 1:
-        return None, "not reached"
-    e0, e1, t0, t1 = np.log(errs[i]), np.log(errs[i + 1]), np.log(times[i]), np.log(times[i + 1])
-    frac = (np.log(target) - e0) / (e1 - e0)
-    return float(np.exp(t0 + frac * (t1 - t0))), "interpolated"
+    return time_below([p["time_s"] for p in points], [p["error"] for p in points], target)
 
 
 def designs(n: int, seed: int = 0):

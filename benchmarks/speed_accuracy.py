@@ -55,6 +55,7 @@ from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
 from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402
 from bench_batch import two_device_throughput  # noqa: E402
+from bench_common import time_below  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 CASES = (("60sym", 0.5), ("74R", 0.5), ("90R", 0.5))
@@ -125,17 +126,8 @@ def time_to_target(points, key="err_k_im_bc", target=TARGET):
     ok = [p for p in points if p.get("flagged") is False]
     if not ok:
         return None, "not reached"
-    errs = np.array([max(p[key], 1e-300) for p in ok])
-    times = np.array([p["time_s"] for p in ok])
-    above = np.nonzero(errs > target)[0]
-    if above.size == 0:
-        return float(times[0]), "first point (upper bound)"
-    i = int(above[-1])
-    if i == len(ok) - 1:
-        return None, "not reached"
-    e0, e1, t0, t1 = np.log(errs[i]), np.log(errs[i + 1]), np.log(times[i]), np.log(times[i + 1])
-    frac = (np.log(target) - e0) / (e1 - e0)
-    return float(np.exp(t0 + frac * (t1 - t0))), "interpolated"
+    return time_below([p["time_s"] for p in ok], [p[key] for p in ok], target,
+                      "first point (upper bound)")
 
 
 def run(cfg, progress=print):
