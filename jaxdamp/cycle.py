@@ -129,7 +129,7 @@ def zeros_of(rows: dict, length: int) -> dict:
     return {k: jnp.zeros((length,) + r.shape, r.dtype) for k, r in rows.items()}
 
 
-def bounded_loop(step, init, length: int, loop: str, rows: dict | None = None):
+def bounded_loop(step, init, length: int, loop: str, rows: dict):
     """(final carry, stacked outputs) of up to `length` calls of step(carry, None) -> (carry, out).
 
     "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
@@ -141,8 +141,6 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict | None = None):
         return jax.lax.scan(step, init, None, length=length)
     if loop != "while":
         raise ValueError(f"loop must be scan or while; got {loop!r}")
-    if rows is None:
-        rows = jax.eval_shape(lambda c: step(c, None)[1], init)
     rows = zeros_of(rows, length)
 
     def cond(c):

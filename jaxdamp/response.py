@@ -229,19 +229,16 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
     """
     s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
 
-    def scaled(k_fn):
+    def scaled(k_fn, stretch, c):
         def k_of_psi(psi):
-            k_re, k_im = k_fn(jnp.asarray(psi, float) / s)
-            return contact_scale * k_re, contact_scale * k_im
+            k_re, k_im = k_fn(jnp.asarray(psi, float) / stretch)
+            return c * k_re, c * k_im
         return k_of_psi
 
-    def k_values(psi):  # the scaling held constant too
-        k_re, k_im = ref.values(jnp.asarray(psi, float) / jax.lax.stop_gradient(s))
-        c = jax.lax.stop_gradient(contact_scale)
-        return c * k_re, c * k_im
-
-    return DamperStiffness(scaled(ref.k_of_psi), ref.status, contact_scale * ref.k_re_stuck,
-                           ref.psi_ref_mrad * s, k_values)
+    # The values-only curve holds the scaling constant too.
+    frozen = scaled(ref.values, *jax.lax.stop_gradient((s, contact_scale)))
+    return DamperStiffness(scaled(ref.k_of_psi, s, contact_scale), ref.status,
+                           contact_scale * ref.k_re_stuck, ref.psi_ref_mrad * s, frozen)
 
 
 def stuck_damper(k_re_stuck) -> DamperStiffness:

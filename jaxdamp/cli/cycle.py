@@ -34,17 +34,14 @@ def _program():
     return jax.jit(lambda *design: _cycle_numbers(base_cycle_kernel(*design)))
 
 
-def cycle_payload(bc, nums=None, energy=None, factors=None) -> dict:
-    """The numbers of a BaseCycle; those that do not exist (liftoff, singular) are None. nums,
-    energy, factors: its five numbers, contact energies and work shape factors when computed
-    already (`_cycle_numbers`)."""
+def cycle_payload(bc, nums, energy, factors) -> dict:
+    """The numbers of a BaseCycle (with its five numbers, contact energies and work shape factors,
+    as `_cycle_numbers` computes them); those that do not exist (liftoff, singular) are None."""
     import warnings
 
     from ..cycle import transitions_chart
     from ..harmonics import warn_small_rotation
 
-    if nums is None:
-        bc, nums, energy, factors = _cycle_numbers(bc)
     status = C.status_name(bc)
     # Ill-conditioned numbers are wrong numbers: they are not shown (null), only the status.
     exists = status not in ("liftoff", "singular", "ill_conditioned")
