@@ -20,7 +20,9 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import random_shapes, machine, median_time  # noqa: E402
+from bench_common import use_measured_xla_flags, random_shapes, machine, median_time  # noqa: E402
+
+use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 from jaxdamp.amplitude import amplitude_curves  # noqa: E402
 from jaxdamp.status import RESULTS  # noqa: E402
 

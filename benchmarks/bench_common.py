@@ -11,6 +11,32 @@ import jax
 import numpy as np
 
 
+# Both sides of every comparison run with the CPU option jaxdamp's batched programs compile with
+# (jaxdamp.runtime.CPU_BATCH_OPTIONS, measured in results/cpu_runtime_options.json): HBM-AFT's and
+# time marching's batched programs gain from it too, so the ratios compare like with like.
+MEASURED_XLA_FLAGS = "--xla_cpu_experimental_ynn_fusion_type="
+
+
+def use_measured_xla_flags() -> str:
+    """Add MEASURED_XLA_FLAGS to XLA_FLAGS for this process, before JAX starts its backend.
+    XLA aborts on a flag it does not know, so a subprocess checks it first. Returns XLA_FLAGS as
+    the run uses it (recorded by `machine`)."""
+    import subprocess
+    import sys
+
+    from jax._src import xla_bridge
+
+    flags = os.environ.get("XLA_FLAGS", "")
+    if MEASURED_XLA_FLAGS.split("=")[0] in flags or xla_bridge.backends_are_initialized():
+        return flags
+    env = dict(os.environ, XLA_FLAGS=f"{flags} {MEASURED_XLA_FLAGS}".strip(), JAX_PLATFORMS="cpu")
+    probe = subprocess.run([sys.executable, "-c", "import jax; jax.devices()"], env=env,
+                           capture_output=True)
+    if probe.returncode == 0:
+        os.environ["XLA_FLAGS"] = env["XLA_FLAGS"]
+    return os.environ.get("XLA_FLAGS", "")
+
+
 def loadavg() -> list[float]:
     """1-, 5- and 15-minute load averages."""
     try:
@@ -42,7 +68,7 @@ def machine(note: str | None = None) -> dict:
     info = {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "jax": jax.__version__,
             "devices": [str(d) for d in jax.devices()], "float64": bool(jax.config.jax_enable_x64),
-            "load_average_1min_at_start": loadavg()[0]}
+            "load_average_1min_at_start": loadavg()[0], "xla_flags": os.environ.get("XLA_FLAGS", "")}
     if note:
         info["note"] = note
     return info

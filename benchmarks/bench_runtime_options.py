@@ -24,22 +24,28 @@ from pathlib import Path
 
 OUT = Path(__file__).parent / "results"
 
-# name -> (extra XLA_FLAGS, JAX config updates)
+# name -> (extra XLA_FLAGS, JAX config updates, jaxdamp.runtime.CPU_BATCH_OPTIONS or None to keep
+# the library's). "default" is what jaxdamp does: its batched programs compile with
+# CPU_BATCH_OPTIONS (YNNPACK reduction fusion off); "xla_default_reductions" compiles them with
+# XLA's defaults, as jaxdamp did before; "ynn_off_flag" sets the same option for the whole process.
 OPTIONS = {
-    "default": ("", {}),
-    "host_devices_2": ("--xla_force_host_platform_device_count=2", {}),
-    "no_async_dispatch": ("", {"jax_cpu_enable_async_dispatch": False}),
-    "eigen_single_thread": ("--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1", {}),
-    "thunk_runtime_off": ("--xla_cpu_use_thunk_runtime=false", {}),
+    "default": ("", {}, None),
+    "xla_default_reductions": ("", {}, {}),
+    "ynn_off_flag": ("--xla_cpu_experimental_ynn_fusion_type=", {}, {}),
+    "host_devices_2": ("--xla_force_host_platform_device_count=2", {}, None),
+    "no_async_dispatch": ("", {"jax_cpu_enable_async_dispatch": False}, None),
+    "eigen_single_thread": ("--xla_cpu_multi_thread_eigen=false intra_op_parallelism_threads=1", {},
+                            None),
+    "thunk_runtime_off": ("--xla_cpu_use_thunk_runtime=false", {}, None),
     "host_devices_2_no_async": ("--xla_force_host_platform_device_count=2",
-                                {"jax_cpu_enable_async_dispatch": False}),
-    "vector_width_512": ("--xla_cpu_prefer_vector_width=512", {}),
-    "fusion_emitters_off": ("--xla_cpu_use_fusion_emitters=false", {}),
+                                {"jax_cpu_enable_async_dispatch": False}, None),
+    "vector_width_512": ("--xla_cpu_prefer_vector_width=512", {}, None),
+    "fusion_emitters_off": ("--xla_cpu_use_fusion_emitters=false", {}, None),
 }
-CHUNKS = (256, 1024, 4096)  # swept in the "default" worker; the others run the default chunk
+CHUNKS = (1024, 4096, 8192, 16384)  # swept in the "default" worker; the others run the default chunk
 
 
-def worker(config: dict, n: int, single_calls: int, chunks) -> None:
+def worker(config: dict, batch_options, n: int, single_calls: int, chunks) -> None:
     """Serve measurements on stdin/stdout: 'go' -> one JSON line; 'quit' -> exit."""
     import jax
     import numpy as np
@@ -48,6 +54,10 @@ def worker(config: dict, n: int, single_calls: int, chunks) -> None:
     for k, v in config.items():
         jax.config.update(k, v)
     import jaxdamp as jd
+    from jaxdamp import runtime
+
+    if batch_options is not None:  # before the first batched program is compiled
+        runtime.CPU_BATCH_OPTIONS = batch_options
 
     rng = np.random.default_rng(0)
     shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
@@ -81,11 +91,11 @@ def worker(config: dict, n: int, single_calls: int, chunks) -> None:
 
 
 def start(name, n, single_calls):
-    flags, config = OPTIONS[name]
+    flags, config, batch_options = OPTIONS[name]
     env = dict(os.environ, JAX_PLATFORMS="cpu",
                XLA_FLAGS=(os.environ.get("XLA_FLAGS", "") + " " + flags).strip())
     chunks = list(CHUNKS) + [None] if name == "default" else [None]
-    cmd = [sys.executable, __file__, "--worker", json.dumps(config), "--designs", str(n),
+    cmd = [sys.executable, __file__, "--worker", json.dumps([config, batch_options]), "--designs", str(n),
            "--single-calls", str(single_calls), "--chunks", json.dumps(chunks)]
     return subprocess.Popen(cmd, env=env, stdin=subprocess.PIPE, stdout=subprocess.PIPE,
                             stderr=subprocess.PIPE, text=True)
@@ -101,7 +111,8 @@ def main() -> int:
     p.add_argument("--chunks", default="[null]", help=argparse.SUPPRESS)
     args = p.parse_args()
     if args.worker is not None:
-        worker(json.loads(args.worker), args.designs, args.single_calls, json.loads(args.chunks))
+        config, batch_options = json.loads(args.worker)
+        worker(config, batch_options, args.designs, args.single_calls, json.loads(args.chunks))
         return 0
     n = args.designs or (4096 if args.quick else 16384)
     rounds = args.rounds or (3 if args.quick else 7)
@@ -137,6 +148,7 @@ def main() -> int:
         keys = rows[0].keys()
         results[name] = {
             "xla_flags": OPTIONS[name][0], "jax_config": OPTIONS[name][1],
+            "jaxdamp_batch_compiler_options": OPTIONS[name][2],
             "devices": ready[name]["devices"],
             **{k: {"median": float(np.median([r[k] for r in rows])),
                    "min": float(np.min([r[k] for r in rows])),
@@ -144,9 +156,15 @@ def main() -> int:
     out = {"machine": machine(), "designs": n, "rounds": rounds,
            "load_average_1min_per_round": loads,
            "units": {"base_cycles_per_s": "designs (= Base-Cycles) per s, evaluate_designs, default chunk",
+                     "jaxdamp_batch_compiler_options": "null: the library's own (CPU_BATCH_OPTIONS); {}: XLA's defaults",
                      "chunk_*": "the same at that chunk_size (designs per device per call)",
                      "single_latency_us": "median us of a warm five_numbers(base_cycle(...))"},
            "options": results, "rejected": rejected}
+    previous = OUT / "cpu_runtime_options.json"
+    if previous.exists():  # an earlier run's separate A/B, kept with its own note
+        old = json.loads(previous.read_text())
+        if "process_ab" in old:
+            out["process_ab"] = old["process_ab"]
     OUT.mkdir(exist_ok=True)
     (OUT / "cpu_runtime_options.json").write_text(json.dumps(out, indent=1) + "\n")
     print(json.dumps(out, indent=1))

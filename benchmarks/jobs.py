@@ -50,7 +50,9 @@ import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines import hbm_aft_kernel, time_march_kernel  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import loadavg as load_averages, machine  # noqa: E402
+from bench_common import use_measured_xla_flags, loadavg as load_averages, machine  # noqa: E402
+
+use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 
 OUT = Path(__file__).parent / "results"
 TARGET = 1e-4

@@ -62,7 +62,9 @@ import numpy as np  # noqa: E402
 
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.cli import configure_runtime  # noqa: E402
-from bench_common import loadavg, machine as common_machine, time_below  # noqa: E402
+from bench_common import use_measured_xla_flags, loadavg, machine as common_machine, time_below  # noqa: E402
+
+use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 
 # float64, a headless matplotlib backend and the persistent compilation cache (as the CLI): a
 # second run skips most XLA compilation. Timings are warm either way (compilation is not timed).

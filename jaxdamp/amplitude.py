@@ -46,6 +46,7 @@ from .geometry import platform_moment
 from .params import Contacts, LoadCase, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
 from .statics import contact_columns, full_slip_state
+from .runtime import batch_jit
 from .status import RESULTS
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     next_event)
@@ -558,10 +559,10 @@ def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, p
     return jax.vmap(design)(shapes, mu, contacts, load, psi)
 
 
-_curves_jit = jax.jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
+_curves_jit = batch_jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
 
 
-@partial(jax.jit, static_argnames=("initial", "max_tracts", "max_pairs"))
+@batch_jit(static_argnames=("initial", "max_tracts", "max_pairs"))
 def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
     run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
                                                   max_tracts=max_tracts, max_pairs=max_pairs)
@@ -574,7 +575,7 @@ def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs
 STRETCH_MARGIN = 1e-9
 
 
-@jax.jit
+@batch_jit
 def _stretched_curves(shapes, mu, contacts, load, psi):
     """Per (design, amplitude): k of the stretched Base-Cycle, whether it is the steady cycle from
     gross slip there (Base-Cycle ok and psi >= psi_BC (1 + STRETCH_MARGIN)), and the Base-Cycle's

@@ -26,6 +26,7 @@ from .energy import work_shape_factors
 from .geometry import DamperShape, validate_shape
 from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .runtime import batch_jit
 from .statics import design_br_kernel
 
 AXIS = "designs"
@@ -201,6 +202,20 @@ def _free_bytes(device) -> int | None:
     return int(stats["bytes_limit"] - stats.get("bytes_in_use", 0))
 
 
+# Values-only programs (`evaluate_designs`, `base_cycles`) hold a few kB per design, so on a CPU a
+# larger chunk amortises XLA's fixed cost per kernel: with the compiler options of
+# `jaxdamp.runtime`, 8192 ran ~1.4x the designs/s of 1024 and 16384 less again
+# (benchmarks/results/cpu_runtime_options.json, the "default" worker's chunk_* sweep).
+# Programs with derivatives keep CHUNK_BY_PLATFORM: reverse mode at 8192 took 3.5 GB.
+VALUES_CHUNK_BY_PLATFORM = {"cpu": 8192}
+
+
+def values_chunk(devices=None) -> int | None:
+    """The chunk of values-only batches on `devices` (default: all), or None for the platform's
+    default (`default_chunk`)."""
+    return VALUES_CHUNK_BY_PLATFORM.get(device_mesh(devices).devices.flat[0].platform)
+
+
 def device_chunk(mesh: Mesh) -> int:
     """`default_chunk` for the mesh's first device (all devices of a mesh are alike)."""
     dev = mesh.devices.flat[0]
@@ -222,7 +237,7 @@ _COMPILED: dict = {}
 def _compiled(fn, in_axes):
     key = (fn, in_axes)
     if key not in _COMPILED:
-        _COMPILED[key] = jax.jit(jax.vmap(fn, in_axes=in_axes))
+        _COMPILED[key] = batch_jit(jax.vmap(fn, in_axes=in_axes))
     return _COMPILED[key]
 
 
@@ -278,8 +293,11 @@ def two_stage(fast, full, batched, *shared, unfinished, **kwargs):
 
 
 # How a batch runs its tract and pair loops (base_cycle_kernel's loop). Under vmap a while loop runs
-# until the batch's slowest design is done, and the two stages already run short loops first.
+# until the batch's slowest design is done: the first stage's short loops are full for almost every
+# design, so it scans; the second stage's designs need few of its many slots, so it stops when done
+# (the same numbers; 2.4 ms instead of 3.9 ms for the 233 designs of 16384 random ones it reran).
 BATCH_LOOP = "scan"
+SECOND_STAGE_LOOP = "while"
 
 
 def _not_closed(r) -> np.ndarray:
@@ -291,7 +309,7 @@ def _cycle_one_pair(design: Design):
 
 
 def _cycle_full(design: Design):
-    return base_cycle_kernel(*design, loop=BATCH_LOOP)
+    return base_cycle_kernel(*design, loop=SECOND_STAGE_LOOP)
 
 
 def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(), *,
@@ -300,8 +318,9 @@ def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase
     have a leading batch axis or are shared scalars). The same numbers as calling `base_cycle`
     design by design; numpy leaves."""
     designs = shapes if isinstance(shapes, Design) else stack_designs(shapes, mu, contacts, load)
+    chunk = values_chunk(devices) if chunk_size is None else chunk_size
     return two_stage(_cycle_one_pair, _cycle_full, designs, unfinished=_not_closed,
-                     devices=devices, chunk_size=chunk_size)
+                     devices=devices, chunk_size=chunk)
 
 
 # Tracts per half-cycle in the first stage of `evaluate_designs`: a half-cycle of random designs
@@ -311,9 +330,9 @@ FIRST_STAGE_TRACTS = 4
 
 
 def summary_kernel(design: Design, max_pairs: int = MAX_PAIRS,
-                   max_tracts: int = MAX_TRACTS) -> DesignSummary:
+                   max_tracts: int = MAX_TRACTS, loop: str = BATCH_LOOP) -> DesignSummary:
     """Five numbers, work shape factors and status of one prepared Design (traceable)."""
-    bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts, loop=BATCH_LOOP)
+    bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts, loop=loop)
     nums = five_numbers(bc)
     w = work_shape_factors(bc)
     return DesignSummary(*nums, *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)
@@ -334,7 +353,7 @@ def needs_second_stage(r) -> np.ndarray:
 
 
 def _summary_full(design: Design) -> DesignSummary:
-    return summary_kernel(design, MAX_PAIRS)
+    return summary_kernel(design, MAX_PAIRS, loop=SECOND_STAGE_LOOP)
 
 
 def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = None,
@@ -342,7 +361,7 @@ def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = 
     """Five numbers, work shape factors and status of every design in the batch (numpy arrays).
 
     Sharded over `devices` (default: all, every process's under jax.distributed), chunk_size
-    designs per device per call (default: per platform, see `default_chunk`), in two stages
+    designs per device per call (default: `values_chunk` on a CPU, else `default_chunk`), in two stages
     (`two_stage`: one pair of half-cycles of at most FIRST_STAGE_TRACTS tracts, then the full
     iteration for the designs that did not finish). The results equal `base_cycle` design by design (see tests/test_batch.py for the
     one known exception at rounding level, k_Re,BC).
@@ -350,8 +369,9 @@ def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = 
     require_x64()
     if not isinstance(designs, Design):
         raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
+    chunk = values_chunk(devices) if chunk_size is None else chunk_size
     return two_stage(first_stage_summary, _summary_full, designs, unfinished=needs_second_stage,
-                     devices=devices, chunk_size=chunk_size, progress=progress)
+                     devices=devices, chunk_size=chunk, progress=progress)
 
 
 # ---------------------------------------------------------------- sweep

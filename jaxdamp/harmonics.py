@@ -21,6 +21,7 @@ import numpy as np
 
 from .conventions import psi_mrad, travel_mm
 from .cycle import BaseCycle
+from .runtime import batch_jit
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
 # (which uses it above psi_BC); these names stay importable from here.
 from .stretch import MomentHalf as MomentHalf
@@ -118,7 +119,7 @@ def _bucketed(kernel, bc, psi_a_mrad):
     return k_re[: flat.size].reshape(psi.shape), k_im[: flat.size].reshape(psi.shape)
 
 
-@partial(jax.jit, static_argnames=("initial",))
+@batch_jit(static_argnames=("initial",))
 def _exact_stiffness(bc: BaseCycle, psi_a_mrad, initial):
     from .amplitude import amplitude_kernel
 

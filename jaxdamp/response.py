@@ -30,6 +30,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .runtime import batch_jit
 from .status import RESULTS
 
 # ----------------------------------------------------------------------------- the blade mode
@@ -214,7 +215,7 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
 
     def solve(damper):  # the damper curve is a closure: jit over the forces only
         return jax.tree_util.tree_map(
-            pick, jax.jit(jax.vmap(lambda f: peak_response(damper, mode, f)))(forces))
+            pick, batch_jit(jax.vmap(lambda f: peak_response(damper, mode, f)))(forces))
 
     return solve(low), solve(high), grid, k
 
@@ -503,7 +504,7 @@ def _compiled_peaks(method: str, options: tuple):
             d = damper_stiffness(shape, mu, contacts, load, method=method, **dict(options))
             return peak_response(d, mode, force_n)
 
-        _PEAK_PROGRAMS[method, options] = jax.jit(run)
+        _PEAK_PROGRAMS[method, options] = batch_jit(run)
     return _PEAK_PROGRAMS[method, options]
 
 
@@ -582,7 +583,7 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
 
     force_j, fds_j = jnp.asarray(force), jnp.asarray(fds)
 
-    @jax.jit
+    @batch_jit
     def per_mu(m):
         d = damper_stiffness(shape, m, contacts, load, method=method, **options)
         by_force = peak_response(d, mode, force_j).peak_amplitude_mm  # one shared grid

@@ -1,0 +1,89 @@
+"""jaxdamp.runtime: the measured compiler options reach the batched programs, are dropped where XLA
+rejects them, change no result beyond rounding, and importing jaxdamp starts no backend."""
+
+import subprocess
+import sys
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+from jaxdamp import batch as B
+from jaxdamp import runtime
+
+
+@pytest.fixture
+def fresh_options():
+    runtime.batch_compiler_options.cache_clear()
+    yield
+    runtime.batch_compiler_options.cache_clear()
+
+
+def _summary_hlo(compile_fn, n=1024):
+    # XLA hands reductions to YNNPACK above a size: a CPU chunk of designs is above it.
+    designs = jd.stack_designs(jd.DamperShape(np.full(n, 60.0), np.full(n, 55.0), np.zeros(n),
+                                              np.full(n, 0.8)), 0.5)
+    return compile_fn(jax.vmap(B.first_stage_summary)).lower(designs).compile().as_text()
+
+
+def test_cpu_batches_compile_without_library_reductions(fresh_options):
+    if jax.default_backend() != "cpu":
+        pytest.skip("the options are for the CPU backend")
+    # This jaxlib knows the option (the CPU measurement was taken with it): if an upgrade drops
+    # it, this fails, and the choice must be measured again (benchmarks/bench_runtime_options.py).
+    assert runtime.batch_compiler_options() == runtime.CPU_BATCH_OPTIONS
+    assert "ynn_fusion" not in _summary_hlo(runtime.batch_jit)
+    # ... while XLA's default does hand this program's small reductions to YNNPACK.
+    assert "ynn_fusion" in _summary_hlo(jax.jit)
+
+
+def test_rejected_options_fall_back_to_xla_defaults(fresh_options, monkeypatch):
+    monkeypatch.setattr(runtime, "CPU_BATCH_OPTIONS",
+                        {"xla_cpu_experimental_ynn_fusion_type": "not-a-fusion-type"})
+    assert runtime.batch_compiler_options() == {}
+    f = runtime.batch_jit(lambda x: jnp.sum(x * x, axis=-1))
+    np.testing.assert_array_equal(f(jnp.ones((4, 3))), np.full(4, 3.0))
+
+
+def test_decorator_forms_pass_jit_arguments():
+    @runtime.batch_jit(static_argnames=("power",))
+    def f(x, power):
+        return x ** power
+
+    @runtime.batch_jit
+    def g(x):
+        return 2.0 * x
+
+    assert float(f(3.0, power=2)) == 9.0 and float(g(3.0)) == 6.0
+    assert f.__name__ == "f" and f.lower(2.0, power=3).compile()(2.0) == 8.0
+
+
+def test_batched_results_equal_plain_jit_to_rounding():
+    rng = np.random.default_rng(3)
+    n = 64
+    designs = jd.stack_designs(jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n),
+                                              rng.uniform(-0.3, 0.4, n), np.full(n, 0.8)),
+                               rng.uniform(0.1, 0.9, n))
+    fast = jax.device_get(runtime.batch_jit(jax.vmap(B.first_stage_summary))(designs))
+    plain = jax.device_get(jax.jit(jax.vmap(B.first_stage_summary))(designs))
+    for a, b in zip(fast, plain):
+        if np.issubdtype(np.asarray(a).dtype, np.floating):
+            np.testing.assert_allclose(a, b, rtol=1e-11, atol=1e-9)
+        else:
+            np.testing.assert_array_equal(a, b)
+
+
+def test_values_chunk_is_larger_on_cpu_only():
+    assert B.VALUES_CHUNK_BY_PLATFORM["cpu"] > B.default_chunk("cpu")
+    expected = B.VALUES_CHUNK_BY_PLATFORM.get(jax.devices()[0].platform)
+    assert B.values_chunk() == expected
+
+
+def test_import_starts_no_backend():
+    code = ("import jaxdamp, jaxdamp.batch, jaxdamp.amplitude, jaxdamp.response\n"
+            "from jax._src import xla_bridge\n"
+            "print(xla_bridge.backends_are_initialized())")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "False"
