@@ -12,8 +12,8 @@ import numpy as np
 
 
 # Both sides of every comparison run with the CPU option jaxdamp's batched programs compile with
-# (jaxdamp.runtime.CPU_BATCH_OPTIONS, measured in results/cpu_runtime_options.json): HBM-AFT's and
-# time marching's batched programs gain from it too, so the ratios compare like with like.
+# (jaxdamp.runtime.CPU_BATCH_OPTIONS, measured in results/cpu_runtime_options.json), set for the
+# whole process: the baselines' programs compile with the same options as the direct method's.
 MEASURED_XLA_FLAGS = "--xla_cpu_experimental_ynn_fusion_type="
 
 

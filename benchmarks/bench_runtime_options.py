@@ -90,6 +90,52 @@ def worker(config: dict, batch_options, n: int, single_calls: int, chunks) -> No
         print(json.dumps(res), flush=True)
 
 
+def compiler_options_ab(n: int = 8192, rounds: int = 10) -> dict:
+    """In one process, the same batched programs compiled with and without
+    jaxdamp.runtime.CPU_BATCH_OPTIONS, timed alternately (ms per call, median and min over rounds):
+    the direct method's first stage on n random designs (one chunk) and HBM-AFT (Nt 64, 3 periods)
+    handed psi_BC on 256 of them. The worker processes above compare whole option sets; this
+    isolates the compiled program from process-to-process noise."""
+    import jax
+    import numpy as np
+
+    jax.config.update("jax_enable_x64", True)
+    import jaxdamp as jd
+    from jaxdamp import batch as B
+    from jaxdamp.baselines import hbm_aft_kernel
+    from jaxdamp.runtime import CPU_BATCH_OPTIONS
+
+    rng = np.random.default_rng(0)
+    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
+                           np.full(n, 0.8))
+    designs = jax.device_put(jd.stack_designs(shape, rng.uniform(0.1, 0.9, n)))
+    few = B.take(designs, np.arange(256))
+    psi_bc = jd.evaluate_designs(few).psi_bc
+    psi_bc = np.where(psi_bc > 0, psi_bc, 1.0)
+    hbm = jax.vmap(lambda d, p: hbm_aft_kernel(*d, p, n_time=64).k_im)
+    programs = {"first_stage": (jax.vmap(B.first_stage_summary), (designs,)),
+                "hbm_aft_nt64_256": (hbm, (few, psi_bc))}
+    compiled = {}
+    for name, (fn, args) in programs.items():
+        low = jax.jit(fn).lower(*args)
+        compiled[name, "xla_default"] = (low.compile(), args)
+        compiled[name, "jaxdamp"] = (low.compile(compiler_options=CPU_BATCH_OPTIONS), args)
+    times = {k: [] for k in compiled}
+    for _ in range(rounds):
+        for k, (prog, args) in compiled.items():
+            jax.block_until_ready(prog(*args))
+            t = time.perf_counter()
+            jax.block_until_ready(prog(*args))
+            times[k].append(1e3 * (time.perf_counter() - t))
+    out = {}
+    for name in programs:
+        a, b = times[name, "xla_default"], times[name, "jaxdamp"]
+        out[name] = {"xla_default_ms": {"median": float(np.median(a)), "min": float(np.min(a))},
+                     "jaxdamp_options_ms": {"median": float(np.median(b)), "min": float(np.min(b))},
+                     "speedup_median": float(np.median(a) / np.median(b))}
+    return {"options": CPU_BATCH_OPTIONS, "designs": n, "rounds": rounds, **out}
+
+
 def start(name, n, single_calls):
     flags, config, batch_options = OPTIONS[name]
     env = dict(os.environ, JAX_PLATFORMS="cpu",
@@ -160,6 +206,7 @@ def main() -> int:
                      "chunk_*": "the same at that chunk_size (designs per device per call)",
                      "single_latency_us": "median us of a warm five_numbers(base_cycle(...))"},
            "options": results, "rejected": rejected}
+    out["compiler_options_ab"] = compiler_options_ab(rounds=5 if args.quick else 10)
     previous = OUT / "cpu_runtime_options.json"
     if previous.exists():  # an earlier run's separate A/B, kept with its own note
         old = json.loads(previous.read_text())

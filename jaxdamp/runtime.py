@@ -2,10 +2,11 @@
 
 On CPU, recent XLA hands small reductions (over the 3 contacts, the 8 candidate stick/slip sets)
 to YNNPACK library calls; for arrays of (designs, 8, 3) each call costs more than the loop XLA
-emits itself. Turning that fusion off made the batched Base-Cycle 1.3-1.5x faster, HBM-AFT's
-batched residuals as well, and left single-design calls unchanged
-(benchmarks/results/cpu_runtime_options.json; the numbers change in the last bits only, as any
-change of reduction order does).
+emits itself. Turning that fusion off made the batched first stage 1.22x faster on one 8192-design
+chunk (the same program compiled both ways in one process) and evaluate_designs 1.19x across
+worker processes; HBM-AFT's batch and single-design calls were unchanged
+(benchmarks/results/cpu_runtime_options.json; results change in the last bits only, as any change
+of reduction order does).
 
 The options are passed per compiled program (`batch_jit`), so importing jaxdamp changes nothing
 and an XLA that does not know them costs nothing: they are probed once and dropped if rejected.
