@@ -528,12 +528,13 @@ def _batch_size(args):
     return max(sizes) if sizes else 1
 
 
-def _broadcast_designs(args, size):
-    """Every leaf with a leading design axis of `size` (a leaf without it is shared)."""
+def _broadcast_designs(args, size, xp=jnp):
+    """Every leaf with a leading design axis of `size` (a leaf without it is shared); xp: jnp
+    (traceable) or np (concrete inputs, host-side indexing without a dispatch per operation)."""
     def one(x):
-        x = jnp.asarray(x, float)
+        x = xp.asarray(x, float)
         lead = x.ndim > 0 and x.shape[0] == size
-        return x if lead else jnp.broadcast_to(x, (size,) + x.shape)
+        return x if lead else xp.broadcast_to(x, (size,) + x.shape)
     return jax.tree_util.tree_map(one, args)
 
 
@@ -640,7 +641,7 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
                          "(0, 10000] mrad")
     args = (shapes, mu, contacts, load)
     size = max(_batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
-    designs = _broadcast_designs(jax.tree_util.tree_map(lambda x: np.asarray(x, float), args), size)
+    designs = _broadcast_designs(args, size, np)
     psi = np.broadcast_to(psi, (size, psi.shape[-1]))
     n_amp = psi.shape[1]
     flat_psi = psi.reshape(-1)
@@ -656,18 +657,22 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     if todo.size:
         # The remaining (design, amplitude) pairs, flattened, so that the second stage re-runs
         # only the pairs that need it.
+        # only the pairs that need it. Gathers and merges in numpy: as eager JAX operations they
+        # cost a dispatch each, a quarter of a 128-design x 64-amplitude curve job.
         idx = _padded(todo)
-        flat = jax.tree_util.tree_map(lambda x: jnp.repeat(x, n_amp, axis=0)[idx], designs)
-        sub_psi = jnp.asarray(flat_psi[idx])
+        design_of = idx // n_amp
+        flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
+        sub_psi = flat_psi[idx]
         first = _flat_cycles(*flat, sub_psi, initial, max_tracts, 1)
-        again = np.nonzero(np.asarray(first.status)[: todo.size] == RESULTS.not_converged)[0]
-        cyc = first
+        cyc = {f: np.array(getattr(first, f))[: todo.size] for f in ("k_re", "k_im", "status",
+                                                                      "cycles")}
+        again = np.nonzero(cyc["status"] == RESULTS.not_converged)[0]
         if max_pairs > 1 and again.size:
             j = _padded(again)
             sub = jax.tree_util.tree_map(lambda x: x[j], flat)
             rerun = _flat_cycles(*sub, sub_psi[j], initial, max_tracts, max_pairs)
-            cyc = jax.tree_util.tree_map(lambda a, b: a.at[again].set(b[: again.size]), first,
-                                         rerun)
-        for field in ("k_re", "k_im", "status", "cycles"):
-            getattr(out, field)[todo] = np.asarray(getattr(cyc, field))[: todo.size]
+            for f, v in cyc.items():
+                v[again] = np.asarray(getattr(rerun, f))[: again.size]
+        for f, v in cyc.items():
+            getattr(out, f)[todo] = v
     return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)
