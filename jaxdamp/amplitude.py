@@ -656,9 +656,8 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     todo = np.nonzero(~use)[0]
     if todo.size:
         # The remaining (design, amplitude) pairs, flattened, so that the second stage re-runs
-        # only the pairs that need it.
         # only the pairs that need it. Gathers and merges in numpy: as eager JAX operations they
-        # cost a dispatch each, a quarter of a 128-design x 64-amplitude curve job.
+        # cost a dispatch each, more than half of a 128-design x 64-amplitude curve job.
         idx = _padded(todo)
         design_of = idx // n_amp
         flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)

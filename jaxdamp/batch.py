@@ -361,10 +361,10 @@ def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = 
     """Five numbers, work shape factors and status of every design in the batch (numpy arrays).
 
     Sharded over `devices` (default: all, every process's under jax.distributed), chunk_size
-    designs per device per call (default: `values_chunk` on a CPU, else `default_chunk`), in two stages
-    (`two_stage`: one pair of half-cycles of at most FIRST_STAGE_TRACTS tracts, then the full
-    iteration for the designs that did not finish). The results equal `base_cycle` design by design (see tests/test_batch.py for the
-    one known exception at rounding level, k_Re,BC).
+    designs per device per call (default: `values_chunk` on a CPU, else `default_chunk`), in two
+    stages (`two_stage`: one pair of half-cycles of at most FIRST_STAGE_TRACTS tracts, then the
+    full iteration for the designs that did not finish). The results equal `base_cycle` design by
+    design (see tests/test_batch.py for the one known exception at rounding level, k_Re,BC).
     """
     require_x64()
     if not isinstance(designs, Design):

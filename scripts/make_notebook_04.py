@@ -135,7 +135,7 @@ print("direct checks:", sum(r["direct_check"]["ok"] for r in smap["rows"]), "of"
   of samples. HBM-AFT, however, has to be told the amplitude: it gives neither ψ_BC nor ψ_fs, and
   90R needs more periods than the usual 2–3 to settle. On the jobs users run (`benchmarks/jobs.py`,
   the README's table, both sides batched the same way) the gain is 230-320× for one amplitude over
-  1000 designs, 100-130× for a whole k(ψ_a) curve, 1200-1800× for the blade's forced response and
+  1000 designs, 100-170× for a whole k(ψ_a) curve, 1200-1800× for the blade's forced response and
   10 000-12 000× for its gradient (the spread of the runs on a shared 2-core machine).
 * Between ψ_fs and ψ_BC the paper interpolates; jaxdamp computes the steady cycles there exactly
   from a stated history (`jaxdamp.amplitude_cycle`), and HBM-AFT's loop from state 0 agrees with them
