@@ -98,7 +98,7 @@ def summary_of(res) -> dict:
 def run(args) -> int:
     import jax
 
-    from ..batch import check_sweep_inputs, device_chunk, device_mesh, sweep
+    from ..batch import check_sweep_inputs, device_chunk, device_mesh, sweep, values_chunk
     from ..params import Contacts
     from ..plotting.sweep import write_sweep
 
@@ -110,7 +110,8 @@ def run(args) -> int:
     check_sweep_inputs(tl, tr, mus, br, mu_max=args.mu_max, bl2_over_hl=args.bl2, contacts=contacts)
     out = C.check_output_dir("--out", args.out)
     n = tl.size * tr.size * mus.size
-    est = estimate(n, len(jax.devices()), device_chunk(device_mesh()))
+    # The chunk evaluate_designs takes (its values chunk on CPU, else the platform's default).
+    est = estimate(n, len(jax.devices()), values_chunk() or device_chunk(device_mesh()))
     gb = est["memory_bytes"] / 1024**3
     line = (f"sweep: {n} designs on {est['devices']} device(s): about {gb:.2g} GB of memory and "
             f"{est['time_s']:.0f} s")
