@@ -60,7 +60,7 @@ def throughput(sizes, repeats=5) -> dict:
     return out
 
 
-def chunk_sweep(chunks=(256, 512, 1024, 2048), n=40_000, repeats=3) -> dict:
+def chunk_sweep(chunks=(1024, 2048, 4096, 8192, 16384), n=40_000, repeats=3) -> dict:
     """evaluate_designs designs/s per chunk size (designs per device per call), best of repeats."""
     d = random_designs(n)
     for c in chunks:
@@ -165,7 +165,8 @@ def main():
     two = two_device_throughput(sizes)
     res["throughput_designs_per_s"]["evaluate_designs_2_host_devices"] = two["designs_per_s"]
     res["chunk_sweep_designs_per_s"] = {"1_device": chunk_sweep(), "2_host_devices": two["chunk_sweep"],
-                                        "default_chunk": B.default_chunk("cpu")}
+                                        "default_chunk": B.default_chunk("cpu"),
+                                        "values_chunk": B.values_chunk()}
     one = res["throughput_designs_per_s"]["evaluate_designs_1_device"]
     best = max(max(one.values()), max(two["designs_per_s"].values()))
     ratios = res["gradients"]["ratio_to_forward"]
