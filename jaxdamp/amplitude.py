@@ -31,7 +31,6 @@ Initial states (all forces normalised to F_D, tangential forces along the up-fla
 
 from __future__ import annotations
 
-from functools import partial
 from typing import NamedTuple
 
 import jax
@@ -39,7 +38,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .linalg import solve3
-from .cycle import bounded_loop, mechanics, tract_rows, zeros_of
+from .cycle import (bounded_loop, check_loop, mechanics, repeat_until, tract_rows,
+                    values_by_while, zeros_of)
 from .geometry import DamperShape
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -287,9 +287,6 @@ def _empty_half(max_tracts) -> TravelHalf:
                       liftoff=b, failed=b)
 
 
-LOOPS = ("auto", "scan", "while")
-
-
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
                      initial="gross_slip", max_tracts: int = MAX_TRACTS,
                      max_pairs: int = MAX_PAIRS, loop: str = "auto") -> AmplitudeCycle:
@@ -305,30 +302,17 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     "auto" (default) computes values with "while" and derivatives (jvp, jacfwd, grad, vjp) with
     "scan", through a custom JVP rule.
     """
-    if loop not in LOOPS:
-        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
-    if loop == "auto":
-        return _auto_amplitude(initial, max_tracts, max_pairs, shape, mu, contacts, load, psi_a,
-                               N_init, T_init)
-    return _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, initial=initial,
-                           max_tracts=max_tracts, max_pairs=max_pairs, loop=loop)
+    check_loop(loop)
 
-
-@partial(jax.custom_jvp, nondiff_argnums=(0, 1, 2))
-def _auto_amplitude(initial, max_tracts, max_pairs, *design):
-    return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts, max_pairs=max_pairs,
-                           loop="while")
-
-
-@_auto_amplitude.defjvp
-def _auto_amplitude_jvp(initial, max_tracts, max_pairs, primals, tangents):
-    # The masked-scan program's own JVP (its transpose gives reverse mode): the derivatives are
-    # exactly those of loop="scan".
-    def scan(*design):
+    def impl(*design_and_loop):
+        *design, loop = design_and_loop
         return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts,
-                               max_pairs=max_pairs, loop="scan")
+                               max_pairs=max_pairs, loop=loop)
 
-    return jax.jvp(scan, primals, tangents)
+    design = (shape, mu, contacts, load, psi_a, N_init, T_init)
+    if loop == "auto":
+        return values_by_while(impl, *design)
+    return impl(*design, loop)
 
 
 def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial, max_tracts,
@@ -381,23 +365,12 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                     liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
                     pairs=c["pairs"] + is_bwd.astype(jnp.int32))
 
-    def step(c, j):
-        # Masked, not lax.cond: the scan form is the derivative program of loop="auto", and JAX
-        # cannot transpose a cond that vmap has turned into a select inside a custom JVP rule.
-        new = run_half(c, j)
-        return jax.tree_util.tree_map(lambda old, x: jnp.where(c["stop"], old, x), c, new), None
-
     empty = _empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
                 pairs=jnp.array(0, jnp.int32))
-    if loop == "while":
-        _, end = jax.lax.while_loop(lambda c: (c[0] < n_halves) & ~c[1]["stop"],
-                                    lambda c: (c[0] + 1, run_half(c[1], c[0])),
-                                    (jnp.array(0), init))
-    else:
-        end, _ = jax.lax.scan(step, init, jnp.arange(n_halves))
+    end = repeat_until(run_half, init, n_halves, loop, lambda c: c["stop"])
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
     pre_lift, pre_fail = end["liftoff"], end["failed"]

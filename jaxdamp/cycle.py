@@ -156,6 +156,46 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict):
     return end, acc
 
 
+def repeat_until(run, init, length: int, loop: str, stopped):
+    """The carry after up to `length` calls carry = run(carry, k), k = 0, 1, ..., that end once
+    stopped(carry) is True. "while" stops there; "scan" makes every call and keeps the stopped
+    carry (masked, not lax.cond: the scan form is the derivative program of loop="auto", and JAX
+    cannot transpose a cond that vmap has turned into a select inside a custom JVP rule)."""
+    if loop == "while":
+        return jax.lax.while_loop(lambda c: (c[0] < length) & ~stopped(c[1]),
+                                  lambda c: (c[0] + 1, run(c[1], c[0])), (jnp.array(0), init))[1]
+
+    def step(carry, k):
+        new = run(carry, k)
+        return jax.tree_util.tree_map(lambda old, x: jnp.where(stopped(carry), old, x), carry,
+                                      new), None
+
+    return jax.lax.scan(step, init, jnp.arange(length))[0]
+
+
+LOOPS = ("auto", "scan", "while")
+
+
+def check_loop(loop: str) -> None:
+    if loop not in LOOPS:
+        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
+
+
+def values_by_while(impl, *args):
+    """impl(*args, loop) for loop="auto": the values of loop="while" (loops that stop when done),
+    the derivatives of loop="scan" through a custom JVP rule (the masked scan's own JVP, whose
+    transpose gives reverse mode, which cannot pass a while loop)."""
+    @jax.custom_jvp
+    def run(*a):
+        return impl(*a, "while")
+
+    @run.defjvp
+    def run_jvp(primals, tangents):
+        return jax.jvp(lambda *a: impl(*a, "scan"), primals, tangents)
+
+    return run(*args)
+
+
 class BaseCycle(NamedTuple):
     """The periodic Base-Cycle and its inputs (a pytree: jit, vmap and grad see through it).
 
@@ -176,9 +216,6 @@ class BaseCycle(NamedTuple):
     status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the same facts as booleans
 
 
-LOOPS = ("auto", "scan", "while")
-
-
 @partial(jax.jit, static_argnames=("max_tracts", "max_pairs", "loop"))
 def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pairs=MAX_PAIRS,
                       loop="auto"):
@@ -190,23 +227,14 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
     when it is done (values and forward mode only); "auto" (default) computes values with "while"
     and derivatives (jvp, jacfwd, grad, vjp) with "scan", through a custom JVP rule.
     """
-    if loop not in LOOPS:
-        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
+    check_loop(loop)
+
+    def impl(shape, mu, contacts, load, loop):
+        return _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop)
+
     if loop == "auto":
-        return _auto_cycle(max_tracts, max_pairs, shape, mu, contacts, load)
-    return _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop)
-
-
-@partial(jax.custom_jvp, nondiff_argnums=(0, 1))
-def _auto_cycle(max_tracts, max_pairs, *design):
-    return _cycle_impl(*design, max_tracts, max_pairs, "while")
-
-
-@_auto_cycle.defjvp
-def _auto_cycle_jvp(max_tracts, max_pairs, primals, tangents):
-    # The masked-scan program's own JVP (its transpose gives reverse mode): the derivatives are
-    # exactly those of loop="scan".
-    return jax.jvp(lambda *d: _cycle_impl(*d, max_tracts, max_pairs, "scan"), primals, tangents)
+        return values_by_while(impl, shape, mu, contacts, load)
+    return impl(shape, mu, contacts, load, loop)
 
 
 def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
@@ -226,23 +254,11 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
         nxt = _aitken(mech, prev, here, jnp.concatenate([bwd.N_end, bwd.T_end]), k > 0)
         return (nxt[:3], nxt[3:], closed & ~bad, closed | bad, fwd, bwd, 2 * (k + 1), here)
 
-    def pair(carry, k):
-        # Once the cycle has closed (or failed) the remaining pairs change nothing. Masked, not
-        # lax.cond: the scan form is the derivative program of loop="auto", and JAX cannot
-        # transpose a cond that vmap has turned into a select inside a custom JVP rule.
-        new = run_pair(carry, k)
-        return jax.tree_util.tree_map(lambda old, x: jnp.where(carry[3], old, x), carry, new), None
-
     empty = _empty_half(max_tracts)
     init = (N0, T0, jnp.array(False), liftoff0, empty, empty, jnp.array(0), jnp.zeros(6))
-    if loop == "while":
-        def more(c):
-            return (c[0] < max_pairs) & ~c[1][3]
-
-        _, (_, _, conv, _, fwd, bwd, nhalf, _) = jax.lax.while_loop(
-            more, lambda c: (c[0] + 1, run_pair(c[1], c[0])), (jnp.array(0), init))
-    else:
-        (_, _, conv, _, fwd, bwd, nhalf, _), _ = jax.lax.scan(pair, init, jnp.arange(max_pairs))
+    # Once the cycle has closed (or failed) the remaining pairs change nothing.
+    _, _, conv, _, fwd, bwd, nhalf, _ = repeat_until(run_pair, init, max_pairs, loop,
+                                                     lambda c: c[3])
     liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
     failed = ~liftoff0 & (fwd.failed | bwd.failed)
     converged = conv & ~liftoff
