@@ -433,8 +433,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
     log-spaced over GRID_DECADES below that bound (or below amplitude_cap_mm when eta = 0, default
-    1e6 psi_ref / r). Each sign change is refined by safeguarded Newton/bisection; gradients by the
-    implicit function theorem. Pure JAX: jit, vmap (e.g. over designs), grad, jacfwd.
+    1e6 psi_ref / r). Each sign change is refined by bracketed regula falsi (Illinois); gradients by
+    the implicit function theorem. Pure JAX: jit, vmap (e.g. over designs), grad, jacfwd.
 
     force_n: a scalar, or a 1-D array of forces (then every field has a leading force axis). The
     forces of an array share one amplitude grid, since k(psi) does not depend on F (the layered
@@ -460,15 +460,17 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         grid = top * jnp.logspace(-1.0, 0.0, int(SHARED_GRID_FACTOR * n_grid)) ** decades
     grid = jnp.concatenate([jnp.zeros(1), grid])
     cells_n = grid.size - 1
-    _, im_grid = _dyn(mode, damper.values, grid)
-    a_im = jax.lax.stop_gradient(grid * im_grid)  # g(a) = a im(a) - F for every force at once
+    # The searches run on the curve's values (see DamperStiffness.values); g(a) = a im(a) - F, so
+    # the grid's residual at F = 0 serves every force.
+    values = damper._replace(k_of_psi=damper.values)
+    a_im = jax.lax.stop_gradient(peak_residual(values, mode, 0.0, grid))
 
     def one_force(force):
         def g_of(a):
             return peak_residual(damper, mode, force, a)
 
         def g_values(a):
-            return a * _dyn(mode, damper.values, a)[1] - jax.lax.stop_gradient(force)
+            return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
 
         gg = a_im - force
         change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
@@ -497,8 +499,10 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
 _PEAK_PROGRAMS: dict = {}
 
 
-def _compiled_peaks(method: str, options: tuple):
-    """One compiled peak solver per stiffness method and options, reused by every call."""
+def peak_program(method: str, options: tuple = ()):
+    """One compiled peak solver per stiffness method and options (sorted (name, value) pairs),
+    reused by every call: (shape, mu, contacts, load, mode, force_n) -> Peaks, on prepared inputs
+    (`prepare_scene`); force_n a scalar or a 1-D array."""
     if (method, options) not in _PEAK_PROGRAMS:
         def run(shape, mu, contacts, load, mode, force_n):
             d = damper_stiffness(shape, mu, contacts, load, method=method, **dict(options))
@@ -525,7 +529,7 @@ def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMod
     """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     force = jnp.asarray(force_n, float)
-    run = _compiled_peaks(method, tuple(sorted(options.items())))
+    run = peak_program(method, tuple(sorted(options.items())))
     if force.ndim == 0:
         return run(shape, mu, contacts, load, mode, force)
     return jax.vmap(run, in_axes=(None, None, None, None, None, 0))(shape, mu, contacts, load,

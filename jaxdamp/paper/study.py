@@ -354,21 +354,6 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
 PEAK_FORCES_N = (5.0, 20.0)  # modal excitation forces of the shape comparison on peak response
 
 
-def _peaks_kernel(method):
-    import jax
-
-    from ..response import damper_stiffness, peak_response
-
-    def run(shape, mu, contacts, load, mode, forces):
-        damper = damper_stiffness(shape, mu, contacts, load, method=method)
-        return peak_response(damper, mode, forces)  # the forces share one amplitude grid
-
-    return jax.jit(run)
-
-
-_PEAKS = {}
-
-
 def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N) -> dict:
     """Peak tip amplitude A* (mm), its frequency (Hz) and psi_a = r A* (mrad) of the default
     BladeMode with this damper at each force (N), from the exact k(psi_a) (gross-slip history) and,
@@ -377,7 +362,7 @@ def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N
     import jax.numpy as jnp
 
     from ..params import prepare_inputs
-    from ..response import BladeMode
+    from ..response import BladeMode, peak_program
     from ..status import RESULTS
 
     if liftoff:
@@ -386,9 +371,8 @@ def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N
     mode = BladeMode(*(jnp.asarray(v, float) for v in BladeMode()))
     entry = {"status": "ok", "liftoff": False, "forces_n": [float(f) for f in forces]}
     for method in ("exact", "interpolated"):
-        if method not in _PEAKS:
-            _PEAKS[method] = _peaks_kernel(method)
-        p = _PEAKS[method](shape, mu, contacts, load, mode, jnp.asarray(forces, float))
+        # The forces share one amplitude grid; one compiled program per method for all designs.
+        p = peak_program(method)(shape, mu, contacts, load, mode, jnp.asarray(forces, float))
         st = [RESULTS(int(s)).name for s in np.asarray(p.status)]
         ok = np.array([s == "ok" for s in st])
         entry[method] = {
