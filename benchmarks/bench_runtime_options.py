@@ -105,10 +105,10 @@ def compiler_options_ab(n: int = 8192, rounds: int = 10) -> dict:
     from jaxdamp.baselines import hbm_aft_kernel
     from jaxdamp.runtime import CPU_BATCH_OPTIONS
 
-    rng = np.random.default_rng(0)
-    shape = jd.DamperShape(rng.uniform(35, 90, n), rng.uniform(35, 90, n), rng.uniform(-0.3, 0.4, n),
-                           np.full(n, 0.8))
-    designs = jax.device_put(jd.stack_designs(shape, rng.uniform(0.1, 0.9, n)))
+    sys.path.insert(0, str(Path(__file__).parent))
+    from bench_common import random_shapes
+
+    designs = jax.device_put(jd.stack_designs(*random_shapes(n, seed=0)))
     few = B.take(designs, np.arange(256))
     psi_bc = jd.evaluate_designs(few).psi_bc
     psi_bc = np.where(psi_bc > 0, psi_bc, 1.0)

@@ -20,8 +20,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from .conventions import psi_mrad, travel_mm
-from .cycle import BaseCycle
+from .cycle import BaseCycle, base_cycle_kernel
 from .design import as_design
+from .geometry import DamperShape
 from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
 from .runtime import batch_jit
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
@@ -185,10 +186,6 @@ def _numbers_packed(v):
 
     One input and one output buffer, and loops that stop when done (loop="while"): a single call's
     cost is the number of small kernels and buffers it runs (benchmarks/bench_single.py)."""
-    from .cycle import base_cycle_kernel
-    from .geometry import DamperShape
-    from .params import Contacts, LoadCase
-
     bc = base_cycle_kernel(DamperShape(v[0], v[1], v[2], v[3]), v[4],
                            Contacts(v[5:8], v[8:11]), LoadCase(v[11], v[12], v[13]), loop="while")
     nums = five_numbers_kernel(bc)
