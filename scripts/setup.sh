@@ -10,6 +10,6 @@ if [ ! -x .venv/bin/python ]; then
 fi
 stamp=.venv/.jaxdamp-installed
 if [ ! -f "$stamp" ] || [ pyproject.toml -nt "$stamp" ]; then
-  .venv/bin/python -m pip install -q -e ".[test]"
+  .venv/bin/python -m pip install -q -e ".[test,docs]"
   touch "$stamp"
 fi
