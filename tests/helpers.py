@@ -1,7 +1,13 @@
 """Shared test helpers: pytree comparison and finite-difference JVPs for gradient checks."""
 
+import contextlib
+
 import jax
 import numpy as np
+
+# JAX records this event around every lowering-to-executable step (a persistent-cache load too);
+# a call served from jit's in-memory cache records nothing.
+_BACKEND_COMPILE_EVENT = "/jax/core/compile/backend_compile_duration"
 
 
 def tree_allclose(a, b, rtol=1e-12, atol=0.0) -> bool:
@@ -66,3 +72,21 @@ def assert_leaf_close(name, a, b, rtol=1e-12):
     scale = np.max(np.abs(b)) if b.size else 0.0
     bad = np.abs(a - b) > rtol * np.abs(b) + rtol * scale
     assert not bad.any(), (name, int(bad.sum()), np.max(np.abs(a - b) / (np.abs(b) + 1e-300)))
+
+
+@contextlib.contextmanager
+def count_compiles():
+    """Collects the names of the XLA programs compiled (or loaded from the persistent cache) inside
+    the block: `with count_compiles() as compiled: f(x)` then `assert compiled == []` checks that a
+    second call with new values of the same shapes compiles nothing."""
+    compiled = []
+
+    def listener(event, duration, **kwargs):
+        if event == _BACKEND_COMPILE_EVENT:
+            compiled.append(kwargs.get("fun_name", "?"))
+
+    jax.monitoring.register_event_duration_secs_listener(listener)
+    try:
+        yield compiled
+    finally:
+        jax.monitoring.unregister_event_duration_listener(listener)
