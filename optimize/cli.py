@@ -5,7 +5,7 @@ A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.com
 
 from __future__ import annotations
 
-from jaxdamp.cli import (CliError, add_contact_args, add_json_arg, add_progress_arg,
+from jaxdamp.cli import (CliError, add_contact_args, contacts_from_args, add_json_arg, add_progress_arg,
                          check_output_file, contacts_echo, document, emit, float_list, load_echo,
                          progress_bar)
 
@@ -35,6 +35,7 @@ def payload_of(args) -> dict:
     from .problem import make_problem
     from .solver import SolverConfig, optimize
 
+    contacts_from_args(args)  # --kn/--kt (one or three values) or --contacts-from, checked
     fixed = _assignments(args.fix, "--fix")
     for key in fixed:
         if key not in VARIABLES:

@@ -113,20 +113,26 @@ def test_main_enables_float64_and_agg(capsys):
 
 # ---------------------------------------------------------------- output paths
 def test_output_dir_checks(tmp_path):
+    # The check creates the directory: the only sure test that the run can write there.
     assert C.check_output_dir("--out", tmp_path / "new" / "deeper") == tmp_path / "new" / "deeper"
-    assert not (tmp_path / "new").exists()  # nothing is created by the check
+    assert (tmp_path / "new" / "deeper").is_dir()
     f = tmp_path / "file.txt"
     f.write_text("x")
     with pytest.raises(C.CliError, match="not a directory"):
         C.check_output_dir("--out", f)
-    with pytest.raises(C.CliError, match="--out"):
+    with pytest.raises(C.CliError, match="--out .*is a file, not a directory"):
         C.check_output_dir("--out", f / "sub")
+    with pytest.raises(C.CliError, match="--out '/proc/nonexistent/study' cannot be created"):
+        C.check_output_dir("--out", "/proc/nonexistent/study")
 
 
 def test_output_file_checks(tmp_path):
     assert C.check_output_file("--plot", tmp_path / "a.png", (".png",)) == tmp_path / "a.png"
     with pytest.raises(C.CliError, match="does not exist"):
         C.check_output_file("--plot", tmp_path / "missing" / "a.png")
+    (tmp_path / "FILE").write_text("x")
+    with pytest.raises(C.CliError, match="'.*FILE' is a file, not a directory"):
+        C.check_output_file("--out", tmp_path / "FILE" / "x.png")
     with pytest.raises(C.CliError, match="is a directory"):
         C.check_output_file("--markdown", tmp_path)
     with pytest.raises(C.CliError, match="must end in"):
@@ -139,7 +145,7 @@ def test_unwritable_dir(tmp_path):
     ro.mkdir()
     ro.chmod(0o500)
     try:
-        with pytest.raises(C.CliError, match="not writable"):
+        with pytest.raises(C.CliError, match="--out .*(cannot be created: Permission denied|not writable)"):
             C.check_output_dir("--out", ro / "x")
     finally:
         ro.chmod(0o700)
@@ -155,7 +161,7 @@ def test_numbers_that_do_not_exist_are_null():
     text = C.dumps(doc)
     assert json.loads(text)["a"] == [1.0, None] and "-0.0" not in text
     assert list(doc)[:3] == ["status", "schema_version", "jaxdamp_version"]
-    assert doc["schema_version"] == 2 and doc["mu"] == 0.5
+    assert doc["schema_version"] == 3 and doc["inputs"]["mu"] == 0.5
 
 
 def test_status_from_result_fields_or_flags():

@@ -59,7 +59,7 @@ def test_band_in_json_and_table(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["--psi-a", "0,1"], "psi_a_mrad"), (["--psi-a", "abc"], "--psi-a"), (["--psi-a", "nan"], "psi_a_mrad"),
+    (["--psi-a", "0,1"], "--psi-a"), (["--psi-a", "abc"], "--psi-a"), (["--psi-a", "nan"], "--psi-a"),
     (["--psi-a", "1", "--initial", "rest"], "--initial"), (["--psi-a", "1", "--kn", "-1"], "kn"),
 ])
 def test_bad_input_exits_2_with_one_line(capsys, argv, needle):

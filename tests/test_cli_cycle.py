@@ -16,9 +16,9 @@ def test_cycle_json_contract(capsys):
                 "half_cycles", "status", "schema_version", "jaxdamp_version"):
         assert key in d
     assert d["status"] == "ok"
-    assert d["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
-    assert d["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
-    assert d["mu"] == 0.7 and d["shape"]["theta_r_deg"] == jd.family_shape("74R").theta_r
+    assert d["inputs"]["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
+    assert d["inputs"]["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
+    assert d["inputs"]["mu"] == 0.7 and d["inputs"]["shape"]["theta_r_deg"] == jd.family_shape("74R").theta_r
     assert set(d["spans_mm"]) == {"forward", "backward"}
     assert set(d["energy_Nmm"]) == {"R1", "L1", "L2", "moment"}
     assert set(d["work_shape_factors"]) == {"w_R1", "w_L1", "w_L2", "w_M"}
@@ -49,11 +49,11 @@ def test_cycle_liftoff_numbers_are_null(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["--kn", "-1"], "kn"),
-    (["--kt", "inf"], "kt"),
-    (["--fd", "0"], "F_D"),
-    (["--q", "nan"], "q_star"),
-    (["--r-sin-beta", "1e12"], "r_sin_beta"),
+    (["--kn", "-1"], "--kn"),
+    (["--kt", "inf"], "--kt"),
+    (["--fd", "0"], "--fd"),
+    (["--q", "nan"], "--q"),
+    (["--r-sin-beta", "1e12"], "--r-sin-beta"),
 ])
 def test_errors(capsys, argv, needle):
     code, _, err = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv)

@@ -10,8 +10,8 @@ def test_design_br_json(capsys):
     assert code == 0
     d = strict_json(out)
     assert abs(d["br_over_hr"] - 0.14) <= 0.01  # the paper's 60sym (b_R/h_R = 0.14, §3)
-    assert d["status"] == "ok" and d["mu_max"] == 0.7 and d["found"] and d["inside"]
-    assert "br_over_hr" not in d["shape"]  # an output here, not an input
+    assert d["status"] == "ok" and d["inputs"]["mu_max"] == 0.7 and d["found"] and d["inside"]
+    assert "br_over_hr" not in d["inputs"]["shape"]  # an output here, not an input
 
 
 def test_custom_shape_needs_no_br(capsys):
@@ -28,9 +28,9 @@ def test_45sym_has_no_b_r_avoiding_liftoff(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["--shape", "60sym", "--mu-max", "7"], "mu_max"),
-    (["--shape", "60sym", "--mu-max", "-1"], "mu_max"),
-    (["--shape", "60sym", "--mu-max", "inf"], "mu_max"),
+    (["--shape", "60sym", "--mu-max", "7"], "--mu-max"),
+    (["--shape", "60sym", "--mu-max", "-1"], "--mu-max"),
+    (["--shape", "60sym", "--mu-max", "inf"], "--mu-max"),
     (["--theta-l", "60", "--theta-r", "60", "--br", "0.1"], "--br"),
     (["--theta-l", "60"], "--theta-r"),
 ])

@@ -24,7 +24,7 @@ def test_cli_grad_json_contract(capsys):
     assert d["psi_bc_mrad"]["theta_l"] == pytest.approx(float(jac.d.psi_bc.shape.theta_l), rel=1e-12)
     assert d["k_im_bc"]["kt"] == pytest.approx(float(jac.d.k_im_bc.contacts.kt), rel=1e-12)
     assert d["converged"] is True and d["liftoff"] is False and d["status"] == "ok"
-    assert d["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
+    assert d["inputs"]["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
 
 
 def test_cli_grad_text_and_errors(capsys):
@@ -35,7 +35,7 @@ def test_cli_grad_text_and_errors(capsys):
     code, _, err = run_cli(capsys, "grad", "--shape", "60sym", "--mu", "0")
     assert code == 2 and "mu" in one_error_line(err)
     code, _, err = run_cli(capsys, "grad", "--shape", "60sym", "--mu", "0.5", "--psi-a", "-1")
-    assert code == 2 and "psi_a" in one_error_line(err)
+    assert code == 2 and "--psi-a" in one_error_line(err)
 
 
 def test_cli_grad_liftoff_is_null(capsys):

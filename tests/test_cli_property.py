@@ -105,6 +105,6 @@ def test_every_command_line_ends_in_a_result_or_one_error_line(argv):
         return
     if "--json" in argv:
         doc = strict_json(out)
-        assert doc["status"] in RESULTS.__members__ and doc["schema_version"] == 2, argv
+        assert doc["status"] in RESULTS.__members__ and doc["schema_version"] == 3, argv
     else:
         assert "[status: " in out.splitlines()[0], (argv, out)

@@ -35,7 +35,7 @@ def test_response_json_contract_and_figures(capsys, tmp_path):
     assert d["status"] == "ok"
     inp = d["inputs"]
     assert inp["initial"] == "assembly" and inp["stiffness_method"] == "exact"
-    assert d["schema_version"] == 2 and "jaxdamp_version" in d
+    assert d["schema_version"] == 3 and "jaxdamp_version" in d
     assert inp["force_n"] == [0.2, 20.0] and inp["f0_hz"] == 500.0 and inp["mu"] == 0.5
     low, high = d["peaks"]
     for p in d["peaks"]:

@@ -10,9 +10,9 @@ def test_statics_json_contract(capsys):
     assert code == 0
     d = strict_json(out)
     assert {"start", "mid", "liftoff", "min_normal_over_fd", "status", "schema_version",
-            "jaxdamp_version", "shape", "mu"} == set(d)
-    assert d["status"] == "ok" and d["schema_version"] == 2 and d["mu"] == 0.7
-    assert d["shape"] == {"theta_l_deg": 60.0, "theta_r_deg": 60.0, "br_over_hr": 0.14, "bl2_over_hl": 0.8}
+            "jaxdamp_version", "inputs"} == set(d)
+    assert d["status"] == "ok" and d["schema_version"] == 3 and d["inputs"]["mu"] == 0.7
+    assert d["inputs"]["shape"] == {"theta_l_deg": 60.0, "theta_r_deg": 60.0, "br_over_hr": 0.14, "bl2_over_hl": 0.8}
     for end in ("start", "mid"):
         assert set(d[end]) == {"N", "T", "resultant_pos_pct"}
         assert set(d[end]["N"]) == {"R1", "L1", "L2"} == set(d[end]["T"])
@@ -38,11 +38,11 @@ def test_statics_table_shows_status_first(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
-    (["--theta-l", "95", "--theta-r", "60", "--br", "0.1", "--mu", "0.5"], "theta_l"),
-    (["--shape", "60sym", "--mu", "0"], "mu"),
-    (["--shape", "60sym", "--mu", "nan"], "mu"),
-    (["--shape", "60sym", "--mu", "inf"], "mu"),
-    (["--theta-l", "60", "--theta-r", "60", "--br", "0.1", "--bl2", "1.5", "--mu", "0.5"], "bl2_over_hl"),
+    (["--theta-l", "95", "--theta-r", "60", "--br", "0.1", "--mu", "0.5"], "--theta-l"),
+    (["--shape", "60sym", "--mu", "0"], "--mu"),
+    (["--shape", "60sym", "--mu", "nan"], "--mu"),
+    (["--shape", "60sym", "--mu", "inf"], "--mu"),
+    (["--theta-l", "60", "--theta-r", "60", "--br", "0.1", "--bl2", "1.5", "--mu", "0.5"], "--bl2"),
     (["--theta-l", "60", "--mu", "0.5"], "--theta-r"),
     (["--shape", "61sym", "--mu", "0.5"], "shape"),
     # a paper shape fixes 2b_L/h_L: --bl2 with --shape is rejected, not silently combined

@@ -32,12 +32,12 @@ def test_cli_study_json_and_liftoff_case(tmp_path, capsys):
     d = strict_json(out)
     entry = d["results"]["74L"]["0.7"]
     assert entry["status"] == "liftoff" and entry["psi_bc_mrad"] is None
-    assert d["status"] == "ok" and d["shapes"] == ["74L"] and d["mu"] == [0.7]
-    assert d["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
+    assert d["status"] == "ok" and d["inputs"]["shapes"] == ["74L"] and d["inputs"]["mu"] == [0.7]
+    assert d["inputs"]["load"] == {"F_D_n": 1000.0, "q_star_mm": 100.0, "r_sin_beta_mm": 0.0}
 
 
 @pytest.mark.parametrize("argv, message", [
-    (["--shapes", "61sym"], "unknown shape"),
+    (["--shapes", "61sym"], "--shapes must name shapes among"),
     (["--mu", "0.5,abc"], "--mu must be"),
     (["--mu", "-0.5"], "mu must be in"),
     (["--kn", "inf"], "kn must be"),
@@ -63,5 +63,7 @@ def test_cli_section(tmp_path, capsys):
     assert nbytes > 20_000 and w > h
     code, _, err = run_cli(capsys, "section", "--shape", "74R", "--mu", "0.7", "--out", tmp_path / "s.txt")
     assert code == 2 and "--out must end" in one_error_line(err)
-    code, _, err = run_cli(capsys, "section", "--shape", "74R", "--mu", "0.7", "--out", tmp_path / "no" / "s.png")
-    assert code == 2 and "does not exist" in one_error_line(err)
+    (tmp_path / "FILE").write_text("x")
+    code, _, err = run_cli(capsys, "section", "--shape", "74R", "--mu", "0.7", "--out", tmp_path / "FILE" / "x.png")
+    line = one_error_line(err)
+    assert code == 2 and "--out" in line and "is a file, not a directory" in line

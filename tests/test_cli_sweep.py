@@ -36,12 +36,12 @@ def test_cli_sweep_writes_heatmaps_and_data(tmp_path, capsys):
 @pytest.mark.parametrize("argv,needle", [
     (["--theta-l", "40:90"], "--theta-l"),
     (["--br", "middle"], "--br"),
-    (["--br", "5"], "br_over_hr"),  # was accepted (and clipped)
+    (["--br", "5"], "--br"),  # was accepted (and clipped)
     (["--mu", "0.5,-1"], "mu"),
-    (["--mu-max", "inf"], "mu_max"),
-    (["--theta-r", "60,95"], "theta_r"),
+    (["--mu-max", "inf"], "--mu-max"),
+    (["--theta-r", "60,95"], "--theta-r"),
     (["--kn", "inf"], "kn"),
-    (["--bl2", "0"], "bl2_over_hl"),
+    (["--bl2", "0"], "--bl2"),
 ])
 def test_cli_sweep_errors(tmp_path, capsys, argv, needle):
     code, _, err = run_cli(capsys, "sweep", "--out", tmp_path / "o", "--theta-l", "60", "--theta-r", "60", *argv)

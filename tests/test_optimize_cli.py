@@ -29,7 +29,7 @@ def test_json_contract_default_objective(capsys):
     d = json.loads(out)
     assert CONTRACT <= set(d)
     assert d["objective_name"] == "k_im_bc:worst" and d["status"] == "ok"
-    assert d["contacts"] == {"kn_n_per_mm": 20000.0, "kt_n_per_mm": 4000.0}
+    assert d["inputs"]["contacts"] == {"kn_n_per_mm": 20000.0, "kt_n_per_mm": 4000.0}
     assert d["baseline"]["shape"] == "60sym" and isinstance(d["baseline"]["objective"], float)
     assert d["feasible"] is True and d["reason"] is None
     assert d["mu_set"] == [0.3, 0.5, 0.7] and d["kn"] == 20000.0 and d["kt"] == 4000.0

@@ -18,7 +18,8 @@ import sys
 # The helpers a command module outside jaxdamp (an entry point) may use.
 from .common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
                       add_progress_arg, add_shape_args, check_output_dir, check_output_file,
-                      contacts_echo, document, emit, float_list, load_echo, progress_bar)
+                      contacts_echo, contacts_from_args, document, emit, float_list, load_echo,
+                      progress_bar)
 
 UNITS = __doc__.split("\n\n", 1)[1]
 
@@ -170,7 +171,10 @@ def main(argv=None, extra_commands=()) -> int:
         print(str(exc), file=sys.stderr)
         return 2
     except (ValueError, CliError) as exc:
-        print(f"{command}: error: {' '.join(str(exc).split())}", file=sys.stderr)
+        from .common import flag_message
+
+        message = ' '.join(str(exc).split())
+        print(f"{command}: error: {flag_message(message)}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # `jaxdamp ... | head`: the reader left; not an error of ours
         try:
@@ -198,6 +202,6 @@ def console() -> None:
 
 __all__ = ["COMMANDS", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
            "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
-           "check_output_dir", "check_output_file", "contacts_echo", "document", "emit", "float_list",
+           "check_output_dir", "check_output_file", "contacts_echo", "contacts_from_args", "document", "emit", "float_list",
            "load_echo",
            "main", "progress_bar"]

@@ -31,8 +31,8 @@ def register(sub) -> None:
 def _amplitudes(text: str) -> list[float]:
     from .._validate import check_range
 
-    values = list(C.float_list(text, "--psi-a"))
-    check_range("psi_a_mrad", values, 0.0, 1e4, lo_open=True, unit="mrad")
+    values = list(C.float_list(text, "--psi-a", example="0.5,1.2,3"))
+    check_range("--psi-a", values, 0.0, 1e4, lo_open=True, unit="mrad")
     return values
 
 
@@ -42,11 +42,11 @@ def run(args) -> int:
     from ..status import RESULTS
 
     # Every input is checked before any work (ValueError / CliError -> one line, exit code 2).
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     psis = _amplitudes(args.psi_a)
     if args.initial not in INITIAL_STATES:
         raise ValueError(f"--initial must be one of {', '.join(INITIAL_STATES)}; got {args.initial!r}")
     shape = C.shape_from_args(args)
-    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
     prepare_inputs(shape, args.mu, contacts, load)
 
     rows = []
@@ -65,8 +65,8 @@ def run(args) -> int:
         bar.update(1)
     bar.close()
     bad = [r["status"] for r in rows if r["status"] not in ("ok", "shakedown")]
-    inputs = {"shape": args.shape, "theta_l": float(shape.theta_l), "theta_r": float(shape.theta_r),
-              "br_over_hr": float(shape.br_over_hr), "bl2_over_hl": float(shape.bl2_over_hl),
+    inputs = {"shape": args.shape and C.shape_name(args.shape), "theta_l": float(shape.theta_l), "theta_r": float(shape.theta_r),
+              "br_over_hr": float(shape.br_over_hr), "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
               "band": bool(args.band)}
@@ -74,7 +74,7 @@ def run(args) -> int:
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "
-             f"kn = {args.kn:g} N/mm, kt = {args.kt:g} N/mm (k in N mm/mrad)",
+             f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad)",
              f"{'psi_a':>8} {'k_Re':>10} {'k_Im':>10} {'status':>14} {'cycles':>6}"
              + ("   band k_Re [min, max]   band k_Im [min, max]" if args.band else "")]
     for r in rows:

@@ -14,9 +14,28 @@ import os
 import sys
 from pathlib import Path
 
-# 2: every document carries status, schema_version, jaxdamp_version and echoes its inputs;
+# 3: the inputs are echoed under "inputs" in every document (schema 2 had them at the top level in
+# some); 2: every document carries status, schema_version, jaxdamp_version and echoes its inputs;
 # numbers that do not exist are null (schema 1 had 0.0 and no status).
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
+
+
+# The library names a parameter as Python does (jaxdamp._validate); the CLI user typed a flag. Every
+# ValueError message that starts with one of these names is shown with the flag instead (`main`).
+FLAG_OF = {"theta_l": "--theta-l", "theta_r": "--theta-r", "br_over_hr": "--br", "bl2_over_hl": "--bl2",
+           "x_d": "--x-d", "mu": "--mu", "mu_max": "--mu-max", "kn": "--kn", "kt": "--kt", "F_D": "--fd",
+           "q_star": "--q", "r_sin_beta": "--r-sin-beta", "psi_a_mrad": "--psi-a", "psi_a": "--psi-a",
+           "eta": "--loss-factor", "f0_hz": "--f0-hz", "k_b": "--modal-stiffness-n-per-mm",
+           "r": "--psi-per-mm", "max_iter": "--max-iter", "shape": "--shape", "initial": "--initial",
+           "force_n": "--force-n", "start_kn": "--start-kn", "start_kt": "--start-kt"}
+
+
+def flag_message(message: str) -> str:
+    """A library ValueError message with its leading parameter name replaced by the CLI flag
+    ("eta must be in ..." -> "--loss-factor must be in ...")."""
+    name, sep, rest = message.partition(" ")
+    flag = FLAG_OF.get(name)
+    return f"{flag} {rest}" if flag and sep else message
 
 
 class CliError(Exception):
@@ -42,14 +61,59 @@ def add_shape_args(p: argparse.ArgumentParser, *, with_br: bool = True) -> None:
 
     with_br=False for commands that compute b_R/h_R themselves (design-br)."""
     g = p.add_argument_group("damper shape (either --shape or the angles" + (" and offsets)" if with_br else ")"))
-    g.add_argument("--shape", help="a paper shape: 90L, 74L, 60sym, 74R, 90R, 45sym")
+    g.add_argument("--shape", help="a paper shape: 90L, 74L, 60sym, 74R, 90R, 45sym (any case)")
     g.add_argument("--theta-l", type=float, help="left base angle, deg, in (0, 90]")
     g.add_argument("--theta-r", type=float, help="right base angle, deg, in (0, 90]")
     if with_br:
-        g.add_argument("--br", type=float, help="b_R/h_R: offset of pad R1 up the right flank, in [-0.5, 0.5]")
+        g.add_argument("--br", help="b_R/h_R: offset of pad R1 up the right flank, in [-0.5, 0.5], or "
+                       "'centred' (the paper's rule: the b_R/h_R that centres the left resultant at --mu)")
     g.add_argument("--bl2", type=float, default=None,
                    help="2b_L/h_L: pad spacing on the left flank, in (0, 1] (default 0.8; custom shapes "
                         "only: a paper shape fixes it)")
+    g.add_argument("--x-d", type=float, default=None,
+                   help="horizontal position of the centre of mass, where F_D acts, in units of the "
+                        "height H from the left base corner, in [-1e6, 1e6] (default: the triangle's "
+                        "centroid)")
+
+
+def shape_name(text: str, flag: str = "--shape") -> str:
+    """A paper shape's name as the tables spell it, whatever the case the user typed ('60SYM')."""
+    from ..geometry import paper_tables
+
+    known = list(paper_tables()["shapes"])
+    by_lower = {k.lower(): k for k in known}
+    name = by_lower.get(text.strip().lower())
+    if name is None:
+        raise CliError(f"{flag} must name shapes among {', '.join(known)} (any case); got {text.strip()!r}")
+    return name
+
+
+def parse_br(text, flag: str = "--br"):
+    """'centred' (or 'centered'), else a number (checked against [-0.5, 0.5] by the library)."""
+    if text is None or isinstance(text, float):
+        return text
+    if text.strip().lower() in ("centred", "centered"):
+        return "centred"
+    try:
+        return float(text)
+    except ValueError:
+        raise CliError(f"{flag} must be a number in [-0.5, 0.5] or 'centred', e.g. {flag} 0.1; "
+                       f"got {text!r}") from None
+
+
+def centred_br(shape, mu_max: float, flag: str = "--br") -> float:
+    """The paper's rule (jaxdamp.statics.design_br) as `--br centred` means it in every command."""
+    from ..params import validate_mu
+    from ..statics import design_br
+
+    if mu_max is None:
+        raise CliError(f"{flag} centred needs --mu (the rule centres the left resultant at it)")
+    validate_mu(mu_max)
+    res = design_br(shape, mu_max)
+    if not bool(res.found):
+        raise CliError(f"{flag} centred: no b_R/h_R in [-0.45, 0.45] centres the left resultant at "
+                       f"mu = {mu_max:g}; give a number, e.g. {flag} 0.1")
+    return float(res.br_over_hr)
 
 
 def shape_from_args(args, *, need_br: bool = True):
@@ -57,7 +121,8 @@ def shape_from_args(args, *, need_br: bool = True):
     input (design-br computes it); the returned shape has b_R/h_R = 0, a placeholder."""
     from ..geometry import DamperShape, family_shape, validate_shape
 
-    br = getattr(args, "br", None)
+    br = parse_br(getattr(args, "br", None))
+    x_d = getattr(args, "x_d", None)
     angles = {"--theta-l": args.theta_l, "--theta-r": args.theta_r}
     if need_br:
         angles["--br"] = br
@@ -65,26 +130,38 @@ def shape_from_args(args, *, need_br: bool = True):
     if args.shape:
         if given:
             raise CliError(f"give either --shape or {'/'.join(angles)}, not both")
+        name = shape_name(args.shape)
         if args.bl2 is not None:
             raise CliError("--bl2 applies to a custom shape (--theta-l/--theta-r); the paper shape "
-                           f"{args.shape} fixes 2b_L/h_L")
-        return family_shape(args.shape)
+                           f"{name} fixes 2b_L/h_L")
+        return validate_shape(family_shape(name)._replace(x_d=x_d))
     missing = [k for k, v in angles.items() if v is None]
     if missing:
         raise CliError(f"a shape needs --shape NAME or all of {', '.join(angles)} (missing "
                        f"{', '.join(missing)})")
-    shape = DamperShape(args.theta_l, args.theta_r, br if need_br else 0.0,
-                        0.8 if args.bl2 is None else args.bl2)
-    return validate_shape(shape)
+    shape = DamperShape(args.theta_l, args.theta_r, 0.0, 0.8 if args.bl2 is None else args.bl2, x_d)
+    if need_br and br == "centred":
+        validate_shape(shape)
+        return shape._replace(br_over_hr=centred_br(shape, resolve_mu(args)))
+    return validate_shape(shape._replace(br_over_hr=br if need_br else 0.0))
 
 
 def add_contact_args(p, required: bool = False) -> None:
+    """--kn, --kt (one value for all three contacts, or three for R1, L1, L2) and --contacts-from
+    FILE (a fit-loops JSON); explicit flags override the file. The reference pair where neither is
+    given (required=True: one of them must be)."""
     from ..params import REFERENCE_KN, REFERENCE_KT
 
-    p.add_argument("--kn", type=float, default=None if required else REFERENCE_KN, required=required,
-                   help=f"normal contact stiffness, N/mm, in (0, inf) (default {REFERENCE_KN:g})")
-    p.add_argument("--kt", type=float, default=None if required else REFERENCE_KT, required=required,
-                   help=f"tangential contact stiffness, N/mm, in (0, inf) (default {REFERENCE_KT:g})")
+    p.add_argument("--kn", default=None,
+                   help="normal contact stiffness, N/mm, in (0, inf): one value for all three contacts "
+                        f"or three for R1,L1,L2 (e.g. 2e4,2e4,1.8e4; default {REFERENCE_KN:g})")
+    p.add_argument("--kt", default=None,
+                   help="tangential contact stiffness, N/mm, in (0, inf): one value or three for "
+                        f"R1,L1,L2 (default {REFERENCE_KT:g})")
+    p.add_argument("--contacts-from", metavar="FILE", default=None,
+                   help='JSON with "contacts": {"kn_n_per_mm": [R1, L1, L2], "kt_n_per_mm": [...], '
+                        '"mu": [...]} (as fit-loops writes it); --kn, --kt, --mu override it')
+    p.set_defaults(contacts_required=required)
 
 
 def add_load_args(p) -> None:
@@ -97,11 +174,10 @@ def add_design_args(p, mu_default=None) -> None:
     """Shape, friction, contact and load arguments: one Design's worth (mu required unless a
     default is given)."""
     add_shape_args(p)
-    if mu_default is None:
-        p.add_argument("--mu", type=float, required=True, help="friction coefficient, in (0, 5]")
-    else:
-        p.add_argument("--mu", type=float, default=mu_default,
-                       help=f"friction coefficient, in (0, 5] (default {mu_default:g})")
+    # --mu may come from --contacts-from: its presence is checked by contacts_from_args.
+    help_ = "friction coefficient, in (0, 5]" + ("" if mu_default is None else f" (default {mu_default:g})")
+    p.add_argument("--mu", type=float, default=None, help=help_)
+    p.set_defaults(mu_default=mu_default)
     add_contact_args(p)
     add_load_args(p)
 
@@ -115,10 +191,99 @@ def add_progress_arg(p) -> None:
                    help="no progress bar (it is shown on stderr only when stderr is a terminal)")
 
 
-def contacts_from_args(args):
-    from ..params import Contacts, validate_contacts
+def stiffness(text, flag: str):
+    """--kn/--kt: one number (all three contacts) or three (R1, L1, L2), N/mm."""
+    import numpy as np
 
+    if text is None or isinstance(text, float):
+        return text
+    values = float_list(str(text), flag, example="2e4,2e4,1.8e4")
+    if len(values) == 1:
+        return values[0]
+    if len(values) != 3:
+        raise CliError(f"{flag} takes one value (all contacts) or three (R1,L1,L2), e.g. {flag} "
+                       f"2e4,2e4,1.8e4; got {len(values)} values")
+    return np.array(values)
+
+
+def read_contacts_file(path, flag: str = "--contacts-from") -> dict:
+    """{"kn": .., "kt": .., "mu": ..} from a fit-loops JSON (each a number or three numbers, R1, L1,
+    L2; mu one number: the solver has one friction coefficient); CliError in one line otherwise."""
+    import numpy as np
+
+    try:
+        data = json.loads(Path(path).expanduser().read_text())
+        block = data["contacts"]
+        out = {}
+        for key, field in (("kn", "kn_n_per_mm"), ("kt", "kt_n_per_mm"), ("mu", "mu")):
+            if field in block:
+                a = np.asarray(block[field], dtype=float)
+                if a.ndim > 1 or a.size not in (1, 3):
+                    raise ValueError(f"{field} must be a number or three numbers (R1, L1, L2)")
+                out[key] = float(a.reshape(-1)[0]) if a.size == 1 else a
+    except OSError as exc:
+        raise CliError(f"{flag} {str(path)!r} cannot be read: {exc.strerror or exc}") from None
+    except (ValueError, KeyError, TypeError) as exc:
+        why = "no \"contacts\" object" if isinstance(exc, (KeyError, TypeError)) else str(exc)
+        raise CliError(f"{flag} {str(path)!r} is not a contacts file ({why}); expected "
+                       '{"contacts": {"kn_n_per_mm": [R1, L1, L2], "kt_n_per_mm": [...], "mu": [...]}}') from None
+    mu = out.get("mu")
+    if mu is not None and np.ndim(mu) and not np.all(mu == mu[0]):
+        raise CliError(f"{flag} {str(path)!r}: per-contact mu {list(map(float, mu))} is not supported "
+                       "(the solver takes one friction coefficient); give --mu")
+    if mu is not None and np.ndim(mu):
+        out["mu"] = float(mu[0])
+    return out
+
+
+def contacts_from_args(args):
+    """The Contacts of --kn/--kt over --contacts-from over the reference pair (validated; the
+    error names the flag). Sets args.kn, args.kt (and args.mu where the file gives it and --mu
+    does not) to what is used, so that every later line of the command shows them."""
+    from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts
+
+    given = _contacts_file(args)
+    resolve_mu(args)
+    kn, kt = stiffness(args.kn, "--kn"), stiffness(args.kt, "--kt")
+    kn = given.get("kn") if kn is None else kn
+    kt = given.get("kt") if kt is None else kt
+    if getattr(args, "contacts_required", False) and (kn is None or kt is None):
+        raise CliError("give --kn and --kt (or --contacts-from FILE)")
+    args.kn = REFERENCE_KN if kn is None else kn
+    args.kt = REFERENCE_KT if kt is None else kt
     return validate_contacts(Contacts(args.kn, args.kt))
+
+
+def _contacts_file(args) -> dict:
+    """The --contacts-from file's values, read once per command."""
+    if getattr(args, "contacts_from", None) is None:
+        return {}
+    if getattr(args, "_contacts_given", None) is None:
+        args._contacts_given = read_contacts_file(args.contacts_from)
+    return args._contacts_given
+
+
+def resolve_mu(args):
+    """args.mu: --mu, else the --contacts-from file's mu, else the command's default; CliError when
+    none is given and the command has no default. Validated (the error names --mu)."""
+    from ..params import validate_mu
+
+    if hasattr(args, "mu_default") and args.mu is None:
+        args.mu = _contacts_file(args).get("mu", args.mu_default)
+        if args.mu is None:
+            raise CliError("--mu is required (the friction coefficient, in (0, 5], e.g. --mu 0.5), "
+                           "or a --contacts-from FILE that gives mu")
+    if hasattr(args, "mu_default"):  # a command of one design (sweep's --mu is a list)
+        validate_mu(args.mu)
+    return getattr(args, "mu", None)
+
+
+def k_text(k) -> str:
+    """A stiffness for a text line: '20000' or '(20000, 20000, 18000)'."""
+    import numpy as np
+
+    a = np.asarray(k, float)
+    return f"{float(a):g}" if a.ndim == 0 else "(" + ", ".join(f"{v:g}" for v in a) + ")"
 
 
 def load_from_args(args):
@@ -127,49 +292,62 @@ def load_from_args(args):
     return validate_load(LoadCase(args.fd, args.q, args.r_sin_beta))
 
 
-def float_list(text: str, flag: str) -> tuple:
-    """'a,b,c' -> floats (validated later by the library)."""
+def float_list(text: str, flag: str, example: str = "0.7,0.5,0.3") -> tuple:
+    """'a,b,c' -> floats (validated later by the library); example: a valid value of this flag."""
     try:
         values = tuple(float(v) for v in text.split(",") if v.strip())
     except ValueError:
-        raise CliError(f"{flag} must be comma-separated numbers, e.g. 0.7,0.5,0.3; got {text!r}") from None
+        raise CliError(f"{flag} must be comma-separated numbers, e.g. {flag} {example}; got {text!r}") from None
     if not values:
-        raise CliError(f"{flag} must list at least one number; got {text!r}")
+        raise CliError(f"{flag} must list at least one number, e.g. {flag} {example}; got {text!r}")
     return values
 
 
 # ---------------------------------------------------------------- output paths (checked before work)
-def _first_existing(path: Path) -> Path:
-    p = path
-    while not p.exists() and p != p.parent:
-        p = p.parent
-    return p
+def _not_a_directory(path: Path) -> Path | None:
+    """The first ancestor of path (path included) that exists and is not a directory, if any."""
+    for q in reversed((path, *path.parents)):
+        if q.exists() and not q.is_dir():
+            return q
+        if not q.exists():
+            return None
+    return None
+
+
+def _make_dir(flag: str, given, p: Path) -> None:
+    """Create directory p (and its parents): the only sure check that it can be written."""
+    blocker = _not_a_directory(p.absolute())
+    if blocker is not None:
+        raise CliError(f"{flag} {str(given)!r} cannot be created: {str(blocker)!r} is a file, not a directory")
+    try:
+        p.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise CliError(f"{flag} {str(given)!r} cannot be created: {exc.strerror or exc}") from None
+    if not os.access(p, os.W_OK | os.X_OK):
+        raise CliError(f"{flag} {str(given)!r} is not writable")
 
 
 def check_output_dir(flag: str, path) -> Path:
-    """A directory that exists and is writable, or can be created (nothing is created here)."""
+    """A writable directory: created now (with its parents), before any work."""
     p = Path(path).expanduser()
-    if p.exists():
-        if not p.is_dir():
-            raise CliError(f"{flag} {str(path)!r} exists and is not a directory")
-        base = p
-    else:
-        base = _first_existing(p.absolute())
-        if not base.is_dir():
-            raise CliError(f"{flag} {str(path)!r} cannot be created: {str(base)!r} is not a directory")
-    if not os.access(base, os.W_OK | os.X_OK):
-        raise CliError(f"{flag} {str(path)!r}: {str(base)!r} is not writable")
+    if p.exists() and not p.is_dir():
+        raise CliError(f"{flag} {str(path)!r} exists and is not a directory")
+    _make_dir(flag, path, p)
     return p
 
 
 def check_output_file(flag: str, path, suffixes=None) -> Path:
-    """A file path whose directory exists and is writable (the file is not created here)."""
+    """A file path in an existing writable directory (a typo in a file's folder is an error, not a
+    new folder; nothing is created)."""
     p = Path(path).expanduser()
     if suffixes is not None and p.suffix.lower() not in suffixes:
         raise CliError(f"{flag} must end in {', '.join(suffixes[:-1])} or {suffixes[-1]}; got {str(path)!r}")
-    parent = p.parent if str(p.parent) else Path(".")
     if p.is_dir():
         raise CliError(f"{flag} {str(path)!r} is a directory, not a file")
+    parent = p.parent if str(p.parent) else Path(".")
+    blocker = _not_a_directory(parent.absolute())
+    if blocker is not None:
+        raise CliError(f"{flag} {str(path)!r} cannot be written: {str(blocker)!r} is a file, not a directory")
     if not parent.is_dir():
         raise CliError(f"{flag} {str(path)!r}: directory {str(parent)!r} does not exist")
     if not os.access(parent, os.W_OK | os.X_OK) or (p.exists() and not os.access(p, os.W_OK)):
@@ -265,9 +443,12 @@ def clean(obj):
 
 
 def document(status: str, payload: dict, **inputs) -> dict:
-    """The JSON document of a command: status and versions first, the inputs echoed, then payload."""
+    """The JSON document of a command: status and versions first, the inputs echoed under "inputs"
+    (every command's document has it: given here as keywords, or as payload["inputs"]), then the
+    payload."""
     doc = {"status": status, "schema_version": SCHEMA_VERSION, "jaxdamp_version": version()}
-    doc.update(inputs)
+    if inputs:
+        doc["inputs"] = inputs
     doc.update(payload)
     return clean(doc)
 

@@ -73,17 +73,16 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
 
 
 def run(args) -> int:
-    from ..params import prepare_inputs, validate_mu
+    from ..params import prepare_inputs
 
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     shape = C.shape_from_args(args)
-    validate_mu(args.mu)
-    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
     results = _program()(*prepare_inputs(shape, args.mu, contacts, load))
     status = C.status_name(results[0])
     p = cycle_payload(*results)
     doc = C.document(status, p, shape=C.shape_echo(shape), mu=args.mu,
                      contacts=C.contacts_echo(contacts), load=C.load_echo(load))
-    head = (f"Base-Cycle, mu = {args.mu:g}, kn = {args.kn:g} N/mm, kt = {args.kt:g} N/mm, "
+    head = (f"Base-Cycle, mu = {args.mu:g}, kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm, "
             f"F_D = {args.fd:g} N, q* = {args.q:g} mm")
     if p["psi_bc_mrad"] is None:
         from ..status import RESULTS

@@ -19,7 +19,7 @@ def register(sub) -> None:
     p = sub.add_parser("grad", help="derivatives of psi_BC, k_Re,BC, k_Im,BC, psi_fs, k_Re,fs "
                                     "w.r.t. the angles, b_R/h_R, 2b_L/h_L, mu, kn, kt (AD)")
     C.add_design_args(p)
-    p.add_argument("--psi-a", type=float, default=None,
+    p.add_argument("--psi-a", type=float, default=None, metavar="MRAD",
                    help="also differentiate k_Im at this amplitude, mrad, in [0, 1e9]")
     p.add_argument("--mode", choices=MODES, default="fwd",
                    help="AD mode: fwd (jax.jacfwd, default) or rev (jax.jacrev)")
@@ -69,16 +69,14 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
 
 def run(args) -> int:
     from ..gradients import PARAMETERS
-    from ..params import validate_mu
 
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     shape = C.shape_from_args(args)
-    validate_mu(args.mu)
-    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
     status, payload = grad_payload(shape, args.mu, contacts, load, args.mode, args.psi_a)
     doc = C.document(status, payload, shape=C.shape_echo(shape), mu=args.mu,
                      contacts=C.contacts_echo(contacts), load=C.load_echo(load))
     rows = [key for key, _ in JSON_OUTPUTS] + (["k_im_at_psi_a"] if args.psi_a is not None else [])
-    lines = [f"Sensitivities ({args.mode}-mode AD), mu = {args.mu:g}, kn = {args.kn:g}, kt = {args.kt:g} "
+    lines = [f"Sensitivities ({args.mode}-mode AD), mu = {args.mu:g}, kn = {C.k_text(args.kn)}, kt = {C.k_text(args.kt)} "
              "N/mm; per degree for angles, per N/mm for kn/kt",
              f"{'d(output)/d(var)':>16}" + "".join(f"{p:>13}" for p in PARAMETERS)]
     for key in rows:

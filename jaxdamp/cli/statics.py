@@ -31,7 +31,7 @@ def run(args) -> int:
 
     doc = C.document(status, {"start": end(st.start), "mid": end(st.mid), "liftoff": bool(st.liftoff),
                               "min_normal_over_fd": C.number(st.min_normal_over_fd) if solvable else None},
-                     shape=C.shape_echo(shape), mu=args.mu)
+                     shape=C.shape_echo(shape), mu=args.mu)  # under "inputs"
     lines = [f"Full-slip statics, mu = {args.mu:g} (forces in units of F_D)",
              f"{'':12}{'N_R1':>9}{'N_L1':>9}{'N_L2':>9}{'T_R1':>9}{'T_L1':>9}{'T_L2':>9}  resultant (% L1->L2)"]
     for label, s in (("cycle start", st.start), ("mid-cycle", st.mid)):

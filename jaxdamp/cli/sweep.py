@@ -68,15 +68,6 @@ def parse_values(text: str, flag: str) -> np.ndarray:
                          f"got {text!r}") from None
 
 
-def parse_br(text: str):
-    if text in ("centred", "centered"):
-        return "centred"
-    try:
-        return float(text)
-    except ValueError:
-        raise C.CliError(f"--br must be a number in [-0.5, 0.5] or 'centred'; got {text!r}") from None
-
-
 def estimate(n_designs: int, n_devices: int, chunk: int) -> dict:
     """Memory (bytes) and time (s) a sweep of n_designs is expected to need."""
     working = CHUNK_BYTES_PER_DESIGN * min(n_designs, chunk * n_devices)
@@ -99,16 +90,14 @@ def run(args) -> int:
     import jax
 
     from ..batch import check_sweep_inputs, device_chunk, device_mesh, sweep, values_chunk
-    from ..params import Contacts
     from ..plotting.sweep import write_sweep
 
     tl = parse_values(args.theta_l, "--theta-l")
     tr = parse_values(args.theta_r, "--theta-r")
     mus = parse_values(args.mu, "--mu")
-    br = parse_br(args.br)
-    contacts = Contacts(args.kn, args.kt)
+    br = C.parse_br(args.br)
+    contacts = C.contacts_from_args(args)
     check_sweep_inputs(tl, tr, mus, br, mu_max=args.mu_max, bl2_over_hl=args.bl2, contacts=contacts)
-    out = C.check_output_dir("--out", args.out)
     n = tl.size * tr.size * mus.size
     # The chunk evaluate_designs takes (its values chunk on CPU, else the platform's default).
     est = estimate(n, len(jax.devices()), values_chunk() or device_chunk(device_mesh()))
@@ -118,6 +107,7 @@ def run(args) -> int:
     if (n > MAX_DESIGNS or est["memory_bytes"] > MAX_BYTES) and not args.force:
         raise C.CliError(f"{line}, beyond the limit of {MAX_DESIGNS:.0e} designs or "
                          f"{MAX_BYTES / 1024**3:g} GB: use a coarser grid or --force")
+    out = C.check_output_dir("--out", args.out)  # created: before any work, after the size check
     print(line, file=sys.stderr)
     bar = C.progress_bar(args, total=n, desc="sweep", unit="design")
     try:
@@ -130,7 +120,7 @@ def run(args) -> int:
     inputs = {"theta_l_deg": tl, "theta_r_deg": tr, "mu": mus, "br_over_hr": br,
               "mu_max": res.mu_max, "bl2_over_hl": args.bl2, "contacts": C.contacts_echo(contacts),
               "load": C.load_echo(res_load())}
-    head = C.document(status, {"summary": summary}, inputs=inputs, estimate=est)
+    head = C.document(status, {"inputs": inputs, "summary": summary, "estimate": est})
     files = write_sweep(res, out, extra=head)
     doc = {**head, **summary, "files": [str(f) for f in files]}
     text = (f"{summary['points']} designs: {summary['valid']} valid, {summary['liftoff']} liftoff, "
