@@ -400,8 +400,11 @@ def named(values) -> dict:
 
 
 def shape_echo(shape) -> dict:
-    return {"theta_l_deg": number(shape.theta_l), "theta_r_deg": number(shape.theta_r),
+    echo = {"theta_l_deg": number(shape.theta_l), "theta_r_deg": number(shape.theta_r),
             "br_over_hr": number(shape.br_over_hr), "bl2_over_hl": number(shape.bl2_over_hl)}
+    if getattr(shape, "x_d", None) is not None:  # given: the centre of mass, in units of H
+        echo["x_d_over_h"] = number(shape.x_d)
+    return echo
 
 
 def contacts_echo(contacts) -> dict:

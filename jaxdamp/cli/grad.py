@@ -67,6 +67,13 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
     return status, payload
 
 
+def _cell(v) -> str:
+    """A derivative for the text table: a number, or (R1, L1, L2) for per-contact stiffness."""
+    if isinstance(v, list):
+        return " (" + ", ".join("n/a" if x is None else f"{x:.4g}" for x in v) + ")"
+    return f"{'n/a':>13}" if v is None else f"{v:13.5g}"
+
+
 def run(args) -> int:
     from ..gradients import PARAMETERS
 
@@ -81,8 +88,7 @@ def run(args) -> int:
              f"{'d(output)/d(var)':>16}" + "".join(f"{p:>13}" for p in PARAMETERS)]
     for key in rows:
         d = payload[key]
-        lines.append(f"{key:>16}" + "".join(f"{'n/a':>13}" if d[p] is None else f"{d[p]:13.5g}"
-                                            for p in PARAMETERS))
+        lines.append(f"{key:>16}" + "".join(_cell(d[p]) for p in PARAMETERS))
     if status != "ok":
         lines.append(f"WARNING: {status.replace('_', ' ')}: these derivatives do not describe a damper.")
     C.emit(args, doc, "\n".join(lines))
