@@ -6,7 +6,7 @@ A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.com
 from __future__ import annotations
 
 from jaxdamp.cli import (CliError, add_contact_args, contacts_from_args, add_json_arg, add_progress_arg,
-                         check_output_file, contacts_echo, document, emit, float_list, load_echo,
+                         check_output_file, contacts_echo, document, emit, float_list, load_echo, save_figure,
                          progress_bar)
 
 from .design import VARIABLES
@@ -79,7 +79,7 @@ def payload_of(args) -> dict:
 
         grid = grid_search(res.objective_name, problem, points=args.grid_points, weights=weights)
         ax = plot_paths(res, grid)
-        ax.figure.savefig(args.plot, dpi=120, bbox_inches="tight")
+        save_figure(ax.figure, args.plot, dpi=120, bbox_inches="tight")
         plt.close(ax.figure)
         payload["grid"] = {"best_objective": grid.best_value, "evaluations": grid.evaluations,
                            "best": None if grid.best_x is None else

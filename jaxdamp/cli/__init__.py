@@ -19,7 +19,7 @@ import sys
 from .common import (CliError, UsageError, add_contact_args, add_json_arg, add_load_args,
                       add_progress_arg, add_shape_args, check_output_dir, check_output_file,
                       contacts_echo, contacts_from_args, document, emit, float_list, load_echo,
-                      progress_bar)
+                      progress_bar, save_figure, write_text)
 
 UNITS = __doc__.split("\n\n", 1)[1]
 
@@ -202,6 +202,6 @@ def console() -> None:
 
 __all__ = ["COMMANDS", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
            "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
-           "check_output_dir", "check_output_file", "contacts_echo", "contacts_from_args", "document", "emit", "float_list",
+           "check_output_dir", "check_output_file", "contacts_echo", "contacts_from_args", "document", "save_figure", "write_text", "emit", "float_list",
            "load_echo",
            "main", "progress_bar"]

@@ -82,7 +82,7 @@ def run(args) -> int:
     for key, v in res.reported.items():
         lines.append(f"    {key:24} {v:+7.2f} %")
     if markdown is not None:
-        markdown.write_text(comparison_document(res))
+        C.write_text(markdown, comparison_document(res))
         lines.append(f"wrote {markdown}")
     C.emit(args, doc, "\n".join(lines))
     return 0

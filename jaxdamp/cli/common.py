@@ -14,6 +14,8 @@ import os
 import sys
 from pathlib import Path
 
+from ..paper.files import atomic_file, save_figure, write_text  # noqa: F401 - every CLI writer's
+
 # 3: the inputs are echoed under "inputs" in every document (schema 2 had them at the top level in
 # some); 2: every document carries status, schema_version, jaxdamp_version and echoes its inputs;
 # numbers that do not exist are null (schema 1 had 0.0 and no status).

@@ -26,7 +26,7 @@ def run(args) -> int:
     validate_mu(args.mu)
     out = C.check_output_file("--out", args.out, SUFFIXES)
     fig = plot_section(shape, args.mu, end=args.end)
-    fig.savefig(out, dpi=110)
+    C.save_figure(fig, out, dpi=110)
     import matplotlib.pyplot as plt
 
     plt.close(fig)

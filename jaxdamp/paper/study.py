@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from ..status import status_of
+from .files import atomic_file, write_text
 
 SCHEMA_VERSION = 2  # study.json: 2 adds "status", "schema_version", "jaxdamp_version"
 
@@ -163,7 +164,7 @@ def write_tables(out: Path, summary: dict) -> list[str]:
     files = []
 
     def write(name, header, rows):
-        with open(out / name, "w", newline="") as f:
+        with atomic_file(out / name, "w", newline="") as f:
             w = csv.writer(f)
             w.writerow(header)
             w.writerows(rows)
@@ -483,9 +484,9 @@ def write_study(out: Path, summary: dict) -> None:
     out.mkdir(parents=True, exist_ok=True)
     write_tables(out / "tables", summary)
     doc = build_report(summary)
-    (out / "report.md").write_text(doc.markdown())
-    (out / "report.html").write_text(doc.html())
-    (out / "study.json").write_text(json.dumps(summary, indent=1, ensure_ascii=False))
+    write_text(out / "report.md", doc.markdown())
+    write_text(out / "report.html", doc.html())
+    write_text(out / "study.json", json.dumps(summary, indent=1, ensure_ascii=False))
 
 
 def _version() -> str:

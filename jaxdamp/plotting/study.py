@@ -7,6 +7,7 @@ from __future__ import annotations
 import time
 from pathlib import Path
 
+from ..paper.files import save_figure
 from ..paper.report import KEY_FIGURE_SECTION
 from ..paper.study import (DEFAULT_MU, DEFAULT_SHAPES, check_study_inputs, compute_study, mu_key,
                            paper_values, write_study)
@@ -135,7 +136,7 @@ def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[d
     out.mkdir(parents=True, exist_ok=True)
     figs = []
     for fig, name, caption, section in study_figures(cycles, summaries, summary):
-        fig.savefig(out / name, dpi=110)
+        save_figure(fig, out / name, dpi=110)
         plt.close(fig)
         shape = name[:-4].rsplit("_", 1)[-1] if name[:-4].rsplit("_", 1)[-1] in cycles else None
         figs.append({"file": f"{out.name}/{name}", "caption": caption, "section": section, "shape": shape})

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from ..batch import SweepResult
+from ..paper.files import atomic_file, save_figure, write_text
 
 HEATMAPS = (("psi_bc", "psi_BC (mrad)"), ("k_im_bc", "k_Im,BC (N mm/mrad)"), ("w_M", "w_M"))
 STATUS = ("valid", "liftoff", "not converged", "b_R undefined")
@@ -131,7 +132,8 @@ def write_sweep(res: SweepResult, out: Path, extra: dict | None = None) -> list[
     out.mkdir(parents=True, exist_ok=True)
     arrays = sweep_arrays(res)
     npz = out / "sweep.npz"
-    np.savez_compressed(npz, **arrays)
+    with atomic_file(npz, "wb") as f:
+        np.savez_compressed(f, **arrays)
     meta = dict(extra or {})
     meta.update({"axes": "per-point arrays are indexed [mu, theta_l, theta_r]",
                  "units": {"theta": "deg", "psi": "mrad", "k": "N mm/mrad", "kn_kt": "N/mm",
@@ -141,7 +143,7 @@ def write_sweep(res: SweepResult, out: Path, extra: dict | None = None) -> list[
                  "counts": {s: int((arrays["status"] == i).sum()) for i, s in enumerate(STATUS)}})
     meta["data"] = _json_values(arrays)
     js = out / "sweep.json"
-    js.write_text(json.dumps(meta, allow_nan=False))
+    write_text(js, json.dumps(meta, allow_nan=False))
     png = out / "sweep.png"
-    heatmap_figure(res).savefig(png, dpi=110)
+    save_figure(heatmap_figure(res), png, dpi=110)
     return [npz, js, png]
