@@ -205,3 +205,43 @@ def test_sweep_heatmap_has_a_clean_layout():
     res = sweep(np.linspace(40.0, 90.0, 4), np.linspace(40.0, 90.0, 4), [0.7, 0.3])
     problems = layout_problems(heatmap_figure(res))
     assert not problems, "\n".join(problems)
+
+
+def test_no_study_figure_hides_a_curve(study_inputs):
+    """Two curves drawn identically on top of each other (or one along another: 90R's moment cycle
+    at mu = 0.7 runs along the mu = 0.5 one) get distinct markers and a note: no line is hidden."""
+    import matplotlib.pyplot as plt
+
+    from jaxdamp.plotting.figures import hidden_lines
+
+    cycles, summaries, summary = study_inputs
+    hidden, noted = [], []
+    for fig, name, _, _ in study_figures(cycles, summaries, summary):
+        for ax in fig.axes:
+            hidden += [f"{name}: {a.get_label()!r} under {b.get_label()!r}" for a, b in hidden_lines(ax)]
+            noted += [f"{name}: {ln.get_label()}" for ln in ax.get_lines() if "(dashed: on " in ln.get_label()]
+        plt.close(fig)
+    assert not hidden, "\n".join(hidden)
+    assert noted  # some of the study's curves do lie on others (90R's): they were found and marked
+
+
+def test_hidden_line_checker_and_the_90R_moment_cycles():
+    import matplotlib.pyplot as plt
+
+    import jaxdamp as jd
+    from jaxdamp.plotting.figures import hidden_lines, plot_moment_cycles
+
+    fig, ax = plt.subplots()
+    ax.plot([0, 1, 2], [0, 1, 2], "-o", color="C0", label="a")
+    ax.plot([0, 2], [0, 2], "-o", color="C1", label="b")  # covers a exactly (a's vertices on it)
+    ax.plot([0, 1], [1, 0], "-o", label="c")
+    assert [(a.get_label(), b.get_label()) for a, b in hidden_lines(ax)] == [("a", "b")]
+    plt.close(fig)
+    bcs = [jd.base_cycle(jd.family_shape("90R"), m) for m in (0.7, 0.5)]
+    fig = plot_moment_cycles(bcs)
+    ax = fig.axes[0]
+    assert hidden_lines(ax) == []
+    labels = [ln.get_label() for ln in ax.get_lines()]
+    assert "μ = 0.7: ψ_BC = 0.436 mrad (dashed: on μ = 0.5)" in labels
+    assert any("(dashed: on μ = 0.5)" in t.get_text() for t in ax.get_legend().get_texts())
+    plt.close(fig)

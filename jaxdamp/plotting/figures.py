@@ -77,6 +77,76 @@ def _legend_below(ax, ncol=2, fontsize=8):
               framealpha=0.9)
 
 
+# Markers of a curve that lies on another one (mark_coincident_lines): thin, so that the curve
+# underneath stays visible through them.
+COINCIDENT_MARKERS = ("x", "+", "1", "2", "3", "4")
+# A vertex closer than this to another curve (in fractions of the axes' width and height) lies on it.
+COINCIDENT_TOL = 2e-3
+
+
+def _axes_points(ax, line):
+    """The line's vertices in axes fractions (0..1 across the current limits), NaN rows dropped."""
+    x, y = (np.asarray(v, float) for v in line.get_data())
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    pts = np.stack([(x - x0) / (x1 - x0), (y - y0) / (y1 - y0)], -1)
+    return pts[np.all(np.isfinite(pts), -1)]
+
+
+def lies_on(points, polyline, tol=COINCIDENT_TOL) -> bool:
+    """Every point within tol of the polyline (a curve drawn on another one, in axes fractions)."""
+    if len(points) == 0 or len(polyline) < 2:
+        return False
+    a, b = polyline[:-1], polyline[1:]
+    d = b - a
+    t = np.clip(np.einsum("psk,sk->ps", points[:, None, :] - a[None], d)
+                / np.maximum(np.einsum("sk,sk->s", d, d), 1e-300), 0.0, 1.0)
+    nearest = a[None] + t[..., None] * d[None]
+    return bool(np.all(np.min(np.linalg.norm(points[:, None, :] - nearest, axis=-1), axis=1) <= tol))
+
+
+def hidden_lines(ax):
+    """(hidden, covering) pairs of visible lines: a line every vertex of which lies on a line drawn
+    above it (later, or at a higher zorder), with the same line style and marker: it cannot be seen."""
+    lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(ln.get_xdata()) >= 2]
+    order = {id(ln): (ln.get_zorder(), k) for k, ln in enumerate(lines)}
+    pairs = []
+    for ln in lines:
+        pts = _axes_points(ax, ln)
+        for other in lines:
+            if other is ln or order[id(other)] < order[id(ln)]:
+                continue
+            same_look = (ln.get_linestyle(), ln.get_marker()) == (other.get_linestyle(), other.get_marker())
+            if same_look and lies_on(pts, _axes_points(ax, other)):
+                pairs.append((ln, other))
+                break
+    return pairs
+
+
+def mark_coincident_lines(ax) -> list[tuple[str, str]]:
+    """A curve that lies on a later one (90R's moment cycle at mu = 0.7 runs along the mu = 0.5 one)
+    is brought to the front, dashed, with a distinct marker, and its legend label says on which
+    curve it lies. Returns the (hidden, covering) labels."""
+    out = []
+    legend = ax.get_legend()
+    entries = {} if legend is None else {t.get_text(): (t, h) for t, h in
+                                         zip(legend.get_texts(), legend.legend_handles)}
+    for k, (ln, over) in enumerate(hidden_lines(ax)):
+        name, under = ln.get_label(), over.get_label()
+        style = dict(zorder=over.get_zorder() + 0.1, linestyle=(0, (4, 2)),
+                     marker=COINCIDENT_MARKERS[k % len(COINCIDENT_MARKERS)],
+                     markersize=max(ln.get_markersize(), 8.0), markeredgewidth=1.6)
+        ln.set(**style)
+        if not name.startswith("_") and not under.startswith("_"):
+            ln.set_label(f"{name} (dashed: on {under.split(':')[0]})")
+            if name in entries:  # the legend drawn already: its entry in place (keeps its layout)
+                text, handle = entries[name]
+                text.set_text(ln.get_label())
+                if handle is not None and hasattr(handle, "set_marker"):
+                    handle.set(**{k: v for k, v in style.items() if k != "zorder"})
+        out.append((name, under))
+    return out
+
+
 def _liftoff_panel(ax, text):
     ax.set_xticks([])
     ax.set_yticks([])
@@ -491,6 +561,7 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
     ax.axvline(0, color="0.7", lw=0.6)
     ax.grid(alpha=0.25)
     ax.legend(loc="best", fontsize=9)
+    mark_coincident_lines(ax)
     if q is not None:
         _psi_dv_axis(ax, q)
     return _finish(fig)

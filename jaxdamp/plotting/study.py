@@ -16,7 +16,18 @@ from ..paper.study import (DEFAULT_MU, DEFAULT_SHAPES, check_study_inputs, compu
 def study_figures(cycles, summaries, summary):
     """Every figure of the study, one at a time: yields (Figure, file name, caption, section).
 
-    The caller saves and closes each figure (`make_figures`) or inspects it (the layout test)."""
+    A curve that lies on another one in any panel is brought to the front with distinct markers and
+    a note (`mark_coincident_lines`). The caller saves and closes each figure (`make_figures`) or
+    inspects it (the layout test)."""
+    from .figures import mark_coincident_lines
+
+    for fig, name, caption, section in _study_figures(cycles, summaries, summary):
+        for ax in fig.axes:
+            mark_coincident_lines(ax)
+        yield fig, name, caption, section
+
+
+def _study_figures(cycles, summaries, summary):
     import matplotlib.pyplot as plt
 
     from .. import plotting as P
