@@ -64,21 +64,45 @@ def plot_amplitude_stiffness(shape, mu, contacts=None, load=None, psi_a_mrad=Non
         axis.plot(psi, d["gross_slip"][j], "C0-", label="exact, from gross slip")
         axis.plot(psi, d["assembly"][j], "C1-.", label="exact, from assembly")
         axis.plot(psi, d["interpolated"][j], "k--", lw=1, label="paper's interpolation")
-        # Labels inside the axes on an opaque box (the dotted line passes behind), at two heights
-        # so that they stay apart when psi_fs and psi_BC coincide (a mechanism that goes straight
-        # to gross slip).
-        for x, name, y in ((d["psi_fs"], "psi_fs", 0.97), (d["psi_bc"], "psi_BC", 0.86)):
+        # Labels inside the axes on an opaque box (the dotted line passes behind), each at the
+        # first height clear of every curve at its psi (k_Re is highest at psi_fs: a label at the
+        # top sat on it), and apart from each other when psi_fs and psi_BC coincide (a mechanism
+        # that goes straight to gross slip).
+        axis.autoscale_view()
+        taken = []
+        for x, name in ((d["psi_fs"], "ψ_fs"), (d["psi_bc"], "ψ_BC")):
             axis.axvline(x, color="0.5", ls=":", lw=1)
+            y = _clear_height(axis, psi, [d[k][j] for k in ("gross_slip", "assembly", "interpolated")],
+                              x, taken)
+            taken.append((x, y))
             axis.annotate(name, (x, y), xycoords=("data", "axes fraction"), ha="center",
-                          va="top", fontsize=8, zorder=5,
+                          va="center", fontsize=8, zorder=5,
                           bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none"))
-        axis.set_xlabel("psi_a (mrad)")
+        axis.set_xlabel("ψ_a (mrad)")
         axis.set_ylabel(f"{label} (N mm/mrad)")
         axis.grid(alpha=0.3)
     ax[-1].legend(fontsize=8, loc="best")
     if title:
         fig.suptitle(title)
     return fig
+
+
+# Heights (axes fractions) tried for the psi_fs / psi_BC labels, top first; a label needs CLEARANCE
+# (axes fraction) from every curve at its psi and from the other label's height where both are close.
+LABEL_HEIGHTS = (0.95, 0.84, 0.5, 0.16, 0.05, 0.3, 0.7)
+CLEARANCE = 0.07
+
+
+def _clear_height(axis, psi, curves, x, taken) -> float:
+    """The first LABEL_HEIGHTS entry clear of the curves (at x) and of labels already placed near x."""
+    y0, y1 = axis.get_ylim()
+    (x0, x1) = axis.get_xlim()
+    at = [(np.interp(x, psi, c) - y0) / (y1 - y0) for c in curves if np.isfinite(np.interp(x, psi, c))]
+    near = [h for xt, h in taken if abs(xt - x) < 0.08 * (x1 - x0)]
+    for h in LABEL_HEIGHTS:
+        if all(abs(h - a) > CLEARANCE for a in at) and all(abs(h - t) > CLEARANCE for t in near):
+            return h
+    return LABEL_HEIGHTS[len(taken) % len(LABEL_HEIGHTS)]
 
 
 __all__ = ["amplitude_stiffness_data", "plot_amplitude_stiffness"]
