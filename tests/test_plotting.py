@@ -179,3 +179,23 @@ def test_energy_and_family_figures_mark_liftoff():
     fig = P.plot_family_comparison(res, paper={"60sym": {"0.7": {"k_re_fs": 28741.0}}})
     assert len(_labelled(fig, x_units=False)) == 6
     assert any(t.get_text() == "liftoff" for a in fig.axes for t in a.texts)
+
+
+def test_energy_figure_labels_empty_bars_0_and_says_where_energy_is_taken():
+    """A shape whose cycle dissipates nothing (bars empty) is labelled 0; the energy row says that
+    each shape's energy is taken at its own psi_BC."""
+    import matplotlib.pyplot as plt
+
+    from jaxdamp.plotting.figures import plot_energy
+
+    w = {"w_R1": 0.2, "w_L1": 0.3, "w_L2": 0.1, "w_M": 0.6, "liftoff": False}
+    zero = {"w_R1": 0.0, "w_L1": 0.0, "w_L2": 0.0, "w_M": 0.0, "liftoff": False}
+    results = {"60sym": {"0.7": w}, "90R": {"0.7": zero}}
+    energies = {"60sym": {"0.7": {"R1": 10.0, "L1": 20.0, "L2": 5.0, "M": 35.0}},
+                "90R": {"0.7": {"R1": 0.0, "L1": 0.0, "L2": 0.0, "M": 0.0}}}
+    fig = plot_energy(results, energies)
+    for ax in fig.axes:
+        zeros = [t for t in ax.texts if t.get_text() == "0"]
+        assert len(zeros) == 1 and zeros[0].get_position()[0] == 1  # under 90R only
+    assert "each shape at its own ψ_BC" in fig.axes[1].get_title()
+    plt.close(fig)

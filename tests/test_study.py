@@ -125,6 +125,12 @@ def test_tables_written(full):
                  "paper_comparison.csv"):
         lines = (out / "tables" / name).read_text().splitlines()
         assert len(lines) > 5, name
+    header = (out / "tables" / "five_numbers.csv").read_text().splitlines()[0].split(",")
+    assert header[2:7] == ["psi_fs_mrad", "k_re_fs_Nmm_per_mrad", "psi_bc_mrad", "k_re_bc_Nmm_per_mrad",
+                           "k_im_bc_Nmm_per_mrad"]  # every k_* column says its unit
+    quantities = {ln.split(",")[3] for ln in (out / "tables" / "paper_comparison.csv").read_text().splitlines()[1:]}
+    assert quantities == {"psi_fs_mrad", "k_re_fs_Nmm_per_mrad", "psi_bc_mrad", "k_re_bc_Nmm_per_mrad",
+                          "k_im_bc_Nmm_per_mrad"}
     trans = s["transitions"]["60sym"]["0.7"]
     assert [t["tract"] for t in trans][:3] == ["0-A", "A-B", "B-C"]
     # Table 2: 0-A all stick, A-B L2 slips, B-C L1 and L2 slip.
@@ -364,6 +370,23 @@ def test_peak_response_entries_are_physical_and_mark_liftoff(full):
                     assert abs(r["psi_a_mrad"][i] - md["r"] * a) <= 1e-12 * a
 
 
+def test_report_gap_and_band_lines_say_what_they_mean(full):
+    """The gap cells name the bound they pass and the units; the count of band bounds widened to a
+    named state says of how many (was "982 (518.2 %, above)" and "Band bounds that the samples
+    missed and a named state set: 27.")."""
+    out, s = full
+    md = (out / "report.md").read_text()
+    assert "samples missed and a named state set" not in md and "%, above)" not in md
+    gaps = [e["gap"]["k_re"] for per in s["stiffness_band"].values() for e in per.values() if "gap" in e]
+    g = next(g for g in gaps if g["gap"])
+    bound = "maximum" if g["side"] == "above" else "minimum"
+    assert f"{g['side']} the band's {bound} (" in md and f"% of that {bound}) at ψ_a = " in md
+    drawn = [e["band"] for per in s["stiffness_band"].values() for e in per.values() if "band" in e]
+    missed = sum(b["named_outside_samples"] for b in drawn)
+    assert f"Of the {sum(4 * len(b['psi_a_mrad']) for b in drawn)} band bounds" in md
+    assert f"), {missed} lay outside every sampled initial state" in md
+
+
 def test_report_shows_the_gaps_and_the_peak_response(full):
     out, s = full
     report = (out / "report.md").read_text()
@@ -371,7 +394,9 @@ def test_report_shows_the_gaps_and_the_peak_response(full):
     assert "The shapes compared on peak blade response" in report
     g = s["stiffness_band"]["60sym"]["0.5"]["gap"]["k_re"]
     if g["gap"] > 0:
-        assert f"({g['pct']:.1f} %, {g['side']}) at ψ_a = {g['psi_a_mrad']:.3f}" in report
+        bound = "maximum" if g["side"] == "above" else "minimum"
+        assert (f"{g['side']} the band's {bound} ({g['pct']:.1f} % of that {bound}) at ψ_a = "
+                f"{g['psi_a_mrad']:.3f} mrad") in report
     a = s["peak_response"]["results"]["60sym"]["0.5"]["exact"]["amplitude_mm"][0]
     assert f"| 60sym | 0.5 | {a:.3f} |" in report
     assert "| 74L | 0.7 | LIFTOFF |" in report

@@ -296,7 +296,9 @@ def _gap_cell(g):
         return "—"
     if g["gap"] == 0.0:
         return "0 (inside)"
-    return f"{fmt(g['gap'], 0)} ({fmt(g['pct'], 1)} %, {g['side']}) at ψ_a = {fmt(g['psi_a_mrad'], 3)}"
+    bound = "maximum" if g["side"] == "above" else "minimum"
+    return (f"{fmt(g['gap'], 0)} {g['side']} the band's {bound} ({fmt(g['pct'], 1)} % of that {bound}) "
+            f"at ψ_a = {fmt(g['psi_a_mrad'], 3)} mrad")
 
 
 def _interpolation_gaps(doc, summary, shapes):
@@ -323,9 +325,12 @@ def _interpolation_gaps(doc, summary, shapes):
                 continue
             rows.append([s, m, e["status"], _gap_cell(e["gap"]["k_re"]), _gap_cell(e["gap"]["k_im"])])
     doc.table(["shape", "μ", "status", "k_Re gap (N mm/mrad)", "k_Im gap (N mm/mrad)"], rows)
-    missed = sum(e["band"]["named_outside_samples"] for per in bands.values() for e in per.values()
-                 if "band" in e)
-    doc.p(f"Band bounds that the samples missed and a named state set: {missed}.")
+    drawn = [e["band"] for per in bands.values() for e in per.values() if "band" in e]
+    missed = sum(b["named_outside_samples"] for b in drawn)
+    bounds = sum(4 * len(b["psi_a_mrad"]) for b in drawn)  # min and max of k_Re and k_Im per amplitude
+    doc.p(f"Of the {bounds} band bounds (the minimum and maximum of k_Re and of k_Im at each "
+          f"amplitude), {missed} lay outside every sampled initial state and were set by a named "
+          "state (gross slip or assembly): the band was widened to hold it.")
 
 
 def _peak_response(doc, summary, shapes):

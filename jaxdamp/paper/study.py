@@ -157,6 +157,12 @@ def result_entry(s) -> dict:
     return entry
 
 
+# CSV column names of the five numbers, with their units (the study.json keys of k carry none:
+# k is in N mm/mrad throughout, as "units" in study.json says).
+CSV_NAMES = {"psi_fs_mrad": "psi_fs_mrad", "k_re_fs": "k_re_fs_Nmm_per_mrad", "psi_bc_mrad": "psi_bc_mrad",
+             "k_re_bc": "k_re_bc_Nmm_per_mrad", "k_im_bc": "k_im_bc_Nmm_per_mrad"}
+
+
 def write_tables(out: Path, summary: dict) -> list[str]:
     """CSV tables: five numbers, work shape factors, scores, transitions, paper comparison."""
     out.mkdir(parents=True, exist_ok=True)
@@ -170,7 +176,7 @@ def write_tables(out: Path, summary: dict) -> list[str]:
             w.writerows(rows)
         files.append(name)
 
-    write("five_numbers.csv", ["shape", "mu", *TABLE_B_KEYS, "liftoff", "converged"],
+    write("five_numbers.csv", ["shape", "mu", *(CSV_NAMES[k] for k in TABLE_B_KEYS), "liftoff", "converged"],
           [[s, m, *[e[k] for k in TABLE_B_KEYS], e["liftoff"], e["converged"]] for s, per in res.items()
            for m, e in per.items()])
     en = summary["energies"]
@@ -189,7 +195,7 @@ def write_tables(out: Path, summary: dict) -> list[str]:
           [[s, m, t["tract"], t["slip"], t["dv_um"]] for s, per in summary["transitions"].items()
            for m, tr in per.items() for t in (tr or [])])
     write("paper_comparison.csv", ["table", "shape", "mu", "quantity", "paper", "ours", "deviation_pct"],
-          [[t["table"], t["shape"], r["mu"], k, r["paper"][k], r["ours"][k], r["dev_pct"][k]]
+          [[t["table"], t["shape"], r["mu"], CSV_NAMES[k], r["paper"][k], r["ours"][k], r["dev_pct"][k]]
            for t in summary["paper_comparison"]["tables"] for r in t["rows"] for k in TABLE_B_KEYS])
     return files
 

@@ -685,13 +685,18 @@ def _mu_keys(results):
     return keys
 
 
+# A stacked bar below this fraction of the panel's highest is labelled 0 (it is drawn empty).
+ZERO_BAR = 1e-3
+
+
 def plot_energy(results, energies=None):
     """Dissipated energy per contact for every shape (bars) and friction coefficient (panels).
 
     results: {shape: {mu_key: entry}} as in study.json (work shape factors w_R1, w_L1, w_L2, w_M).
     Top row: work shape factors stacked per contact, with w_M (= their sum) as a black diamond and
     the contact shares in %. energies: optional {shape: {mu_key: {"R1", "L1", "L2", "M"}}} in N mm per
-    Base-Cycle, drawn in a second row.
+    Base-Cycle, drawn in a second row: each shape's Base-Cycle, so each at its own psi_BC amplitude.
+    A shape whose bar is (next to) empty gets a "0" label.
     """
     mus = _mu_keys(results)
     shapes = list(results)
@@ -729,6 +734,11 @@ def plot_energy(results, energies=None):
                     ax.text(xi, 0.02, "LIFTOFF", rotation=90, ha="center", va="bottom", color="firebrick",
                             fontsize=9, transform=ax.get_xaxis_transform())
                     continue
+                if bottom[xi] <= ZERO_BAR * max(bottom.max(), 1e-300):
+                    # a cycle that dissipates (next to) nothing (90R: the mechanism freezes): an
+                    # empty bar is a number, 0, not a missing one
+                    ax.text(xi, 0.02, "0", ha="center", va="bottom", fontsize=10, fontweight="bold",
+                            transform=ax.get_xaxis_transform())
                 tops.append((xi, e["w_M"] if r == 0 else energies[s][mu]["M"]))
             if tops:
                 xs, ys = zip(*tops)
@@ -740,7 +750,7 @@ def plot_energy(results, energies=None):
                 ax.set_title(f"μ = {mu}: work shape factors (full slip)")
                 ax.set_ylabel("work shape factor w (–)")
             else:
-                ax.set_title(f"μ = {mu}: energy per Base-Cycle")
+                ax.set_title(f"μ = {mu}: energy per Base-Cycle\n(each shape at its own ψ_BC)")
                 ax.set_ylabel("dissipated energy (N mm per cycle)")
             ax.legend(fontsize=8, loc="upper right")
     return fig

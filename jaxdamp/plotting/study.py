@@ -74,7 +74,9 @@ def _study_figures(cycles, summaries, summary):
                    "k(ψ_a): exact, band and the paper's interpolation")
     yield (P.plot_energy(summary["results"], summary["energies"]), "energy.png",
            "Work shape factors (top) and energy dissipated per Base-Cycle (bottom) per contact; "
-           "black diamonds: w_M and ∮M dψ (cf. Appendix B/C).", "Dissipated energy per contact")
+           "each shape's energy is that of its own Base-Cycle, so at its own amplitude ψ_BC (they "
+           "differ by shape and μ); a bar labelled 0 dissipates (next to) nothing (90R: the mechanism "
+           "freezes); black diamonds: w_M and ∮M dψ (cf. Appendix B/C).", "Dissipated energy per contact")
     yield (P.plot_family_comparison(summary["results"], paper_values()), "family.png",
            "The family side by side: the five numbers and w_M for each μ; black ticks: the paper's "
            "Tables B3.1-B5.1.", "Family comparison (Table 11)")
