@@ -17,8 +17,8 @@ def test_cli_json_contract(capsys, paper, tmp_path):
                            "--markdown", md)
     assert code == 0
     d = strict_json(out)
-    assert {"kn", "kt", "residuals_pct", "iterations", "residuals_90R_pct", "status", "start"} <= set(d)
-    assert d["status"] in ("ok", "not_converged") and d["start"]["kn_n_per_mm"] == 3 * KN0
+    assert {"kn", "kt", "residuals_pct", "iterations", "residuals_90R_pct", "status", "inputs"} <= set(d)
+    assert d["status"] in ("ok", "not_converged") and d["inputs"]["start"]["kn_n_per_mm"] == 3 * KN0
     assert isinstance(d["kn"], float) and isinstance(d["kt"], float) and d["kn"] > 0 and d["kt"] > 0
     assert isinstance(d["iterations"], int) and d["iterations"] >= 1
     keys = {f"{s}/{row[0]:g}/{n}" for s in FITTED for row in paper["table_B"][s] for n in cal.NUMBERS}

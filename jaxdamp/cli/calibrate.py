@@ -67,7 +67,8 @@ def run(args) -> int:
     start_kn, start_kt = start
     doc = C.document(status, result_payload(res),
                      start={"kn_n_per_mm": start_kn, "kt_n_per_mm": start_kt},
-                     targets=["B3.1 (60sym)", "B4.1 (74R)"])
+                     targets=["B3.1 (60sym)", "B4.1 (74R)"], split=bool(args.split), method=args.method,
+                     max_iter=args.max_iter)
     lines = [f"Calibration ({res.method}, {'R1 / L pads' if res.split else 'shared pair'}): "
              f"kn = {_fmt_k(res.kn)} N/mm, kt = {_fmt_k(res.kt)} N/mm after {res.iterations} iterations",
              f"  max |residual| over Tables B3.1/B4.1: {res.max_abs_residual_pct:.2f} %",
