@@ -35,7 +35,7 @@ def payload_of(args) -> dict:
     from .problem import make_problem
     from .solver import SolverConfig, optimize
 
-    contacts_from_args(args)  # --kn/--kt (one or three values) or --contacts-from, checked
+    contacts_from_args(args, shared=True)  # --kn/--kt or --contacts-from, checked
     fixed = _assignments(args.fix, "--fix")
     for key in fixed:
         if key not in VARIABLES:

@@ -83,3 +83,12 @@ def test_missing_contacts_file_and_bad_values(tmp_path, capsys):
     assert code == 2 and "--kn must be in (0, inf) N/mm; got -1" in one_error_line(err)
     code, _, err = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", "--kn", "2e4,nan,2e4")
     assert code == 2 and "--kn must be a finite number" in one_error_line(err)
+
+
+@pytest.mark.parametrize("command", [["sweep", "--out", "OUT"], ["optimize"]])
+def test_shared_pair_commands_refuse_three_values(tmp_path, capsys, command):
+    argv = [str(tmp_path / "o") if a == "OUT" else a for a in command]
+    code, _, err = run_cli(capsys, *argv, "--kn", "2e4,2e4,1.8e4")
+    line = one_error_line(err)
+    assert code == 2 and "--kn takes one value here" in line and "(20000, 20000, 18000)" in line
+    assert not (tmp_path / "o").exists()

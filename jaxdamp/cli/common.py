@@ -238,10 +238,11 @@ def read_contacts_file(path, flag: str = "--contacts-from") -> dict:
     return out
 
 
-def contacts_from_args(args):
+def contacts_from_args(args, shared: bool = False):
     """The Contacts of --kn/--kt over --contacts-from over the reference pair (validated; the
     error names the flag). Sets args.kn, args.kt (and args.mu where the file gives it and --mu
-    does not) to what is used, so that every later line of the command shows them."""
+    does not) to what is used, so that every later line of the command shows them. shared: the
+    command runs one pair for all three contacts (sweep, optimize): three values are an error."""
     from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts
 
     given = _contacts_file(args)
@@ -253,6 +254,11 @@ def contacts_from_args(args):
         raise CliError("give --kn and --kt (or --contacts-from FILE)")
     args.kn = REFERENCE_KN if kn is None else kn
     args.kt = REFERENCE_KT if kt is None else kt
+    if shared:
+        for flag, k in (("--kn", args.kn), ("--kt", args.kt)):
+            if not isinstance(k, float):
+                raise CliError(f"{flag} takes one value here (one pair for all three contacts), e.g. "
+                               f"{flag} 2e4; got {k_text(k)}")
     return validate_contacts(Contacts(args.kn, args.kt))
 
 

@@ -96,7 +96,7 @@ def run(args) -> int:
     tr = parse_values(args.theta_r, "--theta-r")
     mus = parse_values(args.mu, "--mu")
     br = C.parse_br(args.br)
-    contacts = C.contacts_from_args(args)
+    contacts = C.contacts_from_args(args, shared=True)
     check_sweep_inputs(tl, tr, mus, br, mu_max=args.mu_max, bl2_over_hl=args.bl2, contacts=contacts)
     n = tl.size * tr.size * mus.size
     # The chunk evaluate_designs takes (its values chunk on CPU, else the platform's default).
