@@ -65,8 +65,9 @@ def run(args) -> int:
         bar.update(1)
     bar.close()
     bad = [r["status"] for r in rows if r["status"] not in ("ok", "shakedown")]
-    inputs = {"shape": args.shape and C.shape_name(args.shape), "theta_l": float(shape.theta_l), "theta_r": float(shape.theta_r),
-              "br_over_hr": float(shape.br_over_hr), "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
+    inputs = {"shape": args.shape and C.shape_name(args.shape), "theta_l": float(shape.theta_l),
+              "theta_r": float(shape.theta_r), "br_over_hr": float(shape.br_over_hr),
+              "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
               "band": bool(args.band)}

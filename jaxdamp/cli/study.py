@@ -29,10 +29,6 @@ def run(args) -> int:
 
     shapes = tuple(C.shape_name(s, "--shapes") for s in args.shapes.split(",") if s.strip())
     mus = C.float_list(args.mu, "--mu")
-    for flag in ("--kn", "--kt"):  # the study runs one shared pair (its tables are per shared pair)
-        value = getattr(args, flag[2:])
-        if value is not None and not isinstance(value, float):
-            raise C.CliError(f"{flag} takes one number for the study, e.g. {flag} 2e4; got {value!r}")
     kn, kt = check_study_inputs(shapes, mus, args.kn, args.kt)  # before the output path and any work
     out = C.check_output_dir("--out", args.out)
     summary = run_study(out, shapes, mus, kn, kt, progress=C.show_progress(args),

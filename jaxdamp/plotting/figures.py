@@ -106,8 +106,10 @@ def lies_on(points, polyline, tol=COINCIDENT_TOL) -> bool:
 
 def hidden_lines(ax):
     """(hidden, covering) pairs of visible lines: a line every vertex of which lies on a line drawn
-    above it (later, or at a higher zorder), with the same line style and marker: it cannot be seen."""
-    lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(ln.get_xdata()) >= 2]
+    above it (later, or at a higher zorder), with the same line style and marker: it cannot be seen.
+    Curves in data coordinates only (not axhline/axvline guides, whose x or y is in axes units)."""
+    lines = [ln for ln in ax.get_lines() if ln.get_visible() and len(ln.get_xdata()) >= 2
+             and ln.get_transform() == ax.transData]
     order = {id(ln): (ln.get_zorder(), k) for k, ln in enumerate(lines)}
     pairs = []
     for ln in lines:
@@ -737,8 +739,8 @@ def plot_energy(results, energies=None):
                 if bottom[xi] <= ZERO_BAR * max(bottom.max(), 1e-300):
                     # a cycle that dissipates (next to) nothing (90R: the mechanism freezes): an
                     # empty bar is a number, 0, not a missing one
-                    ax.text(xi, 0.02, "0", ha="center", va="bottom", fontsize=10, fontweight="bold",
-                            transform=ax.get_xaxis_transform())
+                    ax.text(xi, 0.02, "0" if bottom[xi] == 0.0 else "≈0", ha="center", va="bottom",
+                            fontsize=10, fontweight="bold", transform=ax.get_xaxis_transform())
                 tops.append((xi, e["w_M"] if r == 0 else energies[s][mu]["M"]))
             if tops:
                 xs, ys = zip(*tops)
