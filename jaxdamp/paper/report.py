@@ -330,7 +330,7 @@ def _interpolation_gaps(doc, summary, shapes):
     bounds = sum(4 * len(b["psi_a_mrad"]) for b in drawn)  # min and max of k_Re and k_Im per amplitude
     doc.p(f"Of the {bounds} band bounds (the minimum and maximum of k_Re and of k_Im at each "
           f"amplitude), {missed} lay outside every sampled initial state and were set by a named "
-          "state (gross slip or assembly): the band was widened to hold it.")
+          "state (gross slip or assembly): the band was widened to hold them.")
 
 
 def _peak_response(doc, summary, shapes):
