@@ -32,6 +32,9 @@ PERIODIC_TOL = 1e-9  # change of the moment between the last two periods, relati
 
 
 class HBMResult(NamedTuple):
+    """HBM-AFT at one amplitude psi_a (mrad): first-harmonic k_Re, k_Im (N mm/mrad), the work per
+    cycle (N mm), the periodicity reached, flags and a `jaxdamp.RESULTS` status."""
+
     k_re: jnp.ndarray  # N mm/mrad
     k_im: jnp.ndarray
     work: jnp.ndarray  # N mm per cycle, pi psi_a^2 k_Im

@@ -128,6 +128,9 @@ def force_rates(m: MarchModel, r: Response):
 
 
 class MarchState(NamedTuple):
+    """The marcher's state after a step: damper displacement, platform travel dv (mm), slips, and
+    the contact forces N, T (3,) in units of F_D, all measured from state 0."""
+
     q: jnp.ndarray  # (3,) damper displacement from state 0
     dv: jnp.ndarray  # relative platform displacement from state 0, mm
     p: jnp.ndarray  # (3,) accumulated slips
@@ -151,6 +154,7 @@ class Sample(NamedTuple):
 
 
 def initial_state(m: MarchModel) -> MarchState:
+    """State 0: the cycle-start full slip (no displacement, dv = 0 mm, forces N_ref, T_ref in F_D)."""
     z = jnp.zeros(3)
     return MarchState(z, jnp.zeros(()), z, m.N_ref, m.T_ref, z)
 
@@ -226,6 +230,8 @@ class HalfMarch(NamedTuple):
 
 
 def march_half(m: MarchModel, s: MarchState, direction, h, n_steps: int, max_newton: int = MAX_NEWTON):
+    """March one half-cycle from s: n_steps steps of h (mm of platform travel dv) in direction
+    (+1 or -1). Returns (end state, HalfMarch) with the n_steps + 1 samples, start included."""
     path = s.dv + direction * h * jnp.arange(1, n_steps + 1, dtype=float)
     end, smp = march(m, s, path, max_newton)
     first = Sample(s.dv, s.N, s.T, s.p, moment_of(m, s.N, s.T), jnp.zeros(3, int), jnp.array(False),

@@ -44,6 +44,7 @@ NOTE_90R = ("90R: our converged periodic cycle has k_Im,BC ≈ 0 (the mechanism 
 
 
 def mu_key(mu) -> str:
+    """The key of a friction coefficient in the study's JSON (0.7 -> "0.7")."""
     return f"{float(mu):g}"
 
 
@@ -387,6 +388,8 @@ def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N
 
 
 def blade_mode_dict() -> dict:
+    """The default `jaxdamp.response.BladeMode` as a dict of floats (f0 in Hz, k_b in N/mm, ...),
+    for the study's JSON."""
     from ..response import BladeMode
 
     return {k: float(v) for k, v in BladeMode()._asdict().items()}
