@@ -149,7 +149,8 @@ def _tables():
 
 
 def result_entry(s) -> dict:
-    """One study.json entry (the contract); numbers are null when the case lifts off."""
+    """One study.json entry (the contract: psi in mrad, k in N mm/mrad, w_* dimensionless work
+    shape factors); numbers are null when the case lifts off."""
     entry = {k: (None if s.liftoff else s.numbers[k]) for k in CONTRACT_KEYS}
     entry["liftoff"] = s.liftoff
     entry["converged"] = s.converged and not s.liftoff
@@ -250,7 +251,7 @@ def amplitude_grids(bc, n_amplitudes=BAND_AMPLITUDES):
 def exact_curves(shapes, mus, psi, contacts, load) -> dict:
     """{initial: (k_re, k_im, status)} with (designs, amplitudes) arrays: the exact steady cycles
     of every design from both named initial states, in one batched call per state (one compiled
-    kernel for the whole study); k is NaN where the status is not valid."""
+    kernel for the whole study); psi in mrad, k in N mm/mrad, NaN where the status is not valid."""
     import jax
 
     from ..amplitude import amplitude_curves
