@@ -46,11 +46,13 @@ def _rel(path: Path) -> str:
     return str(path.relative_to(ROOT))
 
 
-def _cli_commands():
+def _cli_commands(not_run=False):
+    """The `jaxdamp ...` lines of the shell blocks that are run (or, not_run=True, of those that
+    are not)."""
     cases = []
     for path in DOC_FILES:
         for lang, line, code, reason in code_blocks(path):
-            if lang not in ("bash", "console", "sh") or reason:
+            if lang not in ("bash", "console", "sh") or bool(reason) != not_run:
                 continue
             for k, raw in enumerate(code.splitlines()):
                 cmd = raw.strip().removeprefix("$ ")
@@ -101,6 +103,23 @@ def test_python_blocks_run(path, tmp_path):
     proc = subprocess.run([sys.executable, "-c", _DRIVER], input=json.dumps(blocks), text=True,
                           capture_output=True, cwd=tmp_path, env=env, timeout=600)
     assert proc.returncode == 0, proc.stderr[-4000:]
+
+
+def test_not_run_marker(tmp_path):
+    doc = tmp_path / "x.md"
+    doc.write_text("text\n\n<!-- not run: takes minutes -->\n```bash\nbash scripts/main.sh\n```\n\n"
+                   "```python\nprint(1)\n```\n")
+    assert [(b[0], b[1], b[3]) for b in code_blocks(doc)] == [("bash", 5, "takes minutes"),
+                                                             ("python", 9, None)]
+
+
+@pytest.mark.parametrize("cmd", _cli_commands(not_run=True))
+def test_not_run_commands_parse(cmd):
+    # The commands the docs show but the test does not run still name real commands and options.
+    from jaxdamp.cli import build_parser
+
+    args = build_parser().parse_args(shlex.split(cmd)[1:])
+    assert args.command == shlex.split(cmd)[1]
 
 
 @pytest.mark.parametrize("cmd", _cli_commands())
