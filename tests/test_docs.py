@@ -89,6 +89,14 @@ def test_blocks_are_found_and_few_are_skipped():
     unknown = [(_rel(p), b[1], b[0]) for p in DOC_FILES for b in code_blocks(p)
                if b[0] not in RUN_LANGS and not b[3] and b[0] not in ("text", "json", "toml", "")]
     assert unknown == []
+    # A shell block that is run holds only `jaxdamp ...` commands (and comments): anything else
+    # (scripts, benchmarks) would pass unrun, so it must be marked not run.
+    other = [(_rel(p), b[1], ln) for p in DOC_FILES for b in code_blocks(p)
+             if b[0] in ("bash", "console", "sh") and not b[3]
+             for ln in b[2].splitlines()
+             if ln.strip() and not ln.strip().startswith("#")
+             and not ln.strip().removeprefix("$ ").startswith("jaxdamp ")]
+    assert other == []
 
 
 @pytest.mark.parametrize("path", PYTHON_FILES, ids=_rel)
