@@ -55,7 +55,8 @@ class HBMPath(NamedTuple):
 
 
 def synthesize(y, harmonics, n_time, phase=0.0):
-    """x at tau_k = phase + 2 pi k / n_time from the coefficients y = (a_1, b_1, a_3, b_3, ...)."""
+    """x (n_time,) at tau_k = phase + 2 pi k / n_time (phase in rad) from the coefficients
+    y = (a_1, b_1, a_3, b_3, ...), in the coefficients' unit (mm for the tip motion)."""
     tau = phase + 2.0 * jnp.pi * jnp.arange(n_time) / n_time
     h = jnp.asarray(harmonics, float)
     a, b = y[0::2], y[1::2]
@@ -101,7 +102,8 @@ def aft_modal_force(model, mode: BladeMode, y, harmonics, n_time=N_TIME, n_perio
 
 
 def describing_modal_force(damper: DamperStiffness, mode: BladeMode, y):
-    """First-harmonic modal force of a damper given as k(psi_a) (other harmonics: zero)."""
+    """First-harmonic modal force (N) of a damper given as k(psi_a) (other harmonics: zero), at
+    the tip-motion coefficients y = (a_1, b_1, ...) in mm."""
     a1, b1 = y[0], y[1]
     amp2 = a1 * a1 + b1 * b1
     pos = amp2 > 0
@@ -190,7 +192,8 @@ def continuation_path(force_fn, mode: BladeMode, harmonics, force_n, amp_scale_m
     """The FRF branch across the resonance and its peak (pure JAX, traceable; see module doc).
 
     z = (y / amp_scale, (Omega - omega_peak) / omega_halfwidth): amplitudes and frequency on
-    comparable scales. Starts 5 half-widths below omega_peak from the linear stuck guess."""
+    comparable scales (amp_scale_mm in mm, omega in rad/s). Starts 5 half-widths below omega_peak
+    from the linear stuck guess. force_n: the modal force amplitude (N)."""
     nh = 2 * len(harmonics)
     f = jnp.asarray(force_n, float)
 
@@ -289,7 +292,8 @@ def coupled_hbm(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode
 def describing_function_hbm(damper: DamperStiffness, mode: BladeMode, force_n, *,
                             n_steps: int = 160) -> HBMPath:
     """H = 1 continuation with the damper as the describing function k(psi_a) (the layered
-    model's physics through the HBM solver: a check of the continuation and peak search)."""
+    model's physics through the HBM solver: a check of the continuation and peak search).
+    force_n: the modal force amplitude (N); amplitudes in the path are tip amplitudes (mm)."""
     scale, om, width = _scales(damper, mode, force_n)
     return continuation_path(lambda y: describing_modal_force(damper, mode, y), mode, (1,),
                              force_n, scale, om, width, n_steps=n_steps)

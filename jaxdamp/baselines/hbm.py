@@ -32,6 +32,9 @@ PERIODIC_TOL = 1e-9  # change of the moment between the last two periods, relati
 
 
 class HBMResult(NamedTuple):
+    """HBM-AFT at one amplitude psi_a (mrad): first-harmonic k_Re, k_Im (N mm/mrad), the work per
+    cycle (N mm), the periodicity reached, flags and a `jaxdamp.RESULTS` status."""
+
     k_re: jnp.ndarray  # N mm/mrad
     k_im: jnp.ndarray
     work: jnp.ndarray  # N mm per cycle, pi psi_a^2 k_Im
@@ -43,7 +46,8 @@ class HBMResult(NamedTuple):
 
 
 def first_harmonic(M, psi_a_mrad):
-    """(k_Re, k_Im) from one period of samples M at tau_k = 2 pi k / Nt, k = 0..Nt-1, by FFT."""
+    """(k_Re, k_Im) in N mm/mrad from one period of moment samples M (..., Nt) in N mm at
+    tau_k = 2 pi k / Nt, k = 0..Nt-1, by FFT; psi_a_mrad: the amplitude (mrad)."""
     return stiffness_from_rfft(jnp.fft.rfft(M, axis=-1)[..., 1], M.shape[-1], psi_a_mrad)
 
 

@@ -32,7 +32,7 @@ from .timemarch import initial_state, march_model, step
 
 
 class TimeResponse(NamedTuple):
-    """Steady-state response at one forcing frequency.
+    """Steady-state response at one forcing frequency (Hz); displacements in mm.
 
     amplitude_mm: first-harmonic amplitude of x over the last period; max_displacement_mm:
     max |x - mean| over it; change: relative change of the first-harmonic amplitude between the
@@ -124,7 +124,8 @@ def steady_state(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMod
 
 def start_on_harmonics(y, harmonics, frequency_hz):
     """(x0, v0, phase0) on the crest of the periodic motion x(tau) = sum a_h cos + b_h sin of a
-    harmonic-balance solution (the forcing F cos(tau)), to start `steady_state` near it."""
+    harmonic-balance solution (the forcing F cos(tau)), to start `steady_state` near it: x0 in the
+    coefficients' unit (mm), v0 in mm/s at frequency_hz (Hz), phase0 in rad."""
     import numpy as np
 
     y = np.asarray(y, float)

@@ -47,7 +47,8 @@ MIN_ALPHA = 1.0 / 64.0  # smallest line-search step fraction
 
 
 class MarchModel(NamedTuple):
-    """Constant data of the time-marching model (a pytree of arrays)."""
+    """Constant data of the time-marching model (a pytree of arrays; forces in units of F_D,
+    stiffness per F_D in 1/mm, moments in N mm; per-contact arrays (3,) in R1, L1, L2 order)."""
 
     a: jnp.ndarray  # (3, 3) generalised outward normals about D, one row per contact (R1, L1, L2)
     c: jnp.ndarray  # (3, 3) generalised up-flank tangents
@@ -65,7 +66,9 @@ class MarchModel(NamedTuple):
 
 
 def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
-    """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip."""
+    """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip.
+    Inputs as `jaxdamp.base_cycle` (angles in degrees, kn, kt in N/mm, F_D in N, q* in mm); the
+    model holds forces in units of F_D and stiffness per F_D (1/mm)."""
     a, c, geo = contact_columns(shape)
     kn, kt = contacts.per_contact()
     F_D = jnp.asarray(load.F_D, float)
@@ -96,7 +99,8 @@ class Response(NamedTuple):
 
 
 def respond(m: MarchModel, q, dv, p_old) -> Response:
-    """Return mapping of the three contacts for damper position q and platform motion dv."""
+    """Return mapping of the three contacts for damper position q (3,) and platform motion dv (mm):
+    forces N, T (3,) in units of F_D, slips and stick/slip codes."""
     gn = m.a @ q - m.nw * dv
     gt = m.c @ q - m.tw * dv
     N_tr = m.N_ref + m.kn * gn
@@ -128,6 +132,9 @@ def force_rates(m: MarchModel, r: Response):
 
 
 class MarchState(NamedTuple):
+    """The marcher's state after a step: damper displacement, platform travel dv (mm), slips, and
+    the contact forces N, T (3,) in units of F_D, all measured from state 0."""
+
     q: jnp.ndarray  # (3,) damper displacement from state 0
     dv: jnp.ndarray  # relative platform displacement from state 0, mm
     p: jnp.ndarray  # (3,) accumulated slips
@@ -137,7 +144,8 @@ class MarchState(NamedTuple):
 
 
 class Sample(NamedTuple):
-    """What a step records (arrays with a leading step axis after `march`)."""
+    """What a step records (arrays with a leading step axis after `march`): dv (mm), N, T, p (3,)
+    in units of F_D and mm, the moment M (N mm), stick/slip codes and flags."""
 
     dv: jnp.ndarray
     N: jnp.ndarray
@@ -151,6 +159,7 @@ class Sample(NamedTuple):
 
 
 def initial_state(m: MarchModel) -> MarchState:
+    """State 0: the cycle-start full slip (no displacement, dv = 0 mm, forces N_ref, T_ref in F_D)."""
     z = jnp.zeros(3)
     return MarchState(z, jnp.zeros(()), z, m.N_ref, m.T_ref, z)
 
@@ -194,7 +203,8 @@ def newton(residual, q0, max_newton: int = MAX_NEWTON):
 
 
 def step(m: MarchModel, s: MarchState, dv_new, max_newton: int = MAX_NEWTON):
-    """One load step: Newton on R(q) = 0 with return mapping, from the tangent predictor."""
+    """One load step to platform travel dv_new (mm): Newton on R(q) = 0 with return mapping, from
+    the tangent predictor. Returns (state, Sample)."""
     q0 = s.q + s.vel * (dv_new - s.dv)
 
     def residual(q):
@@ -226,6 +236,8 @@ class HalfMarch(NamedTuple):
 
 
 def march_half(m: MarchModel, s: MarchState, direction, h, n_steps: int, max_newton: int = MAX_NEWTON):
+    """March one half-cycle from s: n_steps steps of h (mm of platform travel dv) in direction
+    (+1 or -1). Returns (end state, HalfMarch) with the n_steps + 1 samples, start included."""
     path = s.dv + direction * h * jnp.arange(1, n_steps + 1, dtype=float)
     end, smp = march(m, s, path, max_newton)
     first = Sample(s.dv, s.N, s.T, s.p, moment_of(m, s.N, s.T), jnp.zeros(3, int), jnp.array(False),
@@ -429,7 +441,8 @@ def assemble(m: MarchModel, n_load: int, max_newton: int = MAX_NEWTON):
 
 
 class AmplitudeMarch(NamedTuple):
-    """A steady cycle at a prescribed amplitude by time marching (see `march_amplitude`)."""
+    """A steady cycle at a prescribed amplitude psi_a (mrad) by time marching (see
+    `march_amplitude`): k_Re, k_Im in N mm/mrad, energy in N mm per cycle, flags and status."""
 
     k_re: jnp.ndarray  # N mm/mrad, first harmonic of the sampled moment loop of the last pair
     k_im: jnp.ndarray

@@ -18,6 +18,9 @@ WORK = (("w_R1", "w_R1"), ("w_L1", "w_L1"), ("w_L2", "w_L2"), ("w_M", "w_M"))
 
 
 class Doc:
+    """A report built block by block (headings, paragraphs, tables, figures), written out as
+    Markdown or HTML."""
+
     def __init__(self, title: str):
         self.title = title
         self.blocks: list[tuple] = []
@@ -152,6 +155,8 @@ def _inline(text: str) -> str:
 
 # ---------------------------------------------------------------- content
 def fmt(v, digits=3):
+    """A number for the report: `digits` decimals, "—" for None (no value), yes/no for booleans,
+    never "-0"."""
     if v is None:
         return "—"
     if isinstance(v, bool):

@@ -45,6 +45,7 @@ NOTE_90R = ("90R: our converged periodic cycle has k_Im,BC ≈ 0 (the mechanism 
 
 
 def mu_key(mu) -> str:
+    """The key of a friction coefficient in the study's JSON (0.7 -> "0.7")."""
     return f"{float(mu):g}"
 
 
@@ -149,7 +150,8 @@ def _tables():
 
 
 def result_entry(s) -> dict:
-    """One study.json entry (the contract); numbers are null when the case lifts off."""
+    """One study.json entry (the contract: psi in mrad, k in N mm/mrad, w_* dimensionless work
+    shape factors); numbers are null when the case lifts off."""
     entry = {k: (None if s.liftoff else s.numbers[k]) for k in CONTRACT_KEYS}
     entry["liftoff"] = s.liftoff
     entry["converged"] = s.converged and not s.liftoff
@@ -256,7 +258,7 @@ def amplitude_grids(bc, n_amplitudes=BAND_AMPLITUDES):
 def exact_curves(shapes, mus, psi, contacts, load) -> dict:
     """{initial: (k_re, k_im, status)} with (designs, amplitudes) arrays: the exact steady cycles
     of every design from both named initial states, in one batched call per state (one compiled
-    kernel for the whole study); k is NaN where the status is not valid."""
+    kernel for the whole study); psi in mrad, k in N mm/mrad, NaN where the status is not valid."""
     import jax
 
     from ..amplitude import amplitude_curves
@@ -394,6 +396,8 @@ def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N
 
 
 def blade_mode_dict() -> dict:
+    """The default `jaxdamp.response.BladeMode` as a dict of floats (f0 in Hz, k_b in N/mm, ...),
+    for the study's JSON."""
     from ..response import BladeMode
 
     return {k: float(v) for k, v in BladeMode()._asdict().items()}
