@@ -26,3 +26,11 @@ def test_interpolated_zero_is_full_stick(bc):
     k_re, k_im = jd.complex_stiffness(bc, [0.0, 0.5 * float(n.psi_fs)], method="interpolated")
     np.testing.assert_allclose(np.asarray(k_im), 0.0, atol=1e-12)
     np.testing.assert_allclose(float(k_re[0]), float(k_re[1]), rtol=1e-12)
+
+
+def test_mu_of_wrong_length_is_one_line_error():
+    # per-contact mu is 3 values; 2 used to fail inside the kernel as a JAX TypeError
+    with pytest.raises(ValueError, match="mu must be one number or one per contact") as err:
+        jd.base_cycle(jd.family_shape("60sym"), [0.3, 0.5])
+    assert "\n" not in str(err.value)
+
