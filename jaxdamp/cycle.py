@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from .design import Design, as_design
 from .geometry import DamperShape
@@ -327,7 +328,14 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
     Liftoff, non-convergence and singular states are reported in the result's flags, never as NaN.
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
-    shape, mu, contacts, load = prepare_inputs(*as_design(shape, mu, contacts, load))
+    design = as_design(shape, mu, contacts, load)
+    # one design: mu is one number or one per contact (3); any other length broke deep in the
+    # kernel as a JAX broadcasting TypeError
+    if not isinstance(design.mu, jax.core.Tracer) and np.ndim(design.mu) > 0 \
+            and np.shape(design.mu) != (3,):
+        raise ValueError(f"mu must be one number or one per contact (3 values) in (0, 5]; "
+                         f"got shape {np.shape(design.mu)}")
+    shape, mu, contacts, load = prepare_inputs(*design)
     return base_cycle_kernel(shape, mu, contacts, load, max_tracts=max_tracts, max_pairs=max_pairs)
 
 

@@ -99,6 +99,15 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_
     interpolation; psi_a >= psi_BC the Base-Cycle stretched by full slip at both ends, exact first
     harmonic. Both agree at psi_a >= psi_BC, where gross slip erases the history.
     """
+    if not isinstance(psi_a_mrad, jax.core.Tracer):
+        # checked on concrete input only: a negative amplitude (or, for the exact cycle, zero) has no
+        # cycle and came back as a silent 0 stiffness; psi_a = 0 is the full-stick limit when
+        # interpolated (summary.psi_grid starts there)
+        psi = np.asarray(psi_a_mrad, float)
+        low_ok = psi >= 0 if method == "interpolated" else psi > 0
+        if psi.size and not (np.all(np.isfinite(psi)) and np.all(low_ok)):
+            bound = ">= 0" if method == "interpolated" else "> 0"
+            raise ValueError(f"psi_a_mrad must be finite and {bound} mrad; got {psi_a_mrad!r}")
     if method == "interpolated":
         return _bucketed(_interpolated_stiffness, bc, psi_a_mrad)
     if method != "exact":

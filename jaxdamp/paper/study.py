@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import __version__
 from ..status import status_of
 from .files import atomic_file, write_text
 
@@ -500,9 +501,4 @@ def write_study(out: Path, summary: dict) -> None:
 
 
 def _version() -> str:
-    import importlib.metadata as md
-
-    try:
-        return md.version("jaxdamp")
-    except md.PackageNotFoundError:
-        return "unknown"
+    return __version__  # the one place the version lives (pyproject reads it too)

@@ -1,0 +1,36 @@
+"""complex_stiffness refuses amplitudes that have no cycle with one ValueError line (issue #23)."""
+
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+
+
+@pytest.fixture(scope="module")
+def bc():
+    return jd.base_cycle(jd.family_shape("60sym"), 0.5)
+
+
+@pytest.mark.parametrize("psi, method", [([-1.0, 2.0], "exact"), ([0.0], "exact"), (float("nan"), "exact"),
+                                         ([-1.0, 2.0], "interpolated"), (float("inf"), "interpolated")])
+def test_bad_amplitude_is_one_line_error(bc, psi, method):
+    with pytest.raises(ValueError, match="psi_a_mrad must be finite and") as err:
+        jd.complex_stiffness(bc, psi, method=method)
+    assert "\n" not in str(err.value)
+
+
+def test_interpolated_zero_is_full_stick(bc):
+    # psi_a = 0 is the full-stick limit of the paper's curve: k_Im = 0 and k_Re = k_Re,fs, the value
+    # it holds anywhere below psi_fs
+    n = jd.five_numbers(bc)
+    k_re, k_im = jd.complex_stiffness(bc, [0.0, 0.5 * float(n.psi_fs)], method="interpolated")
+    np.testing.assert_allclose(np.asarray(k_im), 0.0, atol=1e-12)
+    np.testing.assert_allclose(float(k_re[0]), float(k_re[1]), rtol=1e-12)
+
+
+def test_mu_of_wrong_length_is_one_line_error():
+    # per-contact mu is 3 values; 2 used to fail inside the kernel as a JAX TypeError
+    with pytest.raises(ValueError, match="mu must be one number or one per contact") as err:
+        jd.base_cycle(jd.family_shape("60sym"), [0.3, 0.5])
+    assert "\n" not in str(err.value)
+
