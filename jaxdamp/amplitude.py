@@ -37,19 +37,21 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._validate import check_int, check_range, is_concrete
 from .linalg import solve3
-from .cycle import (bounded_loop, check_loop, mechanics, repeat_until, tract_rows,
-                    values_by_while, zeros_of)
-from .geometry import DamperShape
+from .cycle import (base_cycle_kernel, bounded_loop, check_loop, mechanics, repeat_until,
+                    tract_rows, values_by_while, zeros_of)
+from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
 from .fourier import half_fourier
-from .geometry import platform_moment
-from .params import Contacts, LoadCase, prepare_inputs
+from .params import (Contacts, LoadCase, prepare_inputs, validate_contacts, validate_load,
+                     validate_mu)
+from .stretch import base_cycle_amplitude, gross_slip_stiffness
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
 from .statics import contact_columns, full_slip_state
 from .runtime import batch_jit
 from .status import RESULTS
-from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
-                    next_event)
+from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
+                    choose_states, next_event)
 
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
@@ -409,7 +411,6 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     inputs are validated here (ValueError naming the parameter and its range); under jit / vmap /
     grad call `amplitude_kernel` directly.
     """
-    from ._validate import check_int, check_range
 
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
@@ -468,8 +469,6 @@ def moment_loop(ac: AmplitudeCycle):
 def transitions_chart(ac: AmplitudeCycle) -> list[dict]:
     """One row per tract of the steady cycle: half, dv_mm, the state of R1, L1, L2, and
     stretch=True for a constant-force gross-slip stretch (like `cycle.transitions_chart`)."""
-    from .geometry import CONTACT_NAMES
-    from .tract import STATE_NAMES
 
     names = ["0"] + [chr(ord("A") + i) for i in range(2 * MAX_TRACTS + 1)]
     rows, k = [], 0
@@ -554,8 +553,6 @@ def _stretched_curves(shapes, mu, contacts, load, psi):
     """Per (design, amplitude): k of the stretched Base-Cycle, whether it is the steady cycle from
     gross slip there (Base-Cycle ok and psi >= psi_BC (1 + STRETCH_MARGIN)), and the Base-Cycle's
     pairs of halves."""
-    from .cycle import base_cycle_kernel
-    from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
     def one(s, m, c, ld, p):
         bc = base_cycle_kernel(s, m, c, ld)
@@ -592,7 +589,6 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     the cycle did not close in one pair. Traced inputs (inside jit / grad) run `curves_kernel`,
     every cycle by the direct method.
     """
-    from ._validate import check_range, is_concrete
 
     leaves = jax.tree_util.tree_leaves((shapes, mu, contacts, load, psi_a_mrad))
     if not all(is_concrete(x) for x in leaves):
@@ -600,8 +596,6 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
                              max_tracts=max_tracts, max_pairs=max_pairs)
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
-    from .geometry import validate_shape
-    from .params import validate_contacts, validate_load, validate_mu
 
     validate_shape(shapes)
     validate_mu(mu)
