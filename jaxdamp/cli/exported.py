@@ -89,15 +89,14 @@ def call(name: str, program, args: tuple, variant: str = ""):
         return program(*args)
     leaves, in_tree = jax.tree_util.tree_flatten(args)
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree)}.bin"
+    # The traced function itself: a batch_jit's compiler options belong to the top-level jit
+    # (_runner's), not to a nested one.
+    fun = getattr(program, "__wrapped__", program)
     try:
         data = path.read_bytes()
     except OSError:
         data = None
     if data is None:
-        # The traced function itself: a batch_jit's compiler options belong to the top-level jit
-        # (_runner's), not to a nested one.
-        fun = getattr(program, "__wrapped__", program)
-
         def flat(*xs):
             return jax.tree_util.tree_leaves(fun(*jax.tree_util.tree_unflatten(in_tree, xs)))
 
@@ -108,7 +107,7 @@ def call(name: str, program, args: tuple, variant: str = ""):
             _write_atomic(path, data)
         except OSError:
             pass  # an unusable cache folder only costs time
-    out_tree = _out_tree(name, program, args)
+    out_tree = _out_tree(name, fun, args)
     return jax.tree_util.tree_unflatten(out_tree, _runner(data)(*leaves))
 
 
@@ -121,7 +120,7 @@ def register_out_tree(name: str, example) -> None:
     _OUT_TREES[name] = jax.tree_util.tree_structure(example)
 
 
-def _out_tree(name, program, args):
+def _out_tree(name, fun, args):
     if name not in _OUT_TREES:
-        _OUT_TREES[name] = jax.tree_util.tree_structure(jax.eval_shape(program, *args))
+        _OUT_TREES[name] = jax.tree_util.tree_structure(jax.eval_shape(fun, *args))
     return _OUT_TREES[name]
