@@ -370,7 +370,8 @@ def linear_frf(mode: BladeMode, k_re, force_n, n: int = 200) -> FRF:
     the grid then stops at 1e3 F / k_b."""
     damped = mode.eta * mode.k_b > 0
     force = jnp.asarray(force_n, float)
-    top = jnp.where(damped, force / jnp.where(damped, mode.eta * mode.k_b, 1.0), 1e3 * force / mode.k_b)
+    top = jnp.where(damped, force / jnp.where(damped, mode.eta * mode.k_b, 1.0),
+                    1e3 * force / mode.k_b)
     return frf(stuck_damper(k_re), mode, force, frf_amplitude_grid(top, n))
 
 
@@ -408,7 +409,8 @@ class Peaks(NamedTuple):
     def __repr__(self):
         return (f"Peaks(A* {_num_text(self.peak_amplitude_mm, 'mm')} at "
                 f"{_num_text(self.peak_frequency_hz, 'Hz')}, psi_a "
-                f"{_num_text(self.psi_a_mrad, 'mrad')}, roots {_num_text(self.n_roots, '', '.0f')}, "
+                f"{_num_text(self.psi_a_mrad, 'mrad')}, "
+                f"roots {_num_text(self.n_roots, '', '.0f')}, "
                 f"status {_status_names(self.status)})")
 
 
@@ -584,8 +586,8 @@ class ResponseCurves(NamedTuple):
     k_re_stuck: jnp.ndarray
 
     def __repr__(self):
-        return (f"ResponseCurves({self.peaks!r}, k_Re,stuck {_num_text(self.k_re_stuck, 'N mm/mrad')},"
-                f" status {_status_names(self.status)})")
+        return (f"ResponseCurves({self.peaks!r}, k_Re,stuck "
+                f"{_num_text(self.k_re_stuck, 'N mm/mrad')}, status {_status_names(self.status)})")
 
 
 _CURVE_PROGRAMS: dict = {}

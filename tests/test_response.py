@@ -208,7 +208,8 @@ def test_peak_band_brackets_every_named_history():
 
 def test_linear_frf_reaches_the_closed_form_resonance_of_free_and_stuck():
     """A linear oscillator k_b (1 - W + i eta) + g k: the peak is F / (eta k_b) at
-    W = 1 + g k / k_b; every point is |A| = F / |D| (response_amplitude_linear, a second formula)."""
+    W = 1 + g k / k_b; every point is |A| = F / |D| (response_amplitude_linear, a second
+    formula)."""
     k_stuck = 28744.0
     for k in (0.0, k_stuck):
         curve = linear_frf(MODE, k, 20.0)
