@@ -1,7 +1,10 @@
 """`jaxdamp response`: blade forced response with the damper (amplitude-layered, first harmonic).
 
-Peaks A* (every root, isolas included) at each force, the FRFs with the damper, free and stuck,
-and the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7).
+Peaks A* (every root, isolas included) at each force, the FRFs with the damper and of the free
+and stuck blade (each across its own peak, with the peak reduction A*_free / A*), and with
+--diagram the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7). The
+programs are saved as exports in the compilation cache folder (`cli.exported`): a second call
+neither traces nor compiles them.
 """
 
 from __future__ import annotations
