@@ -30,8 +30,37 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._validate import check_positive, check_range
+from .amplitude import amplitude_kernel
+from .band import amplitude_band
+from .cycle import base_cycle_kernel
+from .harmonics import complex_stiffness, five_numbers_kernel
+from .params import Contacts, LoadCase, prepare_inputs, validate_mu
 from .runtime import batch_jit
 from .status import RESULTS
+
+
+def _status_names(status) -> str:
+    """RESULTS name(s) of a concrete status (or its repr where it is traced)."""
+    try:
+        codes = np.asarray(status).reshape(-1)
+    except Exception:  # noqa: BLE001 - a tracer: no value to name
+        return repr(status)
+    names = [RESULTS(int(c)).name for c in codes]
+    return names[0] if np.ndim(status) == 0 else "[" + ", ".join(names) + "]"
+
+
+def _num_text(x, unit: str, fmt: str = ".5g") -> str:
+    """A concrete scalar or array as text with its unit (arrays by shape and range)."""
+    try:
+        a = np.asarray(x, float)
+    except Exception:  # noqa: BLE001 - a tracer
+        return repr(x)
+    if a.ndim == 0:
+        return f"{float(a):{fmt}} {unit}".rstrip()
+    if a.size <= 4:
+        return "[" + ", ".join(f"{float(v):{fmt}}" for v in a.reshape(-1)) + f"] {unit}"
+    return f"{a.shape} {float(a.min()):{fmt}} ... {float(a.max()):{fmt}} {unit}"
 
 # ----------------------------------------------------------------------------- the blade mode
 
@@ -64,8 +93,6 @@ class BladeMode(NamedTuple):
 
 def validate_mode(mode: BladeMode) -> BladeMode:
     """ValueError naming the parameter and its range (concrete values only)."""
-    from ._validate import check_positive, check_range
-
     check_positive("f0_hz", mode.f0_hz, unit="Hz")
     check_positive("k_b", mode.k_b, unit="N/mm")
     check_range("eta", mode.eta, 0.0, 1.0)
@@ -95,32 +122,28 @@ class DamperStiffness(NamedTuple):
     # outer jacfwd/grad differentiates the design; only the root's IFT step uses k_of_psi.
     k_values: KOfPsi | None = None
 
+    def __repr__(self):
+        return (f"DamperStiffness(k_Re,stuck {_num_text(self.k_re_stuck, 'N mm/mrad')}, psi_ref "
+                f"{_num_text(self.psi_ref_mrad, 'mrad')}, status {_status_names(self.status)})")
+
     def values(self, psi):
         """(k_re, k_im) at psi without derivatives with respect to the design."""
         return (self.k_of_psi if self.k_values is None else self.k_values)(psi)
 
 
 def _interpolated(shape, mu, contacts, load) -> DamperStiffness:
-    from .cycle import base_cycle
-    from .harmonics import complex_stiffness, five_numbers
-
-    bc = base_cycle(shape, mu, contacts, load)
-    nums = five_numbers(bc)
-    status = jnp.int32(RESULTS.ok)
-    status = RESULTS.promote(status, bc.liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, bc.failed, RESULTS.singular)
-    status = RESULTS.promote(status, ~bc.converged, RESULTS.not_converged)
-    return DamperStiffness(lambda psi: complex_stiffness(bc, psi, method="interpolated"), status,
-                           nums.k_re_fs,
-                           jnp.maximum(nums.psi_bc, 1e-12))
+    """The paper's k(psi_a) on the Base-Cycle (kernels only: traceable, inputs not checked). The
+    status is the Base-Cycle's own (ill_conditioned, liftoff, ...), never rebuilt from flags."""
+    bc = base_cycle_kernel(shape, mu, contacts, load)
+    nums = five_numbers_kernel(bc)
+    return DamperStiffness(lambda psi: complex_stiffness(bc, psi, method="interpolated"),
+                           bc.status, nums.k_re_fs, jnp.maximum(nums.psi_bc, 1e-12))
 
 
 def _exact(shape, mu, contacts, load, initial: str = "gross_slip") -> DamperStiffness:
     """k(psi_a) from the exact steady cycle at each amplitude (`jaxdamp.amplitude`), from the named
-    initial state (gross_slip: the state after a gross-slip history). The stuck limit and the
-    amplitude scale come from the Base-Cycle."""
-    from .amplitude import amplitude_kernel
-
+    initial state (gross_slip: the state after a gross-slip history). The stuck limit, the
+    amplitude scale and the status come from the Base-Cycle."""
     base = _interpolated(shape, mu, contacts, load)
 
     def curve(design):
@@ -147,18 +170,32 @@ def register_stiffness_method(name: str, factory: Callable[..., DamperStiffness]
     STIFFNESS_METHODS[name] = factory
 
 
+def _is_traced(*trees) -> bool:
+    return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(trees))
+
+
+def damper_stiffness_kernel(shape, mu, contacts, load, method: str = "exact",
+                            **options) -> DamperStiffness:
+    """`damper_stiffness` without input checks, for use inside jit/vmap/grad (inputs as
+    `prepare_scene` returns them)."""
+    if method not in STIFFNESS_METHODS:
+        raise ValueError(f"method must be one of {', '.join(STIFFNESS_METHODS)}; got {method!r}")
+    return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
+
+
 def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
                      **options) -> DamperStiffness:
     """The damper's amplitude-dependent complex stiffness for one design (pure JAX, traceable in
     the shape, mu, contact stiffness and load). method: a key of STIFFNESS_METHODS, by default the
-    exact curve from a gross-slip history (options: initial="gross_slip" | "assembly")."""
-    from .params import Contacts, LoadCase
+    exact curve from a gross-slip history (options: initial="gross_slip" | "assembly").
 
-    if method not in STIFFNESS_METHODS:
-        raise ValueError(f"method must be one of {', '.join(STIFFNESS_METHODS)}; got {method!r}")
+    Concrete inputs are checked here (`params.prepare_inputs`); traced ones are not (check them
+    once outside, or call `damper_stiffness_kernel`)."""
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
-    return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
+    if not _is_traced(shape, mu, contacts, load):
+        shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    return damper_stiffness_kernel(shape, mu, contacts, load, method, **options)
 
 
 def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
@@ -193,8 +230,6 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
     0.2 psi_fs to 3 psi_BC) and interpolated linearly between them. Returns (Peaks with the band's
     lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
     bound curves)."""
-    from .band import amplitude_band
-
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
     base = _interpolated(shape, mu, contacts, load)
     if psi_grid_mrad is None:
@@ -262,7 +297,7 @@ class FRF(NamedTuple):
 
     At each A the equation |D| A = F has up to two frequencies: the low branch (below the peak
     frequency) and the high branch. Missing branches are masked (has_low / has_high False, value
-    0), never NaN.
+    0), never NaN. status: the damper curve's RESULTS code (its numbers mean nothing unless valid).
     """
 
     amplitude_mm: jnp.ndarray
@@ -270,6 +305,12 @@ class FRF(NamedTuple):
     f_high_hz: jnp.ndarray
     has_low: jnp.ndarray
     has_high: jnp.ndarray
+    status: jnp.ndarray
+
+    def __repr__(self):
+        return (f"FRF(amplitude {_num_text(self.amplitude_mm, 'mm')}, low branch "
+                f"{_num_text(self.f_low_hz, 'Hz')}, high branch {_num_text(self.f_high_hz, 'Hz')}, "
+                f"status {_status_names(self.status)})")
 
 
 def _dyn(mode: BladeMode, k_of_psi, amplitude_mm):
@@ -299,7 +340,7 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
     has_lo = real & (w_lo > 0)
     f_hi = jnp.where(has_hi, mode.f0_hz * jnp.sqrt(jnp.where(has_hi, w_hi, 1.0)), 0.0)
     f_lo = jnp.where(has_lo, mode.f0_hz * jnp.sqrt(jnp.where(has_lo, w_lo, 1.0)), 0.0)
-    return FRF(a, f_lo, f_hi, has_lo, has_hi)
+    return FRF(a, f_lo, f_hi, has_lo, has_hi, damper.status)
 
 
 def frf_amplitude_grid(top_mm, n: int = 200, low: float = 1e-2):
@@ -320,6 +361,18 @@ def response_amplitude_linear(mode: BladeMode, k_re, k_im, force_n, frequency_hz
     re = mode.k_b * (1.0 - w) + g * k_re
     im = mode.eta * mode.k_b + g * k_im
     return force_n / jnp.sqrt(re ** 2 + im ** 2)
+
+
+def linear_frf(mode: BladeMode, k_re, force_n, n: int = 200) -> FRF:
+    """The FRF of the blade with a damper frozen as a real spring k_re (N mm/mrad; 0: free, k_Re,fs:
+    stuck) across its own resonance: amplitudes up to its own peak F / (eta k_b), at
+    f0 sqrt(1 + 1e-3 r^2 k_re / k_b). Without structural damping (eta = 0) the peak is unbounded:
+    the grid then stops at 1e3 F / k_b."""
+    damped = mode.eta * mode.k_b > 0
+    force = jnp.asarray(force_n, float)
+    top = jnp.where(damped, force / jnp.where(damped, mode.eta * mode.k_b, 1.0),
+                    1e3 * force / mode.k_b)
+    return frf(stuck_damper(k_re), mode, force, frf_amplitude_grid(top, n))
 
 
 # ----------------------------------------------------------------------------- peak response
@@ -352,6 +405,13 @@ class Peaks(NamedTuple):
     psi_a_mrad: jnp.ndarray
     max_amplitude_mm: jnp.ndarray
     status: jnp.ndarray
+
+    def __repr__(self):
+        return (f"Peaks(A* {_num_text(self.peak_amplitude_mm, 'mm')} at "
+                f"{_num_text(self.peak_frequency_hz, 'Hz')}, psi_a "
+                f"{_num_text(self.psi_a_mrad, 'mrad')}, "
+                f"roots {_num_text(self.n_roots, '', '.0f')}, "
+                f"status {_status_names(self.status)})")
 
 
 def peak_residual(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm):
@@ -505,18 +565,68 @@ def peak_program(method: str, options: tuple = ()):
     (`prepare_scene`); force_n a scalar or a 1-D array."""
     if (method, options) not in _PEAK_PROGRAMS:
         def run(shape, mu, contacts, load, mode, force_n):
-            d = damper_stiffness(shape, mu, contacts, load, method=method, **dict(options))
+            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
             return peak_response(d, mode, force_n)
 
         _PEAK_PROGRAMS[method, options] = batch_jit(run)
     return _PEAK_PROGRAMS[method, options]
 
 
+class ResponseCurves(NamedTuple):
+    """`response_curves`: the peaks at each force and the FRFs with the damper, free and stuck
+    (each field has a leading force axis). The damped FRF runs up to the largest peak root (up to
+    F / (eta k_b) where the damper is not valid); the free and stuck ones across their own peaks
+    (`linear_frf`). status: the damper curve's RESULTS code; k_re_stuck in N mm/mrad."""
+
+    peaks: Peaks
+    damper: FRF
+    free: FRF
+    stuck: FRF
+    status: jnp.ndarray
+    k_re_stuck: jnp.ndarray
+
+    def __repr__(self):
+        return (f"ResponseCurves({self.peaks!r}, k_Re,stuck "
+                f"{_num_text(self.k_re_stuck, 'N mm/mrad')}, status {_status_names(self.status)})")
+
+
+_CURVE_PROGRAMS: dict = {}
+
+
+def curves_program(method: str, options: tuple = ()):
+    """One compiled program per stiffness method and options (sorted (name, value) pairs): the
+    damper curve once, the peaks of every force on one shared grid, and the three FRFs:
+    (shape, mu, contacts, load, mode, forces (n,)) -> ResponseCurves, on prepared inputs."""
+    if (method, options) not in _CURVE_PROGRAMS:
+        def run(shape, mu, contacts, load, mode, forces):
+            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
+            peaks = peak_response(d, mode, forces)
+            valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
+            free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
+            top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
+            damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
+            free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
+            stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
+            return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
+
+        _CURVE_PROGRAMS[method, options] = batch_jit(run)
+    return _CURVE_PROGRAMS[method, options]
+
+
+def response_curves(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(),
+                    force_n=(1.0,), method: str = "exact", **options) -> ResponseCurves:
+    """Peaks and FRFs (damper, free, stuck) of one design at the forces force_n (N, 1-D): inputs
+    checked once here, then one compiled program (`curves_program`)."""
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    forces = jnp.asarray(force_n, float).reshape(-1)
+    check_positive("force_n", np.asarray(forces), unit="N")
+    return curves_program(method, tuple(sorted(options.items())))(shape, mu, contacts, load, mode,
+                                                                  forces)
+
+
 def prepare_scene(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()):
     """Validated design (`params.prepare_inputs`) and blade mode (`validate_mode`) as float arrays:
     what every compiled response, HBM and time-integration entry point takes."""
-    from .params import Contacts, LoadCase, prepare_inputs
-
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
@@ -564,20 +674,25 @@ class DesignerDiagram(NamedTuple):
     stuck_frequency_hz: np.ndarray  # (n_mu,)
     status: np.ndarray
 
+    def __repr__(self):
+        return (f"DesignerDiagram(mu {_num_text(self.mu, '')}, F {_num_text(self.force_n, 'N')}, "
+                f"F_D {_num_text(self.fd_n, 'N')}, A* {_num_text(self.peak_vs_force_mm, 'mm')}, "
+                f"status {_status_names(self.status)})")
+
 
 DIAGRAM_MUS = (0.3, 0.4, 0.5, 0.6, 0.7)
 
 
 def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=None, *,
                      force_n=None, fd_n=None, force_at_fd_n=None, mu=DIAGRAM_MUS,
-                     method: str = "exact", **options) -> DesignerDiagram:
+                     method: str = "exact", runner=None, **options) -> DesignerDiagram:
     """The designer's diagram of one shape: peak A* against F (log-log) and against F_D at fixed
     F, for each mu (the band is their envelope), with the stuck and free limits.
 
-    The F_D sweep uses `scaled_stiffness`: one damper curve per mu for every F_D.
+    The F_D sweep uses `scaled_stiffness`: one damper curve per mu for every F_D. One compiled
+    program (`diagram_program`), vmapped over mu; runner(program, args) -> outputs runs it
+    (default program(*args); the CLI passes one that reuses a saved export of the program).
     """
-    from .params import LoadCase
-
     load = LoadCase() if load is None else load
     fd0 = float(load.F_D)
     force = np.asarray(np.geomspace(0.05, 100.0, 41) if force_n is None else force_n, float)
@@ -585,30 +700,49 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
     f_fd = float(np.median(force) if force_at_fd_n is None else force_at_fd_n)
     mus = np.asarray(mu, float)
 
-    force_j, fds_j = jnp.asarray(force), jnp.asarray(fds)
-
-    @batch_jit
-    def per_mu(m):
-        d = damper_stiffness(shape, m, contacts, load, method=method, **options)
-        by_force = peak_response(d, mode, force_j).peak_amplitude_mm  # one shared grid
-        by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
-                                                  f_fd).peak_amplitude_mm)(fds_j)
-        stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
-        return by_force, by_fd, stuck_f, d.status
-
-    outs = [per_mu(jnp.asarray(m)) for m in mus]
-    pf = np.stack([np.asarray(o[0]) for o in outs])
-    pd = np.stack([np.asarray(o[1]) for o in outs])
+    scene = prepare_scene(shape, mus[0], contacts, load, mode)
+    for m in mus[1:]:
+        validate_mu(float(m))
+    program = diagram_program(method, tuple(sorted(options.items())))
+    shape, _, contacts, load, mode = scene
+    args = (shape, jnp.asarray(mus), contacts, load, mode, jnp.asarray(force), jnp.asarray(fds),
+            jnp.asarray(fd0), jnp.asarray(f_fd))
+    outs = program(*args) if runner is None else runner(program, args)
+    by_force, by_fd, stuck_f, status = (np.asarray(v) for v in outs)
     free_f = force / (float(mode.eta) * float(mode.k_b))
     free_d = np.full(fds.shape, f_fd / (float(mode.eta) * float(mode.k_b)))
     return DesignerDiagram(
-        mus, force, fds, f_fd, pf, pd, np.stack([pf.min(0), pf.max(0)]),
-        np.stack([pd.min(0), pd.max(0)]), free_f, free_f.copy(), free_d, free_d.copy(),
-        np.array([float(o[2]) for o in outs]), np.array([int(o[3]) for o in outs]))
+        mus, force, fds, f_fd, by_force, by_fd, np.stack([by_force.min(0), by_force.max(0)]),
+        np.stack([by_fd.min(0), by_fd.max(0)]), free_f, free_f.copy(), free_d, free_d.copy(),
+        stuck_f, status.astype(int))
+
+
+_DIAGRAM_PROGRAMS: dict = {}
+
+
+def diagram_program(method: str, options: tuple = ()):
+    """The designer's diagram as one compiled program per method and options, vmapped over mu:
+    (shape, mus, contacts, load, mode, forces, fds, fd0, force_at_fd) -> (peak against force
+    (n_mu, n_force), against F_D (n_mu, n_fd), stuck frequency (n_mu,), status (n_mu,))."""
+    if (method, options) not in _DIAGRAM_PROGRAMS:
+        def per_mu(shape, m, contacts, load, mode, forces, fds, fd0, f_fd):
+            d = damper_stiffness_kernel(shape, m, contacts, load, method, **dict(options))
+            by_force = peak_response(d, mode, forces).peak_amplitude_mm  # one shared grid
+            by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
+                                                      f_fd).peak_amplitude_mm)(fds)
+            stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
+            return by_force, by_fd, stuck_f, d.status
+
+        _DIAGRAM_PROGRAMS[method, options] = batch_jit(jax.vmap(
+            per_mu, in_axes=(None, 0, None, None, None, None, None, None, None)))
+    return _DIAGRAM_PROGRAMS[method, options]
 
 
 __all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
            "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual",
            "peak_frequency_hz",
-           "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS"]
+           "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
+           "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
+           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band",
+           "tabulated_stiffness"]

@@ -5,6 +5,7 @@ import math
 
 import pytest
 
+from helpers import strict_json
 from jaxdamp.cli import main
 
 
@@ -27,7 +28,7 @@ def _no_nan(x):
 def test_response_json_contract_and_figures(capsys, tmp_path):
     plots = tmp_path / "figs"
     code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n", "0.2,20",
-                       "--initial", "assembly", "--plot", str(plots), "--json")
+                       "--initial", "assembly", "--diagram", "--plot", str(plots), "--json")
     assert code == 0
     d = json.loads(out)
     assert _no_nan(d)
@@ -48,8 +49,9 @@ def test_response_json_contract_and_figures(capsys, tmp_path):
     assert high["psi_a_mrad"] == pytest.approx(high["peak_amplitude_mm"] * 1.0, rel=1e-12)
     # Both branches exist below the peak; the free curve exists at every force.
     f0 = d["frf"]["forces"][0]
-    assert all(v is not None and v > 0 for v in f0["damper"]["f_low_hz"])
-    assert all(v is not None for v in f0["free"]["f_high_hz"])
+    assert len(f0["damper"]["low"]["frequency_hz"]) > 0
+    assert all(v > 0 for v in f0["damper"]["low"]["frequency_hz"])
+    assert len(f0["free"]["high"]["frequency_hz"]) == len(f0["free"]["high"]["amplitude_mm"]) > 0
     dd = d["designer_diagram"]
     assert dd["mu"] == [0.3, 0.4, 0.5, 0.6, 0.7] and len(dd["peak_vs_force_mm"]) == 5
     assert dd["force_at_fd_n"] == pytest.approx(10.1)
@@ -86,7 +88,49 @@ def test_liftoff_is_a_result(capsys):
     d = json.loads(out)
     assert d["status"] == "liftoff" and d["peaks"][0]["peak_amplitude_mm"] is None
     assert d["designer_diagram"] is None and _no_nan(d)
-    # An invalid damper's FRF is null throughout (masked), the free one is still there.
+    # An invalid damper's FRF has no points, the free one is still there.
     entry = d["frf"]["forces"][0]
-    assert all(v is None for v in entry["damper"]["f_high_hz"])
-    assert all(v is not None for v in entry["free"]["f_high_hz"])
+    assert entry["damper"]["high"]["frequency_hz"] == [] and entry["peak_reduction"] is None
+    assert len(entry["free"]["high"]["frequency_hz"]) > 0
+
+
+def _no_null(x, path="doc"):
+    if isinstance(x, dict):
+        for k, v in x.items():
+            _no_null(v, f"{path}.{k}")
+    elif isinstance(x, list):
+        for i, v in enumerate(x):
+            _no_null(v, f"{path}[{i}]")
+    else:
+        assert x is not None, path
+
+
+def test_ill_conditioned_damper_status_survives(capsys):
+    """#23: the Base-Cycle's own status reaches the response (it was rebuilt from flags)."""
+    code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--kt", "1e12",
+                       "--force-n", "5", "--json")
+    assert code == 0
+    d = json.loads(out)
+    code, cyc, _ = run(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", "--kt", "1e12", "--json")
+    assert json.loads(cyc)["status"] == "ill_conditioned"
+    assert d["status"] == d["damper_status"] == d["peaks"][0]["status"] == "ill_conditioned"
+
+
+def test_frf_json_strict_and_free_peaks_shown(capsys):
+    """#27: the free and stuck curves reach their own peaks F / (eta k_b) (a linear oscillator's
+    resonance), the peak reduction is A*_free / A*, and no null stands where a number exists."""
+    code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n",
+                       "2,5,20", "--json")
+    assert code == 0
+    d = strict_json(out)
+    entries = d["frf"]["forces"]
+    for p, e in zip(d["peaks"], entries):
+        _no_null(e, "frf")
+        top = p["force_n"] / (1e-3 * 500.0)
+        for limit in ("free", "stuck"):
+            amps = e[limit]["low"]["amplitude_mm"] + e[limit]["high"]["amplitude_mm"]
+            assert max(amps) == pytest.approx(top, rel=1e-6)
+        assert e["peak_reduction"] == pytest.approx(e["free_peak_amplitude_mm"]
+                                                    / p["peak_amplitude_mm"], rel=1e-12)
+        assert e["peak_reduction"] > 1.0
+    assert max(entries[2]["free"]["high"]["amplitude_mm"]) == pytest.approx(40.0, rel=1e-6)

@@ -6,9 +6,11 @@ import numpy as np
 import pytest
 
 from jaxdamp import Contacts, LoadCase, base_cycle, complex_stiffness, family_shape, five_numbers
+from helpers import count_compiles
 from jaxdamp.response import (BladeMode, DamperStiffness, damper_stiffness, design_peaks,
-                              designer_diagram, frf, no_damper, peak_response,
-                              response_amplitude_linear, scaled_stiffness, stuck_damper)
+                              designer_diagram, frf, linear_frf, no_damper, peak_response,
+                              response_amplitude_linear, response_curves, scaled_stiffness,
+                              stuck_damper)
 from jaxdamp.status import RESULTS
 
 MODE = BladeMode()
@@ -202,3 +204,49 @@ def test_peak_band_brackets_every_named_history():
         assert np.all(a <= np.asarray(highest.peak_amplitude_mm) + 1e-12), initial
     # Below gross slip the histories differ: the band is a real band there.
     assert float(highest.peak_amplitude_mm[0]) > 1.2 * float(lowest.peak_amplitude_mm[0])
+
+
+def test_linear_frf_reaches_the_closed_form_resonance_of_free_and_stuck():
+    """A linear oscillator k_b (1 - W + i eta) + g k: the peak is F / (eta k_b) at
+    W = 1 + g k / k_b; every point is |A| = F / |D| (response_amplitude_linear, a second
+    formula)."""
+    k_stuck = 28744.0
+    for k in (0.0, k_stuck):
+        curve = linear_frf(MODE, k, 20.0)
+        a = np.asarray(curve.amplitude_mm)
+        top = 20.0 / (MODE.eta * MODE.k_b)
+        assert a.max() == pytest.approx(top, rel=1e-6) and a.min() < 0.02 * top
+        f_res = MODE.f0_hz * np.sqrt(1 + 1e-3 * MODE.r ** 2 * k / MODE.k_b)
+        i = np.argmax(a)
+        assert curve.f_low_hz[i] == pytest.approx(f_res, rel=1e-6)
+        assert curve.f_high_hz[i] == pytest.approx(f_res, rel=1e-6)
+        for f, has in ((curve.f_low_hz, curve.has_low), (curve.f_high_hz, curve.has_high)):
+            assert bool(np.all(has))
+            back = response_amplitude_linear(MODE, k, 0.0, 20.0, f)
+            np.testing.assert_allclose(back, a, rtol=1e-8)
+
+
+def test_response_curves_carry_the_damper_status_and_readable_reprs():
+    res = response_curves(SHAPE, 0.5, contacts=Contacts(kt=1e12), force_n=[5.0],
+                          method="interpolated")
+    assert RESULTS(int(res.status)) == RESULTS.ill_conditioned
+    assert RESULTS(int(res.peaks.status[0])) == RESULTS.ill_conditioned
+    assert RESULTS(int(res.damper.status[0])) == RESULTS.ill_conditioned
+    ok = response_curves(SHAPE, 0.5, force_n=[2.0, 20.0], method="interpolated")
+    text = repr(ok.peaks)
+    assert "mm" in text and "Hz" in text and "status [ok, ok]" in text and len(text) < 300
+    assert "ill_conditioned" in repr(res) and len(repr(res)) < 400
+    assert "status ok" in repr(damper_stiffness(SHAPE, 0.5, method="interpolated"))
+
+
+def test_a_second_call_with_new_values_compiles_nothing():
+    """The response and diagram programs live at module level (#23): new numbers, same shapes."""
+    mus = (0.4, 0.5)
+    kw = dict(force_n=[0.5, 1.0], fd_n=[500.0, 2000.0], method="interpolated")
+    response_curves(SHAPE, 0.5, force_n=[2.0, 5.0, 20.0, 20.0], method="interpolated")
+    designer_diagram(SHAPE, MODE, mu=mus, **kw)
+    with count_compiles() as compiled:
+        response_curves(family_shape("74R"), 0.6, contacts=Contacts(kt=3000.0),
+                        force_n=[1.0, 3.0, 7.0, 9.0], method="interpolated")
+        designer_diagram(family_shape("74R"), MODE, mu=(0.45, 0.55), **kw)
+    assert compiled == []

@@ -1,12 +1,30 @@
 """`jaxdamp response`: blade forced response with the damper (amplitude-layered, first harmonic).
 
-Peaks A* (every root, isolas included) at each force, the FRFs with the damper, free and stuck,
-and the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7).
+Peaks A* (every root, isolas included) at each force, the FRFs with the damper and of the free
+and stuck blade (each across its own peak, with the peak reduction A*_free / A*), and with
+--diagram the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7). The
+programs are saved as exports in the compilation cache folder (`cli.exported`): a second call
+neither traces nor compiles them.
 """
 
 from __future__ import annotations
 
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._validate import check_positive
+from ..response import (FRF, BladeMode, Peaks, ResponseCurves, curves_program, designer_diagram,
+                        peak_band, prepare_scene, validate_mode)
+from ..status import RESULTS
 from . import common as C
+from . import exported
+
+# The saved programs' output structures (exported.call rebuilds them without tracing).
+_FRF = FRF(*[0] * len(FRF._fields))
+exported.register_out_tree("response_curves", ResponseCurves(
+    Peaks(*[0] * len(Peaks._fields)), _FRF, _FRF, _FRF, 0, 0))
+exported.register_out_tree("designer_diagram", (0, 0, 0, 0))
 
 STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
                   "amplitude from the --initial history; with --stiffness interpolated the paper's "
@@ -14,8 +32,6 @@ STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-
 
 
 def register(sub) -> None:
-    from ..response import BladeMode
-
     m = BladeMode()
     p = sub.add_parser("response", help="blade forced response with the damper: peaks, FRFs, "
                        "designer's diagram", description=__doc__ + "\n" + STIFFNESS_NOTE)
@@ -39,120 +55,62 @@ def register(sub) -> None:
     p.add_argument("--band", action="store_true",
                    help="also the peak's bounds over every admissible contact history (the band "
                         "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
-    p.add_argument("--plot", metavar="DIR", help="write frf.png and designer_diagram.png to DIR")
+    p.add_argument("--diagram", action="store_true",
+                   help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
+    p.add_argument("--plot", metavar="DIR",
+                   help="write frf.png (and designer_diagram.png with --diagram) to DIR")
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
 
 
 def _forces(text):
-    from .._validate import check_positive
-
     vals = list(C.float_list(str(text), "--force-n"))
     check_positive("force_n", vals, unit="N")
     return vals
 
 
 _num = C.number
+FORCE_BUCKET = 4  # forces are padded to a multiple of this: a new count rarely compiles anew
 
 
-def _masked(values, mask):
-    return [_num(v) if bool(m) else None for v, m in zip(values, mask)]
+def _padded(forces):
+    n = -(-len(forces) // FORCE_BUCKET) * FORCE_BUCKET
+    return jnp.asarray(forces + [forces[-1]] * (n - len(forces)), float)
 
 
-def run(args) -> int:
-    import jax.numpy as jnp
-    import numpy as np
+def _branches(curve, i, valid=True):
+    """One FRF's existing points as two branches (amplitude, frequency): no null where a number
+    exists, and no point where none does."""
+    a = np.asarray(curve.amplitude_mm[i])
+    out = {}
+    for name, f, has in (("low", curve.f_low_hz, curve.has_low), ("high", curve.f_high_hz,
+                                                                    curve.has_high)):
+        keep = np.asarray(has[i]) & valid
+        out[name] = {"amplitude_mm": [_num(v) for v in a[keep]],
+                     "frequency_hz": [_num(v) for v in np.asarray(f[i])[keep]]}
+    return out
 
-    from ..params import prepare_inputs
-    from ..response import (BladeMode, designer_diagram, frf, frf_amplitude_grid, no_damper,
-                            stuck_damper, validate_mode)
-    from ..status import RESULTS
 
-    # Every check before any work.
-    shape = C.shape_from_args(args)
-    forces = _forces(args.force_n)
-    mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
-    validate_mode(mode)
-    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
-    prepare_inputs(shape, args.mu, contacts, load)
-    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
-    options = {"initial": args.initial} if args.stiffness == "exact" else {}
+def _peak_entry(force, p, i):
+    valid = bool(RESULTS.valid(p.status[i]))
+    roots = [{"amplitude_mm": _num(a), "frequency_hz": _num(f)}
+             for a, f, ok in zip(p.roots_mm[i], p.frequency_hz[i], p.found[i]) if bool(ok)]
 
-    import jax
+    def value(v):
+        return _num(v[i]) if valid else None
 
-    from ..response import damper_stiffness, peak_response
+    return {"force_n": force, "peak_amplitude_mm": value(p.peak_amplitude_mm),
+            "peak_frequency_hz": value(p.peak_frequency_hz), "psi_a_mrad": value(p.psi_a_mrad),
+            "max_amplitude_mm": value(p.max_amplitude_mm), "status": RESULTS.name_of(p.status[i]),
+            "roots": roots if valid else [], "isola": valid and len(roots) > 1}
 
-    @jax.jit
-    def solve(force):
-        d = damper_stiffness(shape, args.mu, contacts, load, args.stiffness, **options)
-        return peak_response(d, mode, force), d.k_re_stuck, d.status
 
-    @jax.jit
-    def curves(force, top):
-        d = damper_stiffness(shape, args.mu, contacts, load, args.stiffness, **options)
-        grid = frf_amplitude_grid(top)
-        stuck = stuck_damper(d.k_re_stuck)
-        return (frf(d, mode, force, grid), frf(no_damper(), mode, force, grid),
-                frf(stuck, mode, force, grid))
-
-    peaks, frfs = [], []
-    damper_status = RESULTS.ok
-    bar = C.progress_bar(args, total=len(forces) + 1, desc="response", unit="step")
-    for force in forces:
-        bar.update(1)
-        p, k_stuck, dstat = solve(jnp.asarray(force))
-        damper_status = int(dstat)
-        valid = bool(RESULTS.valid(p.status))
-        roots = [{"amplitude_mm": _num(a), "frequency_hz": _num(f)}
-                 for a, f, ok in zip(p.roots_mm, p.frequency_hz, p.found) if bool(ok)]
-        peaks.append({
-            "force_n": force,
-            "peak_amplitude_mm": _num(p.peak_amplitude_mm) if valid else None,
-            "peak_frequency_hz": _num(p.peak_frequency_hz) if valid else None,
-            "psi_a_mrad": _num(p.psi_a_mrad) if valid else None,
-            "max_amplitude_mm": _num(p.max_amplitude_mm) if valid else None,
-            "status": RESULTS.name_of(p.status), "roots": roots if valid else [],
-            "isola": valid and len(roots) > 1})
-        top = float(p.max_amplitude_mm) if valid else force / (float(mode.eta) * float(mode.k_b))
-        frfs.append((force, valid, curves(jnp.asarray(force), jnp.asarray(top))))
-
-    frf_json = {"forces": []}
-    for force, valid, (c, free, stuck) in frfs:
-        entry = {"force_n": force}
-        for name, cur in (("damper", c), ("free", free), ("stuck", stuck)):
-            ok = valid or name != "damper"
-            entry[name] = {"amplitude_mm": [_num(v) for v in np.asarray(cur.amplitude_mm)],
-                           "f_low_hz": _masked(cur.f_low_hz, cur.has_low & ok),
-                           "f_high_hz": _masked(cur.f_high_hz, cur.has_high & ok)}
-        frf_json["forces"].append(entry)
-
-    if args.band:
-        from ..response import peak_band
-
-        bar.set_description("band over histories")
-        highest, lowest, _, _ = peak_band(shape, args.mu, contacts, load, mode,
-                                          jnp.asarray(forces))
-        for i, p in enumerate(peaks):
-            ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
-            p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
-                         "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
-
-    dd = None
-    bar.set_description("designer's diagram")
-    if RESULTS.valid(damper_status):
-        # 21 levels per decade-spanning sweep: enough for a readable diagram at half the cost.
-        dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)),
-                              force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
-                                  float(load.F_D) / 30.0, float(load.F_D) * 30.0, 21),
-                              method=args.stiffness, **options)
-    bar.update(1)
-    bar.close()
-
+def _diagram_json(dd):
     def rows(a):
         return [[_num(v) for v in row] for row in np.atleast_2d(a)]
 
-    dd_json = None if dd is None else {
+    return {
         "mu": [float(m) for m in dd.mu], "status": [RESULTS.name_of(s) for s in dd.status],
         "force_n": [float(v) for v in dd.force_n], "peak_vs_force_mm": rows(dd.peak_vs_force_mm),
         "band_force_mm": rows(dd.band_force_mm), "free_vs_force_mm": rows(dd.free_vs_force_mm)[0],
@@ -162,26 +120,80 @@ def run(args) -> int:
         "free_vs_fd_mm": rows(dd.free_vs_fd_mm)[0], "stuck_vs_fd_mm": rows(dd.stuck_vs_fd_mm)[0],
         "stuck_frequency_hz": [_num(v) for v in dd.stuck_frequency_hz]}
 
+
+def run(args) -> int:
+    # Every check before any work, once: the compiled programs take the prepared inputs.
+    shape = C.shape_from_args(args)
+    forces = _forces(args.force_n)
+    mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
+    validate_mode(mode)
+    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
+    scene = prepare_scene(shape, args.mu, contacts, load, mode)
+    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
+    options = {"initial": args.initial} if args.stiffness == "exact" else {}
+
+    stages = 1 + bool(args.band) + bool(args.diagram)
+    bar = C.progress_bar(args, total=stages, desc="peaks and FRFs", unit="stage")
+    options_key = tuple(sorted(options.items()))
+    variant = repr((args.stiffness, options_key))
+    res = exported.call("response_curves", curves_program(args.stiffness, options_key),
+                        (*scene, _padded(forces)), variant)
+    # Numbers on the host once: indexing device arrays below would compile a small program each.
+    res = jax.device_get(res)
+    bar.update(1)
+    peaks = [_peak_entry(f, res.peaks, i) for i, f in enumerate(forces)]
+    frf_json = {"forces": []}
+    for i, force in enumerate(forces):
+        valid = bool(RESULTS.valid(res.peaks.status[i]))
+        # A*_free / A*: the free blade's peak F / (eta k_b) over the damped one.
+        free_top, damped_top = np.max(res.free.amplitude_mm[i]), peaks[i]["peak_amplitude_mm"]
+        frf_json["forces"].append({
+            "force_n": force, "damper": _branches(res.damper, i, valid),
+            "free": _branches(res.free, i), "stuck": _branches(res.stuck, i),
+            "free_peak_amplitude_mm": _num(free_top),
+            "peak_reduction": (_num(free_top / damped_top) if valid and damped_top else None)})
+
+    if args.band:
+        bar.set_description("band over histories")
+        highest, lowest, _, _ = peak_band(shape, args.mu, contacts, load, mode,
+                                          jnp.asarray(forces))
+        for i, p in enumerate(peaks):
+            ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
+            p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
+                         "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
+        bar.update(1)
+
+    dd = None
+    if args.diagram and RESULTS.valid(res.status):
+        bar.set_description("designer's diagram")
+        # 21 levels per decade-spanning sweep: enough for a readable diagram at half the cost.
+        dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)),
+                              force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
+                                  float(load.F_D) / 30.0, float(load.F_D) * 30.0, 21),
+                              method=args.stiffness, runner=lambda prog, a: exported.call(
+                                  "designer_diagram", prog, a, variant), **options)
+        bar.update(1)
+    bar.close()
+
     worst = max((RESULTS[p["status"]] for p in peaks), default=RESULTS.ok)
     inputs = {"shape": shape._asdict(), "mu": args.mu, "kn": args.kn, "kt": args.kt,
               "fd": args.fd, "q": args.q, "r_sin_beta": args.r_sin_beta,
               "f0_hz": args.f0_hz, "modal_stiffness_n_per_mm": args.modal_stiffness_n_per_mm,
               "loss_factor": args.loss_factor, "psi_per_mm": args.psi_per_mm,
               "force_n": forces, "initial": args.initial, "band": bool(args.band),
+              "diagram": bool(args.diagram),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
-    doc = C.document(RESULTS(int(worst)).name, {"inputs": inputs, "peaks": peaks, "frf": frf_json,
-                                                "designer_diagram": dd_json})
+    doc = C.document(RESULTS(int(worst)).name, {
+        "inputs": inputs, "damper_status": RESULTS.name_of(res.status), "peaks": peaks,
+        "frf": frf_json, "designer_diagram": None if dd is None else _diagram_json(dd)})
 
     if args.plot:
-        from ..plotting.response import designer_diagram_figure, frf_figure
+        from ..plotting.response import designer_diagram_figure, response_figure
 
         plot_dir.mkdir(parents=True, exist_ok=True)
-        ok = [(f, cs) for f, v, cs in frfs if v]
-        if ok:
-            fig = frf_figure([cs[0] for _, cs in ok], [f for f, _ in ok],
-                             [cs[1] for _, cs in ok], [cs[2] for _, cs in ok])
-            fig.savefig(plot_dir / "frf.png", dpi=120)
+        fig = response_figure(res, forces)
+        fig.savefig(plot_dir / "frf.png", dpi=120)
         if dd is not None:
             fig = designer_diagram_figure(dd)
             fig.savefig(plot_dir / "designer_diagram.png", dpi=120)
@@ -190,13 +202,16 @@ def run(args) -> int:
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "
              f"r = {args.psi_per_mm:g} mrad/mm",
              f"  damper stiffness: {args.stiffness}"
-             + (f" (history: {args.initial})" if args.stiffness == "exact" else ""),
-             f"  {'F, N':>8} {'A*, mm':>11} {'f*, Hz':>10} {'psi_a, mrad':>12}  status"]
-    for p in peaks:
+             + (f" (history: {args.initial})" if args.stiffness == "exact" else "")
+             + f", status {RESULTS.name_of(res.status)}",
+             f"  {'F, N':>8} {'A*, mm':>11} {'f*, Hz':>10} {'psi_a, mrad':>12} "
+             f"{'A*_free/A*':>11}  status"]
+    for p, e in zip(peaks, frf_json["forces"]):
         def fmt(v, spec):
             return format(v, spec) if v is not None else "-"
         lines.append(f"  {p['force_n']:8g} {fmt(p['peak_amplitude_mm'], '11.5g')} "
-                     f"{fmt(p['peak_frequency_hz'], '10.4f')} {fmt(p['psi_a_mrad'], '12.5g')}  "
+                     f"{fmt(p['peak_frequency_hz'], '10.4f')} {fmt(p['psi_a_mrad'], '12.5g')} "
+                     f"{fmt(e['peak_reduction'], '11.4g')}  "
                      f"{p['status']}" + ("  (isola: roots " + ", ".join(
                          f"{r['amplitude_mm']:.4g}" for r in p["roots"]) + " mm)"
                          if p["isola"] else ""))
@@ -204,4 +219,3 @@ def run(args) -> int:
         lines.append(f"  figures written to {args.plot}")
     C.emit(args, doc, "\n".join(lines))
     return 0
-

@@ -51,6 +51,52 @@ def frf_figure(curves, forces_n, free_curves=None, stuck_curves=None, *, title=N
                    title or "Forced response, amplitude-layered (first harmonic)")
 
 
+def _index(curve, i):
+    return type(curve)(*(np.asarray(v)[i] for v in curve))
+
+
+def response_figure(res, forces_n, *, title=None):
+    """FRFs of a `response.ResponseCurves` (tip amplitude, mm, log, against frequency, Hz): one
+    colour per force; with the damper solid, free (no damper) dashed, damper stuck dash-dotted,
+    each limit across its own resonance; the peak reduction A*_free / A*_damped written at each
+    damped peak. The line styles are explained once, in a legend of their own."""
+    import matplotlib.pyplot as plt
+    from matplotlib.lines import Line2D
+
+    fig, ax = plt.subplots(figsize=(8, 5))
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    peaks = res.peaks
+    for i, force in enumerate(forces_n):
+        col = colors[i % len(colors)]
+        valid = int(np.asarray(peaks.status)[i]) in (0, 5)  # RESULTS.ok, shakedown
+        _frf_line(ax, _index(res.free, i), color=col, lw=1.1, ls="--", alpha=0.8)
+        _frf_line(ax, _index(res.stuck, i), color=col, lw=1.1, ls="-.", alpha=0.8)
+        if not valid:
+            continue
+        _frf_line(ax, _index(res.damper, i), color=col, lw=2.0)
+        a_peak = float(np.asarray(peaks.peak_amplitude_mm)[i])
+        f_peak = float(np.asarray(peaks.peak_frequency_hz)[i])
+        a_free = float(np.max(np.asarray(res.free.amplitude_mm)[i]))
+        ax.plot([f_peak], [a_peak], "o", color=col, ms=4)
+        ax.annotate(f"A*free/A* = {a_free / a_peak:.3g}", (f_peak, a_peak), xytext=(6, -12),
+                    textcoords="offset points", fontsize=8, color=col)
+    ax.set_yscale("log")
+    forces_legend = ax.legend([Line2D([], [], color=colors[i % len(colors)], lw=2.0)
+                               for i in range(len(forces_n))],
+                              [f"F = {f:g} N" for f in forces_n], fontsize=8, loc="upper left")
+    ax.add_artist(forces_legend)
+    ax.legend([Line2D([], [], color="k", lw=2.0), Line2D([], [], color="k", lw=1.1, ls="--"),
+               Line2D([], [], color="k", lw=1.1, ls="-.")],
+              ["with the damper", "free (no damper)", "damper stuck"], fontsize=8,
+              loc="upper right")
+    ax.set_xlabel("frequency, Hz")
+    ax.set_ylabel("tip amplitude A (first harmonic), mm")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.set_title(title or "Forced response, amplitude-layered (first harmonic)")
+    fig.tight_layout()
+    return fig
+
+
 def designer_diagram_figure(dd, *, title=None):
     """The designer's diagram (`response.DesignerDiagram`): peak A* against F (log-log) and
     against F_D at fixed F, each with the mu band, the curve per mu, and the free/stuck limits."""
@@ -101,4 +147,4 @@ def harmonic_error_figure(forces_n, single, references, *, title=None):
                    title or "Where one harmonic is not enough")
 
 
-__all__ = ["frf_figure", "designer_diagram_figure", "harmonic_error_figure"]
+__all__ = ["frf_figure", "response_figure", "designer_diagram_figure", "harmonic_error_figure"]

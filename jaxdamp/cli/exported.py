@@ -1,0 +1,126 @@
+"""Compiled programs that a second CLI process reuses without tracing them again.
+
+JAX's persistent compilation cache skips XLA compilation only: every process still traces and
+lowers each program before it can look the compiled code up. For `jaxdamp response` the tracing
+was the cost (measured with jax_log_compiles: 8.3 s for the peaks, 13.9 s for the designer's
+diagram, while loading the compiled code took 0.4 s): the exact damper curve is a vmapped
+while-loop cycle with a custom JVP rule, traced inside the root search's custom_root. `call`
+saves a program once as a serialized `jax.export.Exported` (StableHLO) in the cache folder and
+later processes deserialize it: no tracing, and the XLA compile of the same module is a
+persistent-cache hit. The key holds the jaxdamp sources, the JAX version, the program's name and
+the inputs' structure, shapes and dtypes, so that any change of code or input shapes exports anew.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import os
+import pickle
+import tempfile
+from pathlib import Path
+
+import jax
+from jax import export as jexport
+
+from ..runtime import batch_compiler_options
+from . import cache_dir
+
+__all__ = ["call", "register_out_tree"]
+
+
+@functools.cache
+def _sources_digest() -> str:
+    """The jaxdamp package's Python sources and the JAX version: a program saved by other code is
+    never reused."""
+    root = Path(__file__).resolve().parents[1]
+    h = hashlib.sha256(jax.__version__.encode())
+    for path in sorted(root.rglob("*.py")):
+        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.read_bytes())
+    return h.hexdigest()
+
+
+def _key(name: str, variant: str, leaves, in_tree) -> str:
+    h = hashlib.sha256(_sources_digest().encode())
+    h.update(f"{name}|{variant}".encode())
+    h.update(str(in_tree).encode())
+    h.update(str(bool(jax.config.jax_enable_x64)).encode())
+    for x in leaves:
+        h.update(f"{jax.numpy.shape(x)}{jax.numpy.result_type(x)}".encode())
+    return h.hexdigest()[:32]
+
+
+@functools.cache
+def _runner(exported_bytes: bytes):
+    """The deserialized program, jitted once per process with the batch compiler options."""
+    exp = pickle.loads(exported_bytes)
+    options = batch_compiler_options()
+    return jax.jit(exp.call, **({"compiler_options": options} if options else {}))
+
+
+def _serialized(exp) -> bytes:
+    """The Exported as bytes. jax.export's own serialize() needs the flatbuffers package, which the
+    project does not depend on; a pickle of the dataclass holds the same StableHLO module, less its
+    VJP builder (a closure, not needed to call it). The file is read back only by the JAX version
+    and jaxdamp sources that wrote it (the key holds both), from the user's own cache folder."""
+    return pickle.dumps(dataclasses.replace(exp, _get_vjp=None))
+
+
+def _write_atomic(path: Path, data: bytes) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def call(name: str, program, args: tuple, variant: str = ""):
+    """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
+    off: a plain call). program: a jitted function of array pytrees; its outputs come back in the
+    structure given by `register_out_tree` (else found by tracing the program abstractly).
+    variant: what else selects the program (its static options), part of the key."""
+    folder = cache_dir()
+    if folder is None:
+        return program(*args)
+    leaves, in_tree = jax.tree_util.tree_flatten(args)
+    path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree)}.bin"
+    # The traced function itself: a batch_jit's compiler options belong to the top-level jit
+    # (_runner's), not to a nested one.
+    fun = getattr(program, "__wrapped__", program)
+    try:
+        data = path.read_bytes()
+    except OSError:
+        data = None
+    if data is None:
+        def flat(*xs):
+            return jax.tree_util.tree_leaves(fun(*jax.tree_util.tree_unflatten(in_tree, xs)))
+
+        exp = jexport.export(jax.jit(flat))(*leaves)
+        data = _serialized(exp)
+        try:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            _write_atomic(path, data)
+        except OSError:
+            pass  # an unusable cache folder only costs time
+    out_tree = _out_tree(name, fun, args)
+    return jax.tree_util.tree_unflatten(out_tree, _runner(data)(*leaves))
+
+
+_OUT_TREES: dict = {}
+
+
+def register_out_tree(name: str, example) -> None:
+    """The output structure of the program saved as `name`, from an example of it (any leaves):
+    the flat results of a saved program are rebuilt into it without tracing the program."""
+    _OUT_TREES[name] = jax.tree_util.tree_structure(example)
+
+
+def _out_tree(name, fun, args):
+    if name not in _OUT_TREES:
+        _OUT_TREES[name] = jax.tree_util.tree_structure(jax.eval_shape(fun, *args))
+    return _OUT_TREES[name]

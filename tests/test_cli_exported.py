@@ -1,0 +1,44 @@
+"""jaxdamp.cli.exported: a saved program is reused by a later process without tracing it again."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from jaxdamp.cli import exported
+from jaxdamp.runtime import batch_jit
+
+TRACES = []
+
+
+@batch_jit
+def _program(x, pair):
+    TRACES.append(1)  # runs only while tracing
+    return {"sum": x + pair[0], "loop": jax.lax.while_loop(lambda c: c < 10.0,
+                                                          lambda c: c + pair[1], 0.0)}
+
+
+def test_saved_export_is_reused_without_tracing(monkeypatch, tmp_path):
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    args = (jnp.arange(3.0), (jnp.asarray(1.5), jnp.asarray(3.0)))
+    first = exported.call("toy", _program, args)
+    saved = list((tmp_path / "exported").iterdir())
+    assert len(saved) == 1 and saved[0].name.startswith("toy-")
+    n = len(TRACES)
+    exported._runner.cache_clear()  # as in a new process: only the file is left
+    # New values, same shapes: the saved program, not a new trace of _program.
+    second = exported.call("toy", _program, (jnp.arange(3.0) + 1.0, (jnp.asarray(2.0),
+                                                                     jnp.asarray(4.0))))
+    assert len(TRACES) == n
+    np.testing.assert_array_equal(first["sum"], np.arange(3.0) + 1.5)
+    np.testing.assert_array_equal(second["sum"], np.arange(3.0) + 3.0)
+    assert float(first["loop"]) == 12.0 and float(second["loop"]) == 12.0
+    # Another variant (static options) or shape is another file.
+    exported.call("toy", _program, (jnp.arange(4.0), args[1]))
+    exported.call("toy", _program, args, variant="other")
+    assert len(list((tmp_path / "exported").iterdir())) == 3
+
+
+def test_cache_off_is_a_plain_call(monkeypatch, tmp_path):
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
+    out = exported.call("toy", _program, (jnp.arange(2.0), (jnp.asarray(1.0), jnp.asarray(5.0))))
+    np.testing.assert_array_equal(out["sum"], [1.0, 2.0])
