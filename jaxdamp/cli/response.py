@@ -7,6 +7,8 @@ and the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7)
 from __future__ import annotations
 
 from . import common as C
+from .uncertainty_report import add_uncertainty_args
+from .uncertainty_report import report as uncertainty_report
 
 STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
                   "amplitude from the --initial history; with --stiffness interpolated the paper's "
@@ -40,6 +42,7 @@ def register(sub) -> None:
                    help="also the peak's bounds over every admissible contact history (the band "
                         "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
     p.add_argument("--plot", metavar="DIR", help="write frf.png and designer_diagram.png to DIR")
+    add_uncertainty_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -78,6 +81,8 @@ def run(args) -> int:
     prepare_inputs(shape, args.mu, contacts, load)
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     options = {"initial": args.initial} if args.stiffness == "exact" else {}
+    if args.uncertainty:  # the Monte Carlo peak distribution instead of one design's peaks
+        return uncertainty_report(args, shape, forces, mode, contacts, load)
 
     import jax
 
