@@ -26,7 +26,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import Contacts, DamperShape, LoadCase, family_shape, map_batched
+from jaxdamp import Contacts, DamperShape, LoadCase, family_shape
 from jaxdamp.response import BladeMode, damper_stiffness, peak_response
 from jaxdamp.uncertainty import (Scenarios, Uncertainty, magnification_kernel, peak_distribution,
                                  sample_scenarios)
