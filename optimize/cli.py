@@ -10,6 +10,7 @@ from jaxdamp.cli import (CliError, add_contact_args, contacts_from_args, add_jso
                          progress_bar)
 
 from .design import VARIABLES
+from .robust_cli import add_robust_args
 
 
 def _assignments(text: str | None, name: str) -> dict:
@@ -47,6 +48,10 @@ def payload_of(args) -> dict:
     space = design_space(free, fixed=fixed_all)
     problem = make_problem(space, float_list(args.mu_set, "--mu-set"), args.kn, args.kt,
                            margin_pct=args.margin, min_vertex_deg=args.min_vertex_angle)
+    if args.objective.startswith("peak:"):
+        from .robust_cli import robust_payload
+
+        return robust_payload(args, problem)
     weights = _assignments(args.weights, "--weights") or None
     config = SolverConfig(method=args.method, rounds=args.rounds)
     parse_objective(args.objective, weights)  # every input is checked before the work starts
@@ -125,6 +130,11 @@ def run(args) -> int:
     status = "ok" if payload["feasible"] else "liftoff"
     doc = document(status, payload, contacts=contacts_echo(_contacts(args)),
                    load=load_echo(_load()))
+    if payload["objective_name"].startswith("peak:"):
+        from .robust_cli import robust_text
+
+        emit(args, doc, robust_text(payload))
+        return 0
     emit(args, doc, _text(payload))
     return 0
 
@@ -152,7 +162,9 @@ def register(sub):
                     "force positive and the left resultant inside L1-L2 with a margin, at both "
                     "full-slip ends and throughout the Base-Cycle, at every mu of the set. "
                     "Objectives NAME[:AGG]: NAME in k_im_bc (max), psi_bc (min), w_m (max), "
-                    "combined; AGG in worst (default), mean, mu=X.")
+                    "combined; AGG in worst (default), mean, mu=X. Robust response objectives: "
+                    "peak:worst, peak:q95 (A*/F over --force-n, --mu-set, --fd-spread, "
+                    "--kn-range, --kt-range, --history).")
     p.add_argument("--objective", default=DEFAULT_OBJECTIVE,
                    help=f"objective NAME[:AGG] (default {DEFAULT_OBJECTIVE}: worst case of k_Im,BC over the mu set)")
     p.add_argument("--mu-set", default="0.3,0.5,0.7",
@@ -175,6 +187,7 @@ def register(sub):
                    help="also run the grid search and save the path plot over its heatmap")
     p.add_argument("--grid-points", type=int, default=15,
                    help="grid points per axis for --plot (default 15, then refined)")
+    add_robust_args(p)
     add_json_arg(p)
     add_progress_arg(p)
     p.set_defaults(func=run)

@@ -97,7 +97,7 @@ def worst_peak(V, problem: Problem | None = None, force_n=20.0, fd_spread=0.0,
     return np.where(np.asarray(st) == 0, np.asarray(a), np.inf), feasible
 
 
-def _complete(problem: Problem, z):
+def complete_shape(problem: Problem, z):
     """Complete shape vector from unit-box coordinates of the free variables."""
     sp = problem.space
     fixed = dict(sp.fixed)
@@ -118,7 +118,7 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
     args = _args(problem, force_n, fd_spread, mode)
     axes = [np.linspace(0.0, 1.0, grid_points)] * sp.dim
     Z = np.array(list(itertools.product(*axes)))
-    V = np.stack([_complete(problem, z) for z in Z])
+    V = np.stack([complete_shape(problem, z) for z in Z])
     vals, feas = worst_peak(V, problem, force_n, fd_spread, mode)
     vals = np.where(feas, vals, np.inf)
     order = np.argsort(vals)[:starts]
@@ -130,7 +130,7 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
             continue
         z, val, lr = Z[i].copy(), vals[i], 0.05
         for _ in range(steps):
-            v = _complete(problem, z)
+            v = complete_shape(problem, z)
             _, g = _worst_grad(jnp.asarray(v), *args)
             gz = np.asarray(g)[free_idx] * span
             norm = np.linalg.norm(gz)
@@ -139,7 +139,7 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
             moved = False
             for _ in range(6):  # backtracking: accept only a feasible improvement
                 zn = np.clip(z - lr * gz / norm, 0.0, 1.0)
-                vn, fn = worst_peak(_complete(problem, zn)[None], problem, force_n, fd_spread, mode)
+                vn, fn = worst_peak(complete_shape(problem, zn)[None], problem, force_n, fd_spread, mode)
                 n_steps += 1
                 if fn[0] and vn[0] < val:
                     z, val, lr, moved = zn, float(vn[0]), lr * 1.5, True
@@ -149,7 +149,7 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
                 break
         if val < best_val:
             best_z, best_val = z, val
-    best = _report(problem, "response optimum", _complete(problem, best_z), force_n, fd_spread, mode) \
+    best = _report(problem, "response optimum", complete_shape(problem, best_z), force_n, fd_spread, mode) \
         if best_z is not None else ResponseDesign("response optimum", (), None, False, None)
     from jaxdamp.geometry import family_shape
 
@@ -171,4 +171,4 @@ def _report(problem, name, v, force_n, fd_spread, mode) -> ResponseDesign:
                           k_im if ok else None)
 
 
-__all__ = ["worst_peak", "optimize_response", "ResponseDesign", "ResponseOptimum"]
+__all__ = ["worst_peak", "optimize_response", "complete_shape", "ResponseDesign", "ResponseOptimum"]

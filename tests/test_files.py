@@ -113,6 +113,4 @@ def test_every_writer_goes_through_the_helper(folder):
                     and node.args[0].id == "f":
                 continue  # a file object from atomic_file
             found.append(f"{path.relative_to(ROOT)}:{node.lineno} {name}")
-    if folder == "jaxdamp/cli":  # response.py belongs to the response engineer: listed for the merge
-        found = [f for f in found if not f.startswith("jaxdamp/cli/response.py")]
     assert found == []

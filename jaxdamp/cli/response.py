@@ -19,6 +19,8 @@ from ..response import (FRF, BladeMode, Peaks, ResponseCurves, curves_program, d
 from ..status import RESULTS
 from . import common as C
 from . import exported
+from .uncertainty_report import add_uncertainty_args
+from .uncertainty_report import report as uncertainty_report
 
 # The saved programs' output structures (exported.call rebuilds them without tracing).
 _FRF = FRF(*[0] * len(FRF._fields))
@@ -59,6 +61,7 @@ def register(sub) -> None:
                    help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
     p.add_argument("--plot", metavar="DIR",
                    help="write frf.png (and designer_diagram.png with --diagram) to DIR")
+    add_uncertainty_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -131,6 +134,8 @@ def run(args) -> int:
     scene = prepare_scene(shape, args.mu, contacts, load, mode)
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     options = {"initial": args.initial} if args.stiffness == "exact" else {}
+    if args.uncertainty:  # the Monte Carlo peak distribution instead of one design's peaks
+        return uncertainty_report(args, shape, forces, mode, contacts, load)
 
     stages = 1 + bool(args.band) + bool(args.diagram)
     bar = C.progress_bar(args, total=stages, desc="peaks and FRFs", unit="stage")
@@ -193,10 +198,10 @@ def run(args) -> int:
 
         plot_dir.mkdir(parents=True, exist_ok=True)
         fig = response_figure(res, forces)
-        fig.savefig(plot_dir / "frf.png", dpi=120)
+        C.save_figure(fig, plot_dir / "frf.png", dpi=120)
         if dd is not None:
             fig = designer_diagram_figure(dd)
-            fig.savefig(plot_dir / "designer_diagram.png", dpi=120)
+            C.save_figure(fig, plot_dir / "designer_diagram.png", dpi=120)
 
     lines = [f"Blade response, mu = {args.mu:g}, F_D = {args.fd:g} N; f0 = {args.f0_hz:g} Hz, "
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "

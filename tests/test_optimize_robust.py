@@ -1,0 +1,87 @@
+"""Robust response objective: the F_D spread folded into the force range agrees with F_D applied
+explicitly (the scaling law, an independent evaluation), the smooth maximum bounds the true one,
+its gradient matches central differences, the certification grid, one-line spec errors."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+from jaxdamp import LoadCase
+from jaxdamp.uncertainty import Scenarios, peak_distribution
+from optimize.problem import make_problem
+from optimize.robust_objective import (RobustSpec, _programs, dense_scenarios, descent_forces,
+                                       objective_args, reference_shapes, robust_values,
+                                       validate_spec)
+
+PROBLEM = make_problem(mus=(0.4, 0.6))
+SPEC = RobustSpec(force_range_n=(4.0, 12.0), fd_spread=0.2, kn_factor=1.0, kt_factor=1.0,
+                  n_forces=2)
+V60 = np.asarray(reference_shapes()["60sym"], float)
+
+
+def test_the_fd_spread_as_a_force_range_matches_fd_applied_explicitly():
+    np.testing.assert_allclose(descent_forces(SPEC), [4.0 / 1.2, 12.0 / 0.8])
+    val, feas = robust_values(V60, PROBLEM, SPEC, objective_args(PROBLEM, SPEC))
+    assert feas[0]
+    # independent: the exact curve recomputed at F_D = 1.2 F_D0 (F = 4 N) and 0.8 F_D0 (F = 12 N)
+    worst = 0.0
+    for fd, force in ((1200.0, 4.0), (800.0, 12.0)):
+        scen = Scenarios(jnp.array([0.4, 0.6]), jnp.full((2, 3), PROBLEM.kn),
+                         jnp.full((2, 3), PROBLEM.kt), jnp.full(2, fd))
+        d = peak_distribution(V60_shape(), scen, force_n=force, load=LoadCase())
+        worst = max(worst, float(np.max(d.magnification)))
+    assert val[0] == pytest.approx(worst, rel=1e-7)
+
+
+def V60_shape():
+    from jaxdamp import family_shape
+
+    return family_shape("60sym")
+
+
+def test_smooth_maximum_bounds_the_true_maximum_and_its_gradient_matches_differences():
+    spec = SPEC._replace(kn_factor=2.0, kt_factor=2.0, history="band")
+    args = objective_args(PROBLEM, spec)
+    _, grad = _programs(spec.objective, spec.history)
+    (g, (hard, status)) = grad(jnp.asarray(V60), spec.temperature, *args)
+    n_scores = 2 * len(PROBLEM.mus) * 5 * spec.n_forces  # histories x mu x corners x forces
+
+    s0 = _smooth(V60, spec, args)
+    assert int(status) == 0
+    assert float(hard) <= s0 <= float(hard) * np.exp(spec.temperature * np.log(n_scores))
+    for i, h in ((1, 1e-4), (2, 1e-6)):  # theta_r (deg), b_R/h_R
+        e = np.zeros(4)
+        e[i] = h
+        fd = (_smooth(V60 + e, spec, args) - _smooth(V60 - e, spec, args)) / (2 * h)
+        assert abs(float(g[i])) > 0
+        assert float(g[i]) == pytest.approx(fd, rel=1e-4)
+
+
+def _smooth(v, spec, args):
+    from optimize.robust_objective import _objective
+
+    return float(jax.jit(_objective, static_argnums=(1, 2))(
+        jnp.asarray(v), spec.objective, spec.history, spec.temperature, *args)[0])
+
+
+def test_the_certification_grid_spans_every_range_at_its_ends():
+    spec = RobustSpec(fd_spread=0.1, kn_factor=2.0, kt_factor=3.0)
+    s = dense_scenarios(make_problem(mus=(0.3, 0.5, 0.7)), spec)
+    assert s.mu.shape == (9 * 3 * 3 * 3,) and s.kn.shape == (243, 3)
+    np.testing.assert_allclose([s.mu.min(), s.mu.max()], [0.3, 0.7])
+    np.testing.assert_allclose([s.fd_n.min(), s.fd_n.max()], [900.0, 1100.0])
+    kn0, kt0 = make_problem().kn, make_problem().kt
+    np.testing.assert_allclose([s.kn.min(), s.kn.max()], [kn0 / 2, kn0 * 2])
+    np.testing.assert_allclose([s.kt.min(), s.kt.max()], [kt0 / 3, kt0 * 3])
+
+
+@pytest.mark.parametrize("change, flag", [({"force_range_n": (5.0, 2.0)}, "--force-n"),
+                                          ({"fd_spread": 1.0}, "--fd-spread"),
+                                          ({"kn_factor": 0.5}, "--kn-range"),
+                                          ({"kt_factor": 200.0}, "--kt-range"),
+                                          ({"history": "assembly"}, "--history"),
+                                          ({"objective": "mean"}, "--objective")])
+def test_bad_spec_is_refused_naming_the_flag(change, flag):
+    with pytest.raises(ValueError, match=flag):
+        validate_spec(RobustSpec()._replace(**change))

@@ -1,0 +1,51 @@
+"""`jaxdamp optimize --objective peak:worst|peak:q95`: bad flags are one line naming the flag and
+its range, exit 2, before any work (the full run is the benchmark's, minutes long)."""
+
+import pytest
+
+from jaxdamp.cli import main
+from optimize.cli import register
+from optimize.robust_cli import robust_text
+
+from helpers import one_error_line
+
+
+def run(capsys, *argv):
+    code = main(["optimize", *argv], extra_commands=[register])
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.mark.parametrize("argv, needle", [
+    (["--objective", "peak:mean"], "--objective must be peak:worst or peak:q95"),
+    (["--objective", "peak:worst", "--force-n", "20:2"], "--force-n must be FMIN:FMAX"),
+    (["--objective", "peak:worst", "--force-n", "a:b"], "--force-n must be FMIN:FMAX"),
+    (["--objective", "peak:q95", "--fd-spread", "1.5"], "--fd-spread must be in [0, 1)"),
+    (["--objective", "peak:worst", "--kn-range", "0.5"], "--kn-range must be a factor in [1, 100]"),
+    (["--objective", "peak:worst", "--kt-range", "101"], "--kt-range must be a factor in [1, 100]"),
+    (["--objective", "peak:worst", "--mu-set", "0.3,-1"], "mu"),
+    (["--objective", "peak:worst", "--plot", "/nonexistent/dir/x.png"], "--plot"),
+])
+def test_bad_flags_are_one_line_errors_before_any_work(capsys, argv, needle):
+    code, out, err = run(capsys, *argv)
+    assert code == 2 and out == ""
+    assert needle in one_error_line(err)
+
+
+def test_bad_history_is_refused_by_the_parser(capsys):
+    code, out, err = run(capsys, "--objective", "peak:worst", "--history", "assembly")
+    assert code == 2 and out == ""
+    assert "--history" in err and "gross_slip" in err
+
+
+def test_text_names_each_design_and_marks_the_infeasible_one():
+    p = {"objective_name": "peak:worst", "objective": 0.9, "mu_set": [0.3, 0.7],
+         "spec": {"force_range_n": (2.0, 20.0), "fd_spread": 0.2, "kn_factor": 2.0,
+                  "kt_factor": 2.0, "history": "band"},
+         "designs": [{"name": "robust optimum", "shape": (35.0, 50.0, 0.3, 0.8), "feasible": True,
+                      "worst_dense": 0.9, "worst_mc": 1.0, "q95_mc": 0.8},
+                     {"name": "k_Im,BC optimum", "shape": (81.0, 72.0, 0.03, 0.8),
+                      "feasible": False, "worst_dense": None, "worst_mc": None, "q95_mc": None}]}
+    text = robust_text(p)
+    assert "0.9000 | 1.0000 | 0.8000" in text
+    assert "k_Im,BC optimum" in text and "infeasible" in text
