@@ -3,7 +3,7 @@ line (see `optimize.robust_objective`). Flags are added by `optimize.cli.registe
 
 from __future__ import annotations
 
-from jaxdamp.cli import CliError, check_output_file, progress_bar
+from jaxdamp.cli import CliError, check_output_file, progress_bar, save_figure
 
 from .robust_objective import RobustSpec, optimize_robust, validate_spec
 
@@ -63,7 +63,7 @@ def robust_payload(args, problem) -> dict:
         from .robust_plot import plot_robust
 
         ax = plot_robust(designs)
-        ax.figure.savefig(args.plot, dpi=120, bbox_inches="tight")
+        save_figure(ax.figure, args.plot, dpi=120, bbox_inches="tight")
         plt.close(ax.figure)
         payload["plot"] = args.plot
     return payload
