@@ -16,14 +16,13 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
-import os
 import pickle
-import tempfile
 from pathlib import Path
 
 import jax
 from jax import export as jexport
 
+from ..paper.files import write_bytes
 from ..runtime import batch_compiler_options
 from . import cache_dir
 
@@ -68,17 +67,6 @@ def _serialized(exp) -> bytes:
     return pickle.dumps(dataclasses.replace(exp, _get_vjp=None))
 
 
-def _write_atomic(path: Path, data: bytes) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=path.name, suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            f.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-
-
 def call(name: str, program, args: tuple, variant: str = ""):
     """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
     off: a plain call). program: a jitted function of array pytrees; its outputs come back in the
@@ -104,7 +92,7 @@ def call(name: str, program, args: tuple, variant: str = ""):
         data = _serialized(exp)
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
-            _write_atomic(path, data)
+            write_bytes(path, data)
         except OSError:
             pass  # an unusable cache folder only costs time
     out_tree = _out_tree(name, fun, args)
