@@ -2,7 +2,7 @@
 does not know (mu, contact stiffness per contact pair, F_D), by Monte Carlo over vmap.
 
 Each sample is one *scenario* (mu, kn and kt of R1, L1, L2 in N/mm, F_D in N). Its damper curve is
-the exact one (`response.damper_stiffness(method="exact")`, the steady cycle at each amplitude from
+the exact one (`response.damper_stiffness_kernel`, "exact": the steady cycle at each amplitude from
 the named history), recomputed per sample: the paper's scaling law (`scaled_stiffness`) is exact
 only for F_D and for kn, kt scaled together, and a per-pair kn, kt or a new mu changes the curve's
 shape, so no sample is approximated. The result is the dynamic magnification A*/F (mm/N) of the
@@ -26,7 +26,7 @@ import numpy as np
 
 from .batch import map_batched
 from .params import Contacts, LoadCase
-from .response import BladeMode, damper_stiffness, peak_response, prepare_scene
+from .response import BladeMode, damper_stiffness_kernel, peak_response, prepare_scene
 from .status import RESULTS
 
 HISTORIES = ("gross_slip", "assembly")
@@ -112,8 +112,8 @@ def magnification_kernel(shape, scenario: Scenarios, load: LoadCase, mode: Blade
     """(A*/F per force (n_force,) in mm/N, damper status) of one scenario (unbatched fields), on
     the exact curve from `initial`. Pure JAX: vmap over scenarios, differentiate in the shape."""
     load = LoadCase(scenario.fd_n, load.q_star, load.r_sin_beta)
-    d = damper_stiffness(shape, scenario.mu, Contacts(scenario.kn, scenario.kt), load,
-                         method="exact", initial=initial)
+    d = damper_stiffness_kernel(shape, scenario.mu, Contacts(scenario.kn, scenario.kt), load,
+                                "exact", initial=initial)
     forces = jnp.asarray(force_n, float).reshape(-1)
     return peak_response(d, mode, forces).peak_amplitude_mm / forces, d.status
 

@@ -27,7 +27,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxdamp import Contacts, DamperShape, LoadCase, family_shape
-from jaxdamp.response import BladeMode, damper_stiffness, peak_response
+from jaxdamp.response import BladeMode, damper_stiffness_kernel, peak_response
 from jaxdamp.uncertainty import (Scenarios, Uncertainty, magnification_kernel, peak_distribution,
                                  sample_scenarios)
 
@@ -106,8 +106,9 @@ def _worst_scores(v, history, mus, corners, forces, mode, kn, kt, load):
     load = LoadCase(*load)
 
     def one(mu, c, initial):
-        d = damper_stiffness(_shape(v), mu, Contacts(kn * c[0], kt * c[1]), load, method="exact",
-                             initial=initial)
+        # Traced (vmapped) inputs: the unchecked kernel; the spec was checked once by the caller.
+        d = damper_stiffness_kernel(_shape(v), mu, Contacts(kn * c[0], kt * c[1]), load, "exact",
+                                    initial=initial)
         return jnp.log(peak_response(d, mode, forces).peak_amplitude_mm / forces), d.status
 
     outs = [jax.vmap(lambda mu: jax.vmap(lambda c: one(mu, c, h))(corners))(mus)
