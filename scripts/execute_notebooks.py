@@ -20,6 +20,19 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 NOTEBOOK_DIR = ROOT / "notebooks"
 CLUTTER = ("Text(", "[<matplotlib", "<matplotlib.", "<Figure size")
+KERNEL_METADATA = {"kernelspec": {"name": "python3", "display_name": "Python 3", "language": "python"}}
+
+
+def write_notebook(cells, name: str, execute_now: bool = False) -> int:
+    """Write notebooks/NAME from `cells` without outputs (the scripts/make_notebook*.py generators
+    call this); with execute_now, execute it in place as `main` does. Exit code."""
+    import nbformat
+    from nbformat.v4 import new_notebook
+
+    path = NOTEBOOK_DIR / name
+    nbformat.write(new_notebook(cells=cells, metadata=KERNEL_METADATA), path)
+    print(f"wrote {path}")
+    return main([str(path)]) if execute_now else 0
 
 
 def kernel_root(tmp: Path) -> str:

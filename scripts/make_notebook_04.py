@@ -5,12 +5,10 @@ The notebook is written without outputs; scripts/execute_notebooks.py executes i
 Run from the repository root: python scripts/make_notebook_04.py
 """
 
-from pathlib import Path
 
-import nbformat
-from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+from execute_notebooks import write_notebook  # scripts/ is on sys.path when this script runs
+from nbformat.v4 import new_code_cell, new_markdown_cell
 
-ROOT = Path(__file__).resolve().parent.parent
 
 CELLS = [
     new_markdown_cell("""\
@@ -150,11 +148,7 @@ print("direct checks:", sum(r["direct_check"]["ok"] for r in smap["rows"]), "of"
 
 
 def main():
-    nb = new_notebook(cells=CELLS, metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
-                                                            "language": "python"}})
-    out = ROOT / "notebooks" / "04_speed_vs_accuracy.ipynb"
-    nbformat.write(nb, out)
-    print(f"wrote {out}")
+    return write_notebook(CELLS, "04_speed_vs_accuracy.ipynb")
 
 
 if __name__ == "__main__":

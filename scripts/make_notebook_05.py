@@ -8,8 +8,8 @@ benchmarks/response_baselines.py).
 import sys
 from pathlib import Path
 
-import nbformat
-from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+from execute_notebooks import write_notebook  # scripts/ is on sys.path when this script runs
+from nbformat.v4 import new_code_cell, new_markdown_cell
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -228,17 +228,8 @@ def main(execute=True):
         ns = {}
         exec(OPT_CELLS_FILE.read_text(), ns)
         cells += ns["CELLS"]
-    nb = new_notebook(cells=cells, metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
-                                                            "language": "python"}})
-    out = ROOT / "notebooks" / "05_forced_response.ipynb"
-    if execute:
-        from nbclient import NotebookClient
-
-        NotebookClient(nb, timeout=600, kernel_name="python3",
-                       resources={"metadata": {"path": str(out.parent)}}).execute()
-    nbformat.write(nb, out)
-    print("wrote", out)
+    return write_notebook(cells, "05_forced_response.ipynb", execute_now=execute)
 
 
 if __name__ == "__main__":
-    main(execute="--no-execute" not in sys.argv)
+    sys.exit(main(execute="--no-execute" not in sys.argv))

@@ -6,12 +6,10 @@ benchmarks/robust_optimisation.py; the notebook itself runs small Monte Carlo si
 """
 
 import sys
-from pathlib import Path
 
-import nbformat
-from nbformat.v4 import new_code_cell, new_markdown_cell, new_notebook
+from execute_notebooks import write_notebook  # scripts/ is on sys.path when this script runs
+from nbformat.v4 import new_code_cell, new_markdown_cell
 
-ROOT = Path(__file__).resolve().parent.parent
 
 CONCLUSION = """\
 ## What changed
@@ -137,17 +135,8 @@ print(f"notebook: {time.perf_counter() - t_start:.0f} s")"""),
 
 
 def main(execute=True):
-    nb = new_notebook(cells=CELLS, metadata={"kernelspec": {"name": "python3", "display_name": "Python 3",
-                                                            "language": "python"}})
-    out = ROOT / "notebooks" / "06_robust_design.ipynb"
-    if execute:
-        from nbclient import NotebookClient
-
-        NotebookClient(nb, timeout=600, kernel_name="python3",
-                       resources={"metadata": {"path": str(out.parent)}}).execute()
-    nbformat.write(nb, out)
-    print("wrote", out)
+    return write_notebook(CELLS, "06_robust_design.ipynb", execute_now=execute)
 
 
 if __name__ == "__main__":
-    main(execute="--no-execute" not in sys.argv)
+    sys.exit(main(execute="--no-execute" not in sys.argv))
