@@ -76,7 +76,7 @@ def chunk_sweep(chunks=(1024, 2048, 4096, 8192, 16384), n=40_000, repeats=3) -> 
 
 def plain_vmap_throughput(sizes) -> dict:
     """Baseline: jax.jit(jax.vmap(jaxdamp.base_cycle)) + five numbers on the whole batch at once."""
-    f = jax.jit(jax.vmap(lambda s, m, c, lo: jnp.stack(list(jd.five_numbers(jd.base_cycle(s, m, c, lo))))))
+    f = jax.jit(jax.vmap(lambda s, m, c, lo: jnp.stack(jd.five_numbers(jd.base_cycle(s, m, c, lo)).numbers())))
     big = random_designs(max(sizes))
     out = {}
     for n in sizes:

@@ -33,7 +33,7 @@ def designs(n, seed=0):
 
 
 def five(bc):
-    return jnp.stack(list(jd.five_numbers(bc)))
+    return jnp.stack(jd.five_numbers(bc).numbers())
 
 
 def linalg_solve3(m, b, rel_tol=1e-12):

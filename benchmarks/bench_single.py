@@ -69,7 +69,7 @@ def single_call(repeats: int) -> dict:
         shape = jd.family_shape(name)
         design = jd.params.prepare_inputs(shape, 0.5, jd.Contacts(), jd.LoadCase())
         kernels = {loop: jax.jit(lambda *d, loop=loop: jnp.stack(five_numbers_kernel(
-            jd.base_cycle_kernel(*d, loop=loop)))) for loop in ("scan", "while")}
+            jd.base_cycle_kernel(*d, loop=loop)).numbers())) for loop in ("scan", "while")}
         programs = {
             "cycle_numbers": lambda: jd.cycle_numbers(shape, 0.5),
             "five_numbers(base_cycle)": lambda: jd.five_numbers(jd.base_cycle(shape, 0.5)),
@@ -77,7 +77,7 @@ def single_call(repeats: int) -> dict:
             "kernel_while": lambda: kernels["while"](*design),
         }
         got = np.array(jd.cycle_numbers(shape, 0.5)[:5])
-        ref = np.array(jd.five_numbers(jd.base_cycle(shape, 0.5)))
+        ref = np.array(jd.five_numbers(jd.base_cycle(shape, 0.5)).numbers())
         out[name] = {"load_average_1min": loadavg()[0], **_interleaved_us(programs, repeats),
                      "max_abs_diff_vs_five_numbers_base_cycle": float(np.max(np.abs(got - ref)))}
     return out

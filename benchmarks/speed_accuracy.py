@@ -104,7 +104,7 @@ LOAD = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
 
 @jax.jit
 def direct_five(shape, mu):
-    return jnp.stack(list(jd.five_numbers(base_cycle_kernel(shape, mu, CONTACTS, LOAD))))
+    return jnp.stack(jd.five_numbers(base_cycle_kernel(shape, mu, CONTACTS, LOAD)).numbers())
 
 
 def errors(exact, k_re=None, k_im=None, psi_bc=None, psi_fs=None, k_re_fs=None):

@@ -107,7 +107,7 @@ def _stack(cases):
 def direct_batch(cases) -> dict:
     shape, mu, contacts = _stack(cases)
     bc = jax.vmap(lambda s, m, c: base_cycle_kernel(s, m, c, LOAD))(shape, mu, contacts)
-    five = np.array(jax.vmap(jd.five_numbers)(bc)).T
+    five = np.array(jax.vmap(jd.five_numbers)(bc).numbers()).T
     span = np.maximum(np.asarray(bc.forward.span), np.asarray(bc.backward.span))
     return dict(five=five, span=span, liftoff=np.asarray(bc.liftoff), failed=np.asarray(bc.failed),
                 converged=np.asarray(bc.converged))
@@ -206,7 +206,7 @@ def _timed(fn, *args):
 
 @jax.jit
 def _direct_one(shape, mu, contacts):
-    return jnp.stack(list(jd.five_numbers(base_cycle_kernel(shape, mu, contacts, LOAD))))
+    return jnp.stack(jd.five_numbers(base_cycle_kernel(shape, mu, contacts, LOAD)).numbers())
 
 
 def _merge_reference(cases, direct):

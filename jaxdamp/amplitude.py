@@ -43,10 +43,10 @@ from .cycle import (base_cycle_kernel, bounded_loop, check_loop, mechanics, repe
                     tract_rows, values_by_while, zeros_of)
 from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
 from .fourier import half_fourier
-from .params import (Contacts, LoadCase, prepare_inputs, validate_contacts, validate_load,
-                     validate_mu)
+from .params import (Contacts, LoadCase, above_validated_range, prepare_inputs, validate_contacts,
+                     validate_load, validate_mu)
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
-from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm
+from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state
 from .runtime import batch_jit
 from .status import RESULTS
@@ -382,6 +382,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     failed = pre_fail | fwd.failed | bwd.failed
     slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
     status = jnp.zeros((), jnp.int32)
+    status = RESULTS.promote(status, above_validated_range(mech.kn, mech.kt), RESULTS.ill_conditioned)
     status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
     status = RESULTS.promote(status, failed | ~psi_ok, RESULTS.singular)
     status = RESULTS.promote(status, ~closed, RESULTS.not_converged)
@@ -414,6 +415,7 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
 
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=3)
     check_int("max_tracts", max_tracts, 1)
     check_int("max_pairs", max_pairs, 1)
     psi = np.asarray(psi_a_mrad, float)
@@ -602,6 +604,7 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     validate_contacts(contacts)
     validate_load(load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=3)
     psi = np.asarray(psi_a_mrad, float)
     if psi.ndim not in (1, 2):
         raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "

@@ -30,7 +30,7 @@ from .amplitude import amplitude_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .statics import contact_columns
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 
 BOUNDS = ("k_re_min", "k_re_max", "k_im_min", "k_im_max")
 _TRIPLES = np.array(list(itertools.combinations(range(9), 3)))
@@ -41,7 +41,7 @@ class Band(NamedTuple):
     """The band at one amplitude (k in N mm/mrad); arrays of 4 follow BOUNDS."""
 
     psi_a: float
-    bounds: np.ndarray  # (4,) k_re_min, k_re_max, k_im_min, k_im_max (NaN where no valid cycle)
+    bounds: np.ndarray  # (4,) k_re_min, k_re_max, k_im_min, k_im_max (zero where status is not ok)
     N: np.ndarray  # (4, 3) initial normal forces attaining each bound (units of F_D)
     T: np.ndarray  # (4, 3) initial tangential forces
     refined: np.ndarray  # (4,) bool: the bound was improved by the optimiser beyond the samples
@@ -49,8 +49,14 @@ class Band(NamedTuple):
     status: int  # RESULTS.ok if any admissible state gives a valid cycle, else the first problem
 
     def as_dict(self) -> dict:
-        return {name: (None if not np.isfinite(v) else float(v)) for name, v in
-                zip(BOUNDS, self.bounds)}
+        """The bounds by name; None where no admissible state gives a valid cycle (status)."""
+        exists = int(self.status) == RESULTS.ok
+        return {name: (float(v) if exists else None) for name, v in zip(BOUNDS, self.bounds)}
+
+    def __repr__(self) -> str:
+        bounds = ", ".join(f"{n}={number_repr(v, 'N mm/mrad')}" for n, v in zip(BOUNDS, self.bounds))
+        return (f"Band(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
+                f"{bounds}, n_valid={self.n_valid})")
 
 
 def admissible_polytope(shape: DamperShape, mu):
@@ -156,8 +162,8 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
     valid = np.asarray(RESULTS.valid(status))
     if not valid.any():
         first = int(status[np.argmax(status != RESULTS.ok)]) if np.any(status) else int(RESULTS.singular)
-        nan = np.full(4, np.nan)
-        return Band(float(psi_a_mrad), nan, np.full((4, 3), np.nan), np.full((4, 3), np.nan),
+        # No valid cycle: the bounds do not exist, which the status says (zeros, never NaN).
+        return Band(float(psi_a_mrad), np.zeros(4), np.zeros((4, 3)), np.zeros((4, 3)),
                     np.zeros(4, bool), 0, first)
     values = np.stack([k_re, k_re, k_im, k_im])  # (4, samples)
     signs = np.array([1.0, -1.0, 1.0, -1.0])  # minimise sign * k

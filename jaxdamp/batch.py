@@ -28,6 +28,7 @@ from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .runtime import batch_jit
 from .statics import design_br_kernel
+from .status import RESULTS
 
 AXIS = "designs"
 MIN_BATCH = 16  # smallest compiled batch: small batches are padded up to it
@@ -335,7 +336,7 @@ def summary_kernel(design: Design, max_pairs: int = MAX_PAIRS,
     bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts, loop=loop)
     nums = five_numbers(bc)
     w = work_shape_factors(bc)
-    return DesignSummary(*nums, *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)
+    return DesignSummary(*nums.numbers(), *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)
 
 
 def first_stage_summary(design: Design) -> DesignSummary:
@@ -392,9 +393,9 @@ class SweepResult(NamedTuple):
 
     @property
     def valid(self) -> np.ndarray:
-        """Points that are a working damper: converged, no liftoff, b_R defined."""
-        s = self.summary
-        return s.converged & ~s.liftoff & ~s.failed & self.br_found[None]
+        """Points that are a working damper: status ok (converged, no liftoff, well-conditioned),
+        b_R defined."""
+        return (np.asarray(self.summary.status) == RESULTS.ok) & self.br_found[None]
 
 
 @jax.jit

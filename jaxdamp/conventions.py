@@ -26,6 +26,9 @@ Moment and complex stiffness
 
 from __future__ import annotations
 
+import warnings
+
+import jax
 import numpy as np
 
 MRAD_PER_RAD = 1e3
@@ -77,3 +80,26 @@ def stiffness_from_rfft(first_bin, n_samples, psi_a_mrad):
     form of `stiffness_from_fourier`: sum M e^(-i tau) = n/2 psi_a (k_Re + i k_Im))."""
     scale = 2.0 / (n_samples * psi_a_mrad)
     return first_bin.real * scale, first_bin.imag * scale
+
+
+# The model is a small-rotation one (linearised kinematics of a rigid damper between parallel
+# platforms). Beyond this platform rotation the numbers are the model's, not a damper's: warn.
+SMALL_ROTATION_MRAD = 50.0
+
+
+class SmallRotationWarning(UserWarning):
+    """A rotation amplitude (psi_BC, or a prescribed psi_a) exceeds SMALL_ROTATION_MRAD."""
+
+
+def warn_small_rotation(psi_mrad, name="psi_BC", stacklevel=2):
+    """SmallRotationWarning where a (concrete) rotation amplitude exceeds SMALL_ROTATION_MRAD.
+    name: what the amplitude is ("psi_BC": then the cause is a contact stiffness too low for the
+    load; "psi_a": an amplitude the user asked for)."""
+    if isinstance(psi_mrad, jax.core.Tracer) or not np.any(np.asarray(psi_mrad) > SMALL_ROTATION_MRAD):
+        return
+    cause = ("the contact stiffness is too low for the load" if name == "psi_BC"
+             else "the linearised kinematics do not hold there")
+    warnings.warn(f"{name} = {float(np.max(np.asarray(psi_mrad))):.4g} mrad exceeds the "
+                  f"small-rotation limit of {SMALL_ROTATION_MRAD:g} mrad: {cause}; the numbers "
+                  "are the model's, not a damper's (docs/model.md, validated range)",
+                  SmallRotationWarning, stacklevel=stacklevel)

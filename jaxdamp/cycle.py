@@ -16,7 +16,7 @@ import numpy as np
 from .design import Design, as_design
 from .geometry import DamperShape
 from .status import from_flags
-from .params import Contacts, LoadCase, prepare_inputs
+from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state
 from .linalg import vecmat
@@ -268,6 +268,7 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     # stiffness over F_D is numerically infinite): its numbers are meaningless too.
     rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
     ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
+    ill = ill | above_validated_range(mech.kn, mech.kt)
     return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
                      from_flags(liftoff, failed, converged, ill))
 

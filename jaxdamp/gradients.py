@@ -97,7 +97,7 @@ def outputs(design: Design, psi_a=0.0):
     bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
     _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float), method="interpolated")
-    return Outputs(*nums, k_im), Flags(bc.converged, bc.liftoff, bc.failed, bc.status)
+    return Outputs(*nums.numbers(), k_im), Flags(bc.converged, bc.liftoff, bc.failed, bc.status)
 
 
 # Compiled once per mode and reused by every call (and by the tests): the five numbers and k_Im(psi_a)
@@ -163,7 +163,8 @@ def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contac
     Design (angles per degree, kn/kt per N/mm, F_D per N, ...), by forward ("fwd", jax.jacfwd) or
     reverse ("rev", jax.jacrev) mode AD."""
     values, jac, flags = _jac(shape, mu, contacts, load, 0.0, mode)
-    return FiveNumbersJacobian(FiveNumbers(*values[:5]), FiveNumbers(*jac[:5]), *flags)
+    return FiveNumbersJacobian(FiveNumbers(*values[:5], flags.status),
+                               FiveNumbers(*jac[:5], flags.status), *flags)
 
 
 def k_im_gradient_at(psi_a_mrad, shape: DamperShape | Design, mu=None,

@@ -13,18 +13,21 @@ from __future__ import annotations
 from functools import partial
 from typing import NamedTuple
 
-import warnings
-
 import jax
 import jax.numpy as jnp
 import numpy as np
 
 from .conventions import psi_mrad, travel_mm
+# The small-rotation limit lives with the conventions (below amplitude.py, which warns too).
+from .conventions import SMALL_ROTATION_MRAD as SMALL_ROTATION_MRAD
+from .conventions import SmallRotationWarning as SmallRotationWarning
+from .conventions import warn_small_rotation as warn_small_rotation
 from .cycle import BaseCycle, base_cycle_kernel
 from .design import as_design
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
 from .runtime import batch_jit
+from .status import number_repr, status_repr
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
 # (which uses it above psi_BC); these names stay importable from here.
 from .stretch import MomentHalf as MomentHalf
@@ -36,22 +39,25 @@ from .stretch import stretched_cycle as stretched_cycle
 
 
 class FiveNumbers(NamedTuple):
-    """The paper's characteristic numbers (psi in mrad, k in N mm/mrad)."""
+    """The paper's characteristic numbers (psi in mrad, k in N mm/mrad) and the status (RESULTS)
+    of the Base-Cycle they come from: only `ok` numbers describe a damper (zero after liftoff)."""
 
     psi_fs: jnp.ndarray
     k_re_fs: jnp.ndarray
     psi_bc: jnp.ndarray
     k_re_bc: jnp.ndarray
     k_im_bc: jnp.ndarray
+    status: jnp.ndarray
 
+    def numbers(self) -> tuple:
+        """The five numbers without the status, in the paper's order."""
+        return tuple(self[:5])
 
-# The model is a small-rotation one (linearised kinematics of a rigid damper between parallel
-# platforms). Beyond this platform rotation the numbers are the model's, not a damper's: warn.
-SMALL_ROTATION_MRAD = 50.0
-
-
-class SmallRotationWarning(UserWarning):
-    """A Base-Cycle's amplitude exceeds the small-rotation limit SMALL_ROTATION_MRAD."""
+    def __repr__(self) -> str:
+        units = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
+        parts = [f"{f}={number_repr(v, u)}" for f, v, u in zip(self._fields, self, units)]
+        status = status_repr(self.status) if not isinstance(self.status, FiveNumbers) else "-"
+        return f"FiveNumbers(status={status}, " + ", ".join(parts) + ")"
 
 
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
@@ -65,15 +71,6 @@ def five_numbers(bc: BaseCycle) -> FiveNumbers:
     return nums
 
 
-def warn_small_rotation(psi_bc, stacklevel=2):
-    """SmallRotationWarning where a (concrete) psi_BC exceeds SMALL_ROTATION_MRAD."""
-    if not isinstance(psi_bc, jax.core.Tracer) and np.any(np.asarray(psi_bc) > SMALL_ROTATION_MRAD):
-        warnings.warn(f"psi_BC = {float(np.max(np.asarray(psi_bc))):.4g} mrad exceeds the "
-                      f"small-rotation limit of {SMALL_ROTATION_MRAD:g} mrad: the contact stiffness "
-                      "is too low for the load (see docs/model.md, validated range)",
-                      SmallRotationWarning, stacklevel=stacklevel)
-
-
 @jax.jit
 def five_numbers_kernel(bc: BaseCycle) -> FiveNumbers:
     """`five_numbers` without the warning check, for use inside jit/vmap/grad."""
@@ -83,9 +80,9 @@ def five_numbers_kernel(bc: BaseCycle) -> FiveNumbers:
     k_re_fs = -moment(bc, bc.forward.dN[0], bc.forward.dT[0]) * travel_mm(1.0, q)
     psi_bc = base_cycle_amplitude(bc)
     k_re_bc, k_im_bc, _ = gross_slip_stiffness(bc, psi_bc)
-    nums = FiveNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
+    nums = (psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
     # A cycle that lifted off stopped part-way: its numbers would look valid but mean nothing.
-    return FiveNumbers(*(jnp.where(bc.liftoff, 0.0, v) for v in nums))
+    return FiveNumbers(*(jnp.where(bc.liftoff, 0.0, v) for v in nums), bc.status)
 
 
 def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_slip"):
@@ -198,7 +195,7 @@ def _numbers_packed(v):
     bc = base_cycle_kernel(DamperShape(v[0], v[1], v[2], v[3]), v[4],
                            Contacts(v[5:8], v[8:11]), LoadCase(v[11], v[12], v[13]), loop="while")
     nums = five_numbers_kernel(bc)
-    return jnp.stack([*nums, bc.status.astype(float)])
+    return jnp.stack([*nums.numbers(), bc.status.astype(float)])
 
 
 def cycle_numbers(shape, mu=None, contacts=None, load=None) -> CycleNumbers:

@@ -19,6 +19,23 @@ REFERENCE_KN = 20246.3  # N/mm
 REFERENCE_KT = 3492.1  # N/mm
 
 
+# The validated stiffness range (docs/model.md, tests/test_conditioning.py): kn/F_D and kt/F_D per
+# mm of travel, and kt/kn. Above it the linear solves lose their digits, so a cycle there is
+# `ill_conditioned` whatever its residuals say. Below it the numbers stay exact but psi_BC exceeds
+# the small-rotation limit (SMALL_ROTATION_MRAD), which is what warns there.
+VALIDATED_STIFFNESS_OVER_FD_PER_MM = (0.1, 1e6)
+VALIDATED_KT_OVER_KN = (1e-4, 1e4)
+
+
+def above_validated_range(kn_over_fd, kt_over_fd):
+    """True (traceable) where a contact's stiffness over F_D exceeds the validated range, or its
+    kt/kn ratio leaves it (arguments per mm, any shape; a hair of slack keeps the bounds inside)."""
+    hi = VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] * (1.0 + 1e-9)
+    lo_ratio, hi_ratio = VALIDATED_KT_OVER_KN[0] * (1.0 - 1e-9), VALIDATED_KT_OVER_KN[1] * (1.0 + 1e-9)
+    ratio = kt_over_fd / kn_over_fd
+    return jnp.any((kn_over_fd > hi) | (kt_over_fd > hi) | (ratio < lo_ratio) | (ratio > hi_ratio))
+
+
 class Contacts(NamedTuple):
     """Jenkins contact stiffness in N/mm: scalars (shared) or arrays ordered (R1, L1, L2)."""
 

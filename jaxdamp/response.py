@@ -238,8 +238,8 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
     grid = np.asarray(psi_grid_mrad, float)
     bands = [amplitude_band(shape, mu, float(a), contacts, load, n_samples=n_samples, refine=False)
              for a in grid]
-    k = np.array([b.bounds for b in bands])  # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max
-    k = np.where(np.isfinite(k), k, 0.0)
+    # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
+    k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
     k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
     low = tabulated_stiffness(grid, k_re_mid, k[:, 2], base, envelope="lower")

@@ -12,6 +12,7 @@ from .geometry import DamperShape, full_slip_slide_rates, section_geometry, vali
 from ._validate import require_x64
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import validate_mu
+from .status import RESULTS, number_repr, ok_status, status_repr
 
 
 class FullSlipState(NamedTuple):
@@ -25,10 +26,23 @@ class FullSlipState(NamedTuple):
 
 
 class FullSlipStatics(NamedTuple):
+    """The full-slip statics at both ends of the cycle; `status` (RESULTS) is the one stored truth:
+    `liftoff` where a normal force is <= 0 at either end, `singular` where the lines of action make
+    the statics unsolvable."""
+
     start: FullSlipState  # cycle start, point 0
     mid: FullSlipState  # mid-cycle, point C
-    liftoff: jnp.ndarray
     min_normal_over_fd: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code
+
+    @property
+    def liftoff(self):
+        """No valid full-slip state at one end (a normal force <= 0, or singular statics)."""
+        return self.status != RESULTS.ok
+
+    def __repr__(self) -> str:
+        return (f"FullSlipStatics(status={status_repr(self.status)}, "
+                f"min_normal_over_fd={number_repr(self.min_normal_over_fd)})")
 
 
 def contact_columns(shape: DamperShape):
@@ -56,8 +70,9 @@ def statics_kernel(shape: DamperShape, mu) -> FullSlipStatics:
     start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
     mid = full_slip_state(shape, mu, -START_FRICTION_SIGNS)
     min_n = jnp.minimum(start.min_normal, mid.min_normal)
-    liftoff = (min_n <= 0.0) | ~start.solvable | ~mid.solvable
-    return FullSlipStatics(start, mid, liftoff, min_n)
+    status = RESULTS.promote(ok_status(), ~start.solvable | ~mid.solvable, RESULTS.singular)
+    status = RESULTS.promote(status, min_n <= 0.0, RESULTS.liftoff)
+    return FullSlipStatics(start, mid, min_n, status)
 
 
 def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
@@ -109,10 +124,27 @@ def _left_minus_right_v(state: FullSlipState, geo) -> jnp.ndarray:
 
 
 class DesignResult(NamedTuple):
+    """The design rule's b_R/h_R; `status` is `no_root` where no b_R/h_R in the bracket centres the
+    resultant, `liftoff` where the centred resultant still leaves L1-L2 at mu_max, else `ok`."""
+
     br_over_hr: jnp.ndarray  # the centring b_R/h_R
-    found: jnp.ndarray  # a root exists in the search bracket
     margin_pct: jnp.ndarray  # distance of the resultant from the nearer pad at both ends, % of L1-L2
-    inside: jnp.ndarray  # the resultant lies inside L1-L2 at both ends (no liftoff at mu_max)
+    status: jnp.ndarray  # RESULTS code
+
+    @property
+    def found(self):
+        """A root exists in the search bracket."""
+        return self.status != RESULTS.no_root
+
+    @property
+    def inside(self):
+        """The resultant lies inside L1-L2 at both ends (no liftoff at mu_max)."""
+        return self.status == RESULTS.ok
+
+    def __repr__(self) -> str:
+        return (f"DesignResult(status={status_repr(self.status)}, "
+                f"br_over_hr={number_repr(self.br_over_hr)}, "
+                f"margin_pct={number_repr(self.margin_pct, '%')})")
 
 
 def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult:
@@ -144,4 +176,5 @@ def design_br_kernel(shape, mu_max, lo, hi) -> DesignResult:
     a, b, _ = jax.lax.fori_loop(0, 80, body, (jnp.asarray(lo, float), jnp.asarray(hi, float), g_lo))
     br = 0.5 * (a + b)
     margin = statics_kernel(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
-    return DesignResult(br, found, margin, found & (margin > 0.0))
+    status = RESULTS.promote(ok_status(jnp.shape(found)), ~found, RESULTS.no_root)
+    return DesignResult(br, margin, RESULTS.promote(status, margin <= 0.0, RESULTS.liftoff))

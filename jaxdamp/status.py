@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import enum
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -49,11 +50,46 @@ _MESSAGES = {
     RESULTS.liftoff: "a normal force reached zero (liftoff): the damper does not work as designed",
     RESULTS.not_converged: "the cycle did not become periodic within the iteration bound",
     RESULTS.singular: "a tract's linear system is singular (no consistent stick/slip set)",
-    RESULTS.ill_conditioned: ("the contact stiffness is outside the validated range: the "
-                              "equilibrium residual or the energy identity fails its tolerance"),
+    RESULTS.ill_conditioned: ("the contact stiffness is above the validated range (docs/model.md) "
+                              "or the linear solves lost their digits (equilibrium residual above "
+                              "tolerance): the numbers are not trustworthy"),
     RESULTS.shakedown: "the steady cycle is elastic (shakedown): no slip, k_Im = 0",
     RESULTS.no_root: "no solution of the scalar equation in the searched range",
 }
+
+
+def _concrete(value):
+    """value as a numpy array, or None inside a trace (a repr must never force a tracer)."""
+    if isinstance(value, jax.core.Tracer):
+        return None
+    try:
+        return np.asarray(value)
+    except Exception:  # noqa: BLE001 - a repr must not raise
+        return None
+
+
+def status_repr(status) -> str:
+    """A status by name: 'ok', or for a batch the count of each name ('ok: 12, liftoff: 3')."""
+    s = _concrete(status)
+    if s is None:
+        return "<traced>"
+    if s.ndim == 0:
+        return RESULTS(int(s)).name
+    codes, counts = np.unique(s, return_counts=True)
+    return ", ".join(f"{RESULTS(int(c)).name}: {int(n)}" for c, n in zip(codes, counts))
+
+
+def number_repr(value, unit: str = "") -> str:
+    """A number with its unit ('0.6736 mrad'); an array as its shape and range."""
+    v = _concrete(value)
+    tail = f" {unit}" if unit else ""
+    if v is None:
+        return "<traced>"
+    if v.ndim == 0:
+        return f"{float(v):.6g}{tail}"
+    if v.size == 0:
+        return f"<empty {v.shape}>"
+    return f"<{v.shape}: {float(np.min(v)):.4g} to {float(np.max(v)):.4g}{tail}>"
 
 
 def from_flags(liftoff, failed=False, converged=True, ill_conditioned=False):

@@ -84,7 +84,7 @@ def warm(fn, *args, repeats=3):
         t = time.perf_counter(); out = jax.block_until_ready(fn(*args)); ts.append(time.perf_counter() - t)
     return float(np.median(ts)), out
 
-direct = jax.jit(lambda s, m: jnp.stack(list(jd.five_numbers(jd.base_cycle(s, m, contacts, load)))))
+direct = jax.jit(lambda s, m: jnp.stack(jd.five_numbers(jd.base_cycle(s, m, contacts, load)).numbers()))
 t_d, five = warm(direct, shape, mu, repeats=20)
 psi_fs, k_re_fs, psi_bc, k_re, k_im = map(float, five)
 bc = jd.base_cycle(jd.family_shape("60sym"), 0.5, contacts, load)

@@ -225,6 +225,8 @@ def test_sweep_centred_br_matches_design_by_design():
                     assert getattr(s, f)[k, i, j] == pytest.approx(float(getattr(nums, f)), rel=1e-12)
                 assert s.w_M[k, i, j] == pytest.approx(float(w.w_M), rel=1e-12)
     s = res.summary
+    # valid is the status; here (no ill-conditioning) it agrees with the solver's flags too
+    np.testing.assert_array_equal(res.valid, s.status == jd.RESULTS.ok)
     np.testing.assert_array_equal(res.valid, s.converged & ~s.liftoff & ~s.failed)
     assert res.valid[:, 1, 1].all()  # 60sym with its centred b_R works at both mu
 

@@ -167,12 +167,14 @@ def test_numbers_that_do_not_exist_are_null():
 def test_status_from_result_fields_or_flags():
     from types import SimpleNamespace
 
-    from jaxdamp.status import RESULTS
+    from jaxdamp.status import RESULTS, from_flags
 
-    assert C.status_from_flags() == "ok"
-    assert C.status_from_flags(liftoff=True, failed=True) == "liftoff"
-    assert C.status_from_flags(failed=True) == "singular"
-    assert C.status_from_flags(converged=False) == "not_converged"
+    name = lambda **flags: RESULTS.name_of(from_flags(**flags))  # noqa: E731
+    assert name(liftoff=False) == "ok"
+    assert name(liftoff=True, failed=True) == "liftoff"
+    assert name(liftoff=False, failed=True) == "singular"
+    assert name(liftoff=False, converged=False) == "not_converged"
+    assert name(liftoff=True, ill_conditioned=True) == "ill_conditioned"
     assert C.status_name(SimpleNamespace(status=RESULTS.ill_conditioned, converged=True)) == "ill_conditioned"
 
 

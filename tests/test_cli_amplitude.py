@@ -20,8 +20,9 @@ def test_json_contract(capsys):
                        "--kt", "3580", "--psi-a", "0.3,1.2", "--initial", "assembly", "--json")
     assert code == 0
     d = json.loads(out)
-    assert set(d) == {"inputs", "status", "amplitudes", "schema_version", "jaxdamp_version"}
-    assert d["status"] == "ok"
+    assert set(d) == {"inputs", "status", "amplitudes", "warnings", "schema_version",
+                      "jaxdamp_version"}
+    assert d["status"] == "ok" and d["warnings"] == []
     assert d["inputs"]["psi_a_mrad"] == [0.3, 1.2] and d["inputs"]["initial"] == "assembly"
     assert d["inputs"]["mu"] == 0.5 and d["inputs"]["kn"] == 17900 and d["inputs"]["shape"] == "60sym"
     rows = d["amplitudes"]
@@ -31,6 +32,18 @@ def test_json_contract(capsys):
                           initial="assembly")
     assert rows[1]["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
     assert rows[1]["k_im"] == pytest.approx(1793, abs=1)  # the issue's brute-force value
+
+
+def test_an_amplitude_above_the_small_rotation_limit_warns(capsys):
+    """10 rad is a number of the linearised model, not of a damper: the output says so."""
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a",
+                       f"1,{2 * jd.SMALL_ROTATION_MRAD:g}", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert len(d["warnings"]) == 1 and "small-rotation limit" in d["warnings"][0]
+    assert "psi_a = 100 mrad" in d["warnings"][0]
+    with pytest.warns(jd.SmallRotationWarning, match="psi_a"):
+        amplitude_cycle(jd.family_shape("60sym"), 0.5, 2 * jd.SMALL_ROTATION_MRAD)
 
 
 def test_liftoff_gives_nulls(capsys):

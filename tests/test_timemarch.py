@@ -37,7 +37,7 @@ def _random_shapes(n=6, seed=20240607):
 
 def _direct(shapes, mus):
     bc = jax.vmap(lambda s, m: base_cycle_kernel(s, m, CONTACTS, LOAD))(_stack(shapes), jnp.asarray(mus))
-    nums = np.array(jax.vmap(five_numbers)(bc)).T
+    nums = np.array(jax.vmap(five_numbers)(bc).numbers()).T
     span = np.maximum(np.asarray(bc.forward.span), np.asarray(bc.backward.span))
     return bc, nums, span
 

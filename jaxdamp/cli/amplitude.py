@@ -49,10 +49,12 @@ def run(args) -> int:
     shape = C.shape_from_args(args)
     prepare_inputs(shape, args.mu, contacts, load)
 
-    rows = []
+    rows, warned = [], []
     bar = C.progress_bar(args, total=len(psis), desc="amplitudes", unit="amplitude")
     for psi in psis:
-        ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial)
+        with C.model_warnings() as caught:  # an amplitude above the small-rotation limit
+            ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial)
+        warned.extend(m for m in caught if m not in warned)
         valid = bool(RESULTS.valid(ac.status))
         row = {"psi_a_mrad": psi, "k_re": C.number(ac.k_re) if valid else None,
                "k_im": C.number(ac.k_im) if valid else None,
@@ -71,7 +73,8 @@ def run(args) -> int:
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
               "band": bool(args.band)}
-    doc = C.document(bad[0] if bad else "ok", {"inputs": inputs, "amplitudes": rows})
+    doc = C.document(bad[0] if bad else "ok", {"inputs": inputs, "amplitudes": rows,
+                                               "warnings": warned})
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "
@@ -86,5 +89,6 @@ def run(args) -> int:
             line += (f"   [{fmt(b['k_re_min'])}, {fmt(b['k_re_max'])}]"
                      f"   [{fmt(b['k_im_min'])}, {fmt(b['k_im_max'])}]")
         lines.append(line)
+    lines += [f"  WARNING: {m}" for m in warned]
     C.emit(args, doc, "\n".join(lines))
     return 0

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import contextlib
 import math
 import os
 import sys
@@ -378,17 +379,24 @@ def version() -> str:
         return "unknown"
 
 
+@contextlib.contextmanager
+def model_warnings():
+    """Collect the library's warnings (small rotation, ...) for the output instead of stderr:
+    yields a list that holds their messages once the block ends."""
+    import warnings
+
+    messages: list[str] = []
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        yield messages
+    messages.extend(dict.fromkeys(str(w.message) for w in caught))
+
+
 def status_name(result) -> str:
     """The RESULTS name of a result (its `status` field, else its flags): see jaxdamp.status.status_of."""
     from ..status import status_of
 
     return status_of(result).name
-
-
-def status_from_flags(*, converged=True, liftoff=False, failed=False) -> str:
-    from types import SimpleNamespace
-
-    return status_name(SimpleNamespace(converged=converged, liftoff=liftoff, failed=failed))
 
 
 def number(value):

@@ -37,19 +37,16 @@ def _program():
 def cycle_payload(bc, nums, energy, factors) -> dict:
     """The numbers of a BaseCycle (with its five numbers, contact energies and work shape factors,
     as `_cycle_numbers` computes them); those that do not exist (liftoff, singular) are None."""
-    import warnings
-
+    from ..conventions import warn_small_rotation
     from ..cycle import transitions_chart
-    from ..harmonics import warn_small_rotation
 
     status = C.status_name(bc)
     # Ill-conditioned numbers are wrong numbers: they are not shown (null), only the status.
     exists = status not in ("liftoff", "singular", "ill_conditioned")
-    with warnings.catch_warnings(record=True) as caught:
-        warnings.simplefilter("always")
+    with C.model_warnings() as caught:
         warn_small_rotation(nums.psi_bc, stacklevel=2)
     p = {k: (C.number(v) if exists else None) for k, v in zip(NUMBER_KEYS, nums)}
-    p["warnings"] = [str(w.message) for w in caught] if exists else []
+    p["warnings"] = caught if exists else []
     p["spans_mm"] = {"forward": C.number(bc.forward.span) if exists else None,
                      "backward": C.number(bc.backward.span) if exists else None}
     p.update(converged=bool(bc.converged), liftoff=bool(bc.liftoff), failed=bool(bc.failed),

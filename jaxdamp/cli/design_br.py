@@ -23,9 +23,9 @@ def run(args) -> int:
     shape = C.shape_from_args(args, need_br=False)
     validate_mu(args.mu_max, "mu_max")
     res = design_br(shape, args.mu_max)
-    found, inside = bool(res.found), bool(res.inside)
-    # no root: b_R does not exist; outside L1-L2: it exists but every b_R lifts off at mu_max
-    status = "ok" if found and inside else ("no_root" if not found else "liftoff")
+    # no root: b_R does not exist; liftoff: it exists but every b_R lifts off at mu_max
+    status = C.status_name(res)
+    found, inside = status != "no_root", status == "ok"
     echo = C.shape_echo(shape)
     echo.pop("br_over_hr")
     doc = C.document(status, {"br_over_hr": C.number(res.br_over_hr) if found else None,

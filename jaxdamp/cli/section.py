@@ -21,15 +21,18 @@ def register(sub) -> None:
 def run(args) -> int:
     from ..params import validate_mu
     from ..plotting import plot_section
+    from ..statics import full_slip_statics
 
     shape = C.shape_from_args(args)
     validate_mu(args.mu)
     out = C.check_output_file("--out", args.out, SUFFIXES)
+    # The figure draws the full-slip statics; the status is theirs (liftoff: 74L at mu 0.7).
+    status = C.status_name(full_slip_statics(shape, args.mu))
     fig = plot_section(shape, args.mu, end=args.end)
     C.save_figure(fig, out, dpi=110)
     import matplotlib.pyplot as plt
 
     plt.close(fig)
-    doc = C.document("ok", {"files": [str(out)]}, shape=C.shape_echo(shape), mu=args.mu)
+    doc = C.document(status, {"files": [str(out)]}, shape=C.shape_echo(shape), mu=args.mu)
     C.emit(args, doc, f"wrote {out}")
     return 0

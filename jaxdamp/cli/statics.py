@@ -20,8 +20,8 @@ def run(args) -> int:
     shape = C.shape_from_args(args)
     validate_mu(args.mu)
     st = full_slip_statics(shape, args.mu)
-    solvable = bool(st.start.solvable) and bool(st.mid.solvable)
-    status = C.status_from_flags(liftoff=bool(st.liftoff) and solvable, failed=not solvable)
+    status = C.status_name(st)
+    solvable = status != "singular"
 
     def end(s):
         # forces of a singular system do not exist; a liftoff's forces do (they show the liftoff)
@@ -29,7 +29,7 @@ def run(args) -> int:
         return {"N": C.named(s.N) if ok else None, "T": C.named(s.T) if ok else None,
                 "resultant_pos_pct": C.number(s.resultant_pos_pct) if ok else None}
 
-    doc = C.document(status, {"start": end(st.start), "mid": end(st.mid), "liftoff": bool(st.liftoff),
+    doc = C.document(status, {"start": end(st.start), "mid": end(st.mid), "liftoff": status == "liftoff",
                               "min_normal_over_fd": C.number(st.min_normal_over_fd) if solvable else None},
                      shape=C.shape_echo(shape), mu=args.mu)  # under "inputs"
     lines = [f"Full-slip statics, mu = {args.mu:g} (forces in units of F_D)",
@@ -38,6 +38,6 @@ def run(args) -> int:
         nums = "".join(f"{float(v):9.4f}" for v in list(s.N) + list(s.T))
         lines.append(f"{label:12}{nums}  {float(s.resultant_pos_pct):8.2f}")
     lines.append(f"min normal force / F_D = {float(st.min_normal_over_fd):.4f}; "
-                 f"liftoff: {'YES' if st.liftoff else 'no'}")
+                 f"liftoff: {'YES' if status == 'liftoff' else 'no'}")
     C.emit(args, doc, "\n".join(lines))
     return 0

@@ -80,10 +80,17 @@ def summary_of(res) -> dict:
     """Counts per status of the sweep (the printed summary and sweep.json's 'summary')."""
     from ..plotting.sweep import STATUS, status_codes
 
+    from ..status import RESULTS
+
     codes = status_codes(res)
     counts = {name.replace(" ", "_").replace("b_R_undefined", "br_undefined"): int((codes == i).sum())
               for i, name in enumerate(STATUS)}
-    return {"points": int(codes.size), **counts, "failed": int(np.sum(res.summary.failed))}
+    # The heatmap's "not converged" class, split by status (points with a defined b_R).
+    status = np.asarray(res.summary.status)[codes != 3]
+    counts["not_converged"] = int(np.sum(status == RESULTS.not_converged))
+    counts.update(singular=int(np.sum(status == RESULTS.singular)),
+                  ill_conditioned=int(np.sum(status == RESULTS.ill_conditioned)))
+    return {"points": int(codes.size), **counts}
 
 
 def run(args) -> int:
@@ -116,7 +123,8 @@ def run(args) -> int:
     finally:
         bar.close()
     summary = summary_of(res)
-    status = "ok" if summary["not_converged"] == 0 else "not_converged"
+    # Liftoff points are results of a sweep; a point with no valid cycle for another reason is not.
+    status = next((k for k in ("ill_conditioned", "singular", "not_converged") if summary[k]), "ok")
     inputs = {"theta_l_deg": tl, "theta_r_deg": tr, "mu": mus, "br_over_hr": br,
               "mu_max": res.mu_max, "bl2_over_hl": args.bl2, "contacts": C.contacts_echo(contacts),
               "load": C.load_echo(res_load())}
@@ -124,7 +132,8 @@ def run(args) -> int:
     files = write_sweep(res, out, extra=head)
     doc = {**head, **summary, "files": [str(f) for f in files]}
     text = (f"{summary['points']} designs: {summary['valid']} valid, {summary['liftoff']} liftoff, "
-            f"{summary['not_converged']} not converged ({summary['failed']} failed), "
+            f"{summary['not_converged']} not converged, {summary['singular']} singular, "
+            f"{summary['ill_conditioned']} ill-conditioned, "
             f"{summary['br_undefined']} without a centring b_R\n"
             + "\n".join(f"wrote {f}" for f in files))
     C.emit(args, doc, text)

@@ -142,7 +142,7 @@ def _case_numbers(theta, shape_row, mu, split, max_pairs):
     load = LoadCase(*(jnp.asarray(v, float) for v in LoadCase()))
     bc = base_cycle_kernel(shape, mu, _contacts(theta, split), load, max_pairs=max_pairs)
     ok = bc.converged & ~bc.failed & ~bc.liftoff
-    return jnp.stack(five_numbers(bc)), ok
+    return jnp.stack(five_numbers(bc).numbers()), ok
 
 
 def _numbers(theta, cases: _Cases, split: bool, max_pairs: int = MAX_PAIRS):
@@ -492,7 +492,7 @@ def _two_iterations(name, mu, kn, kt):
     from ..params import Contacts
 
     return [float(v) for v in five_numbers(base_cycle(family_shape(name), mu, Contacts(kn, kt),
-                                                      max_pairs=2))]
+                                                      max_pairs=2)).numbers()]
 
 
 def comparison_document(res: CalibrationResult) -> str:

@@ -37,7 +37,9 @@ def amplitude_stiffness_data(shape, mu, contacts=None, load=None, psi_a_mrad=Non
         grid = np.linspace(psi[0], psi[-1], band_points)
         bands = [amplitude_band(shape, mu, float(p), contacts, load, **(band_kwargs or {}))
                  for p in grid]
-        out["band"] = (grid, np.array([b.bounds for b in bands]))
+        # NaN (a gap in the shading) where no history gives a valid cycle
+        out["band"] = (grid, np.array([b.bounds if b.status == RESULTS.ok else np.full(4, np.nan)
+                                       for b in bands]))
     return out
 
 

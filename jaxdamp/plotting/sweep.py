@@ -12,16 +12,18 @@ from ..batch import SweepResult
 from ..paper.files import atomic_file, save_figure, write_text
 
 HEATMAPS = (("psi_bc", "psi_BC (mrad)"), ("k_im_bc", "k_Im,BC (N mm/mrad)"), ("w_M", "w_M"))
+# The heatmaps' status classes; "not converged" also holds singular and ill-conditioned points.
 STATUS = ("valid", "liftoff", "not converged", "b_R undefined")
 FAMILY_MARKS = ("90L", "74L", "60sym", "74R", "90R", "45sym")
 
 
 def status_codes(res: SweepResult) -> np.ndarray:
-    """Per point: 0 valid, 1 liftoff, 2 not converged / failed, 3 no centring b_R (shape (n_mu, n_l, n_r))."""
-    s = res.summary
-    code = np.zeros(s.psi_bc.shape, int)
-    code[~s.converged | s.failed] = 2
-    code[s.liftoff] = 1
+    """Per point, from the status: 0 valid, 1 liftoff, 2 not converged / singular /
+    ill-conditioned, 3 no centring b_R (shape (n_mu, n_l, n_r))."""
+    from ..status import RESULTS
+
+    status = np.asarray(res.summary.status)
+    code = np.where(status == RESULTS.ok, 0, np.where(status == RESULTS.liftoff, 1, 2))
     code[np.broadcast_to(~res.br_found, code.shape)] = 3
     return code
 
