@@ -47,7 +47,7 @@ from .params import (Contacts, LoadCase, above_validated_range, prepare_inputs, 
                      validate_load, validate_mu)
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
-from .statics import contact_columns, full_slip_state
+from .statics import contact_columns, full_slip_state, statics_singular
 from .runtime import batch_jit
 from .status import RESULTS
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
@@ -378,8 +378,9 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     pre_lift, pre_fail = end["liftoff"], end["failed"]
 
     k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd)
-    liftoff = pre_lift | fwd.liftoff | bwd.liftoff
-    failed = pre_fail | fwd.failed | bwd.failed
+    singular0 = statics_singular(shape, mech.mu)  # no full-slip statics: as the Base-Cycle says
+    liftoff = (pre_lift & ~singular0) | fwd.liftoff | bwd.liftoff
+    failed = singular0 | pre_fail | fwd.failed | bwd.failed
     slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
     status = jnp.zeros((), jnp.int32)
     status = RESULTS.promote(status, above_validated_range(mech.kn, mech.kt), RESULTS.ill_conditioned)

@@ -18,7 +18,7 @@ from .geometry import DamperShape
 from .status import from_flags
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
-from .statics import contact_columns, full_slip_state
+from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     make_mechanics, next_event)
@@ -241,7 +241,9 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
 def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     mech = mechanics(shape, mu, contacts, load)
     start = full_slip_state(shape, mech.mu, START_FRICTION_SIGNS)
-    liftoff0 = (start.min_normal <= 0.0) | ~start.solvable
+    # Unsolvable statics are `singular` (as `full_slip_statics` says); either way no cycle runs.
+    singular0 = statics_singular(shape, mech.mu)
+    liftoff0 = (start.min_normal <= 0.0) | singular0
     N0 = jnp.where(liftoff0, jnp.ones(3), start.N)  # keep the masked solve finite
     T0 = START_FRICTION_SIGNS * mech.mu * N0
 
@@ -260,8 +262,8 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     # Once the cycle has closed (or failed) the remaining pairs change nothing.
     _, _, conv, _, fwd, bwd, nhalf, _ = repeat_until(run_pair, init, max_pairs, loop,
                                                      lambda c: c[3])
-    liftoff = liftoff0 | fwd.liftoff | bwd.liftoff
-    failed = ~liftoff0 & (fwd.failed | bwd.failed)
+    liftoff = (liftoff0 & ~singular0) | fwd.liftoff | bwd.liftoff
+    failed = singular0 | (~liftoff0 & (fwd.failed | bwd.failed))
     converged = conv & ~liftoff
     residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
     # A Base-Cycle of zero span means the contacts behave as rigid to working precision (their

@@ -65,6 +65,14 @@ def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
     return FullSlipState(N, T, pos, jnp.min(N), ok)
 
 
+def statics_singular(shape: DamperShape, mu):
+    """True (traceable) where the full-slip statics of either end cannot be solved: the design has
+    no Base-Cycle, and every result of it reports `singular` (statics, cycles, amplitudes alike)."""
+    start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
+    mid = full_slip_state(shape, mu, -START_FRICTION_SIGNS)
+    return ~start.solvable | ~mid.solvable
+
+
 @jax.jit
 def statics_kernel(shape: DamperShape, mu) -> FullSlipStatics:
     start = full_slip_state(shape, mu, START_FRICTION_SIGNS)

@@ -1,0 +1,119 @@
+"""One truth: for every status, an input that produces it, driven through every public function and
+CLI command that can meet it; the same status must come out of each.
+
+The inputs are physical cases, not the code's output: 74L at mu 0.7 lifts off (MODEL.md predicts
+it; the paper's family b_R/h_R puts the cycle-start resultant outside L1-L2); kt = 1e12 N/mm is
+far above the validated stiffness range (docs/model.md); vertical flanks on both sides with
+b_R/h_R = -0.5 leave the full-slip statics without a solution (the lines of action are parallel);
+90R with kt/kn = 100 at mu 0.7 is the validated range's one non-converging corner; an assembly
+history at 0.3 mrad never slips (the stick travel of 60sym is psi_fs = 0.67 mrad); two 10-degree
+flanks leave the design rule without a root in its bracket.
+"""
+
+import contextlib
+import io
+import json
+
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+from jaxdamp.cli import main
+
+R = jd.RESULTS
+
+# status -> (shape flags, DamperShape, mu, Contacts): the design-level statuses
+DESIGNS = {
+    "ok": (["--shape", "60sym"], jd.family_shape("60sym"), 0.5, jd.Contacts()),
+    "liftoff": (["--shape", "74L"], jd.family_shape("74L"), 0.7, jd.Contacts()),
+    "ill_conditioned": (["--shape", "60sym", "--kt", "1e12"], jd.family_shape("60sym"), 0.5,
+                        jd.Contacts(kt=1e12)),
+    "singular": (["--theta-l", "90", "--theta-r", "90", "--br", "-0.5"],
+                 jd.DamperShape(90.0, 90.0, -0.5), 0.5, jd.Contacts()),
+    "not_converged": (["--shape", "90R", "--kn", "1e4", "--kt", "1e6"], jd.family_shape("90R"),
+                      0.7, jd.Contacts(1e4, 1e6)),
+}
+# Statuses that belong to the design (its statics or its contacts), not to one cycle's iteration:
+# every amplitude and the statics-based paths must say them too.
+DESIGN_LEVEL = ("ok", "liftoff", "ill_conditioned", "singular")
+STATICS_LEVEL = {"ok": "ok", "liftoff": "liftoff", "singular": "singular"}
+
+
+def cli(*argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        code = main(list(argv))
+    assert code == 0, (argv, err.getvalue())
+    return json.loads(out.getvalue())
+
+
+@pytest.mark.parametrize("name", sorted(DESIGNS))
+def test_cycle_paths_agree(name):
+    _, shape, mu, contacts = DESIGNS[name]
+    bc = jd.base_cycle(shape, mu, contacts)
+    assert R.name_of(bc.status) == name
+    assert R.name_of(jd.five_numbers(bc).status) == name
+    assert R.name_of(jd.cycle_numbers(shape, mu, contacts).status) == name
+    jac = jd.five_numbers_jacobian(shape, mu, contacts)
+    assert R.name_of(jac.status) == name and R.name_of(jac.values.status) == name
+    batch = jd.evaluate_designs(jd.stack_designs([shape, jd.family_shape("60sym")], [mu, 0.5],
+                                                 [contacts, jd.Contacts()]))
+    assert [R.name_of(s) for s in batch.status] == [name, "ok"]
+    if name != "ok":  # a result that is not ok shows no numbers as if they were valid
+        assert not bool(R.valid(bc.status))
+
+
+@pytest.mark.parametrize("name", DESIGN_LEVEL)
+def test_amplitude_paths_agree(name):
+    """From gross slip every amplitude meets the design's status. From assembly, liftoff needs an
+    amplitude that reaches full slip (6 mrad): at 1.5 mrad 74L works from assembly (ok), as a
+    damper whose contacts never reach the lifting full-slip state would."""
+    _, shape, mu, contacts = DESIGNS[name]
+    for initial in ("gross_slip", "assembly"):
+        ac = jd.amplitude_cycle(shape, mu, 6.0, contacts, initial=initial)
+        assert R.name_of(ac.status) == name, initial
+        curves = jd.amplitude_curves(shape, mu, np.array([1.5, 6.0]), contacts, initial=initial)
+        expect = ["ok" if (name, initial) == ("liftoff", "assembly") else name, name]
+        assert [R.name_of(s) for s in np.ravel(curves.status)] == expect, initial
+
+
+@pytest.mark.parametrize("name", sorted(STATICS_LEVEL))
+def test_statics_paths_agree(name):
+    flags, shape, mu, _ = DESIGNS[name]
+    assert R.name_of(jd.full_slip_statics(shape, mu).status) == STATICS_LEVEL[name]
+    assert cli("statics", *flags, "--mu", str(mu), "--json")["status"] == STATICS_LEVEL[name]
+
+
+@pytest.mark.parametrize("name", sorted(DESIGNS))
+def test_cli_commands_agree(name, tmp_path):
+    flags, shape, mu, _ = DESIGNS[name]
+    assert cli("cycle", *flags, "--mu", str(mu), "--json")["status"] == name
+    assert cli("grad", *flags, "--mu", str(mu), "--json")["status"] == name
+    if name in DESIGN_LEVEL:
+        doc = cli("amplitude", *flags, "--mu", str(mu), "--psi-a", "1.5", "--json")
+        assert doc["status"] == name and doc["amplitudes"][0]["status"] == name
+    if name in STATICS_LEVEL:
+        out = tmp_path / "section.png"
+        doc = cli("section", *flags, "--mu", str(mu), "--out", str(out), "--json")
+        assert doc["status"] == STATICS_LEVEL[name] and out.exists()
+
+
+def test_shakedown_through_every_amplitude_path():
+    shape = jd.family_shape("60sym")
+    assert R.name_of(jd.amplitude_cycle(shape, 0.5, 0.3, initial="assembly").status) == "shakedown"
+    curves = jd.amplitude_curves(shape, 0.5, np.array([0.3]), initial="assembly")
+    assert R.name_of(np.ravel(curves.status)[0]) == "shakedown"
+    doc = cli("amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "0.3", "--initial",
+              "assembly", "--json")
+    assert doc["amplitudes"][0]["status"] == "shakedown"
+    assert doc["status"] == "ok"  # shakedown numbers are valid numbers (k_Im = 0)
+    k = doc["amplitudes"][0]
+    assert abs(k["k_im"]) <= 1e-9 * k["k_re"]  # elastic: no energy lost, to rounding
+
+
+def test_no_root_through_the_design_rule():
+    shape = jd.DamperShape(10.0, 10.0, 0.0)
+    res = jd.design_br(shape, 0.7)
+    assert R.name_of(res.status) == "no_root" and not bool(res.found)
+    doc = cli("design-br", "--theta-l", "10", "--theta-r", "10", "--mu-max", "0.7", "--json")
+    assert doc["status"] == "no_root" and doc["br_over_hr"] is None
