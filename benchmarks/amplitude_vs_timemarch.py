@@ -23,8 +23,7 @@ jax.config.update("jax_enable_x64", True)
 import numpy as np  # noqa: E402
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.amplitude import amplitude_cycle  # noqa: E402
-from jaxdamp.status import RESULTS  # noqa: E402
+from jaxdamp import RESULTS, amplitude_cycle  # noqa: E402
 from jaxdamp.baselines.timemarch import march_amplitude  # noqa: E402
 
 CONTACTS = jd.Contacts(17900.0, 3580.0)

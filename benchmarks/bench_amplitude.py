@@ -23,8 +23,7 @@ import jaxdamp as jd  # noqa: E402
 from bench_common import use_measured_xla_flags, random_shapes, machine, median_time  # noqa: E402
 
 use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
-from jaxdamp.amplitude import amplitude_curves  # noqa: E402
-from jaxdamp.status import RESULTS  # noqa: E402
+from jaxdamp import RESULTS, amplitude_curves  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 

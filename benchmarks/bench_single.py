@@ -37,7 +37,7 @@ jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_cpu_enable_async_dispatch", False)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.harmonics import five_numbers_kernel  # noqa: E402
+from jaxdamp import five_numbers_kernel  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_common import loadavg, machine  # noqa: E402

@@ -71,7 +71,7 @@ use_measured_xla_flags()  # before JAX starts: both sides of every comparison ge
 configure_runtime()
 from jaxdamp.baselines import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm  # noqa: E402
-from jaxdamp.response import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
+from jaxdamp import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
                               peak_response)
 
 OUT = Path(__file__).parent / "results"

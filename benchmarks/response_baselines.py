@@ -21,7 +21,7 @@ from bench_common import median_time  # noqa: E402
 from jaxdamp import family_shape  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm, solve_at_frequency  # noqa: E402
 from jaxdamp.baselines.time_integration import start_on_harmonics, steady_state  # noqa: E402
-from jaxdamp.response import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
+from jaxdamp import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
                               peak_response)
 
 OUT = Path(__file__).resolve().parent / "results"

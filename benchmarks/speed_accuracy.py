@@ -50,7 +50,7 @@ ASYNC_DISPATCH = "--async-dispatch" in sys.argv[1:]
 jax.config.update("jax_cpu_enable_async_dispatch", ASYNC_DISPATCH)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.cycle import base_cycle_kernel  # noqa: E402
+from jaxdamp import base_cycle_kernel  # noqa: E402
 from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
 from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402

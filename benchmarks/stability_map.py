@@ -40,7 +40,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp.cycle import base_cycle_kernel  # noqa: E402
+from jaxdamp import base_cycle_kernel  # noqa: E402
 from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
 from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402

@@ -58,3 +58,7 @@ def check_int(name, value, lo):
     if isinstance(value, bool) or not isinstance(value, (int, np.integer)) or value < lo:
         raise ValueError(f"{name} must be an integer in [{lo}, inf); got {value!r}")
     return int(value)
+
+
+__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range",
+           "check_positive", "check_int"]

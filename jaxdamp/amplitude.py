@@ -49,7 +49,7 @@ from .stretch import base_cycle_amplitude, gross_slip_stiffness
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
 from .runtime import batch_jit
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
                     choose_states, next_event)
 
@@ -172,6 +172,11 @@ class AmplitudeCycle(NamedTuple):
     closure: jnp.ndarray  # max force change over the last pair (units of F_D)
     cycles: jnp.ndarray  # pairs of halves run until the forces repeated (int32)
     status: jnp.ndarray  # RESULTS code (int32): ok, shakedown, not_converged, liftoff, singular
+
+    def __repr__(self) -> str:
+        return (f"AmplitudeCycle(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
+                f"k_re={number_repr(self.k_re, 'N mm/mrad')}, k_im={number_repr(self.k_im, 'N mm/mrad')}, "
+                f"cycles={number_repr(self.cycles, fmt='.0f')})")
 
 
 def gross_slip_state(shape: DamperShape, mu):
@@ -496,6 +501,11 @@ class StiffnessCurves(NamedTuple):
     k_im: jnp.ndarray
     status: jnp.ndarray  # RESULTS codes (int32)
     cycles: jnp.ndarray  # pairs of halves run (of the Base-Cycle where its stretch is the cycle)
+
+    def __repr__(self) -> str:
+        return (f"StiffnessCurves(status={status_repr(self.status)}, "
+                f"psi_a={number_repr(self.psi_a, 'mrad')}, k_re={number_repr(self.k_re, 'N mm/mrad')}, "
+                f"k_im={number_repr(self.k_im, 'N mm/mrad')})")
 
 
 def _batch_size(args):

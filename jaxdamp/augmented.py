@@ -54,3 +54,6 @@ def al_update(state: ALState, g, config: ALConfig = ALConfig()) -> ALState:
     slow = (violation > 0.0) & (violation > config.violation_decrease * state.violation)
     rho = jnp.where(slow, jnp.minimum(state.rho * config.rho_growth, config.rho_max), state.rho)
     return ALState(lam, rho, violation)
+
+
+__all__ = ["ALState", "ALConfig", "al_init", "al_value_and_grad", "al_update"]

@@ -28,7 +28,7 @@ from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .runtime import batch_jit
 from .statics import design_br_kernel
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 
 AXIS = "designs"
 MIN_BATCH = 16  # smallest compiled batch: small batches are padded up to it
@@ -52,6 +52,11 @@ class DesignSummary(NamedTuple):
     failed: np.ndarray
     half_cycles: np.ndarray
     status: np.ndarray  # jaxdamp.RESULTS codes
+
+    def __repr__(self) -> str:
+        return (f"DesignSummary(status={status_repr(self.status)}, "
+                f"psi_bc={number_repr(self.psi_bc, 'mrad')}, k_im_bc={number_repr(self.k_im_bc, 'N mm/mrad')}, "
+                f"w_M={number_repr(self.w_M)})")
 
 
 def _rows(name, value, n, per_contact):
@@ -474,3 +479,11 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
     out = DesignSummary(*(a.reshape((mus.size,) + L.shape) for a in out))
     return SweepResult(tl, tr, mus, br, found, inside, mu_max, float(bl2_over_hl),
                        float(contacts.kn), float(contacts.kt), out)
+
+
+__all__ = ["AXIS", "MIN_BATCH", "DesignSummary", "stack_designs", "take", "device_mesh", "shard",
+           "gather", "CHUNK_BY_PLATFORM", "BYTES_PER_DESIGN", "MEMORY_SHARE", "default_chunk",
+           "VALUES_CHUNK_BY_PLATFORM", "values_chunk", "device_chunk", "bucket_size", "_COMPILED",
+           "map_batched", "two_stage", "BATCH_LOOP", "SECOND_STAGE_LOOP", "base_cycles",
+           "FIRST_STAGE_TRACTS", "summary_kernel", "first_stage_summary", "needs_second_stage",
+           "evaluate_designs", "SweepResult", "centred_br", "check_sweep_inputs", "sweep"]

@@ -103,3 +103,9 @@ def warn_small_rotation(psi_mrad, name="psi_BC", stacklevel=2):
                   f"small-rotation limit of {SMALL_ROTATION_MRAD:g} mrad: {cause}; the numbers "
                   "are the model's, not a damper's (docs/model.md, validated range)",
                   SmallRotationWarning, stacklevel=stacklevel)
+
+
+__all__ = ["MRAD_PER_RAD", "CONTACT_NAMES", "START_FRICTION_SIGNS", "PLATFORM_MOTION",
+           "CENTRIFUGAL_LOAD", "MOMENT_SIDE", "psi_mrad", "travel_mm", "platform_arm",
+           "moment_coefficients", "stiffness_from_fourier", "stiffness_from_rfft",
+           "SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation"]

@@ -15,7 +15,7 @@ import numpy as np
 
 from .design import Design, as_design
 from .geometry import DamperShape
-from .status import from_flags
+from .status import from_flags, number_repr, status_repr
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
@@ -214,7 +214,14 @@ class BaseCycle(NamedTuple):
     liftoff: jnp.ndarray
     failed: jnp.ndarray
     half_cycles: jnp.ndarray
-    status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the same facts as booleans
+    status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the solver's raw flags
+
+    def __repr__(self) -> str:
+        f, b = self.forward, self.backward
+        return (f"BaseCycle(status={status_repr(self.status)}, mu={number_repr(self.mu)}, "
+                f"span forward={number_repr(f.span, 'mm')}, backward={number_repr(b.span, 'mm')}, "
+                f"half_cycles={number_repr(self.half_cycles, fmt='.0f')}; the numbers: "
+                "jaxdamp.five_numbers(bc), the tracts: jaxdamp.transitions_chart(bc))")
 
 
 @partial(jax.jit, static_argnames=("max_tracts", "max_pairs", "loop"))
@@ -380,3 +387,9 @@ def transitions_chart(bc: BaseCycle) -> list[dict]:
             if label == "forward":
                 names[k] = f"{end}\u2032"
     return rows
+
+
+__all__ = ["MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "EQUILIBRIUM_TOL", "HalfCycle", "mechanics",
+           "half_cycle", "tract_rows", "zeros_of", "bounded_loop", "repeat_until", "LOOPS",
+           "check_loop", "values_by_while", "BaseCycle", "base_cycle_kernel",
+           "equilibrium_residual", "base_cycle", "transitions_chart"]

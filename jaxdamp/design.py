@@ -54,3 +54,6 @@ def as_design(shape_or_design, mu=None, contacts: Contacts = Contacts(),
     if mu is None:
         raise ValueError("mu is required: the friction coefficient, in (0, 5]")
     return Design(shape_or_design, mu, contacts, load)
+
+
+__all__ = ["Design", "as_design"]

@@ -11,6 +11,7 @@ from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle, HalfCycle
 from .harmonics import base_cycle_amplitude, moment
 from .statics import WorkShapeFactors
+from .status import number_repr
 
 
 def _half_energy(half: HalfCycle, total_dv, F_D):
@@ -25,6 +26,10 @@ def _half_energy(half: HalfCycle, total_dv, F_D):
 class CycleEnergy(NamedTuple):
     contacts: jnp.ndarray  # (3,) N mm per cycle at R1, L1, L2
     moment: jnp.ndarray  # oint M dpsi, N mm per cycle
+
+    def __repr__(self) -> str:
+        return (f"CycleEnergy(contacts (R1, L1, L2)={number_repr(self.contacts, 'N mm')}, "
+                f"moment={number_repr(self.moment, 'N mm')})")
 
 
 @jax.jit
@@ -54,3 +59,4 @@ def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
     return WorkShapeFactors(w[0], w[1], w[2], w_m)
 
 
+__all__ = ["CycleEnergy", "contact_energies", "work_shape_factors"]

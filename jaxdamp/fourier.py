@@ -47,3 +47,6 @@ def half_fourier(dv, M0, dM, a_dv, branch, *, ends_at_extreme=False):
     f_cos = alpha * (s2 - s1) + 0.5 * beta * ((t2 + s2 * x2) - (t1 + s1 * x1))
     f_sin = alpha * (x1 - x2) + 0.5 * beta * (x1 * x1 - x2 * x2)
     return jnp.sum(f_cos), jnp.sum(f_sin)
+
+
+__all__ = ["unit_circle", "half_fourier"]

@@ -136,3 +136,8 @@ def platform_moment(shape: DamperShape, load, N, T):
     fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
                                  load.r_sin_beta)
     return rowdot(N, fn) + rowdot(T, ft)
+
+
+__all__ = ["CONTACT_NAMES", "FAMILY", "DamperShape", "validate_shape", "paper_tables",
+           "family_shape", "SectionGeometry", "section_geometry", "full_slip_slide_rates",
+           "platform_moment"]

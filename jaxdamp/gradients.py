@@ -196,3 +196,8 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     jac, aux = map_batched(_BATCHED[mode], prepared, jnp.asarray(psi_a, float), devices=devices,
                            chunk_size=chunk_size, progress=progress)
     return Outputs(*(_collapse(d, *shared) for d in jac)), aux
+
+
+__all__ = ["PARAMETERS", "MODES", "by_name", "Outputs", "Flags", "FiveNumbersJacobian",
+           "KImGradient", "outputs", "validate_psi_a", "evaluate", "five_numbers_jacobian",
+           "k_im_gradient_at", "batch_jacobian"]

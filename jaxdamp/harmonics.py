@@ -56,8 +56,7 @@ class FiveNumbers(NamedTuple):
     def __repr__(self) -> str:
         units = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
         parts = [f"{f}={number_repr(v, u)}" for f, v, u in zip(self._fields, self, units)]
-        status = status_repr(self.status) if not isinstance(self.status, FiveNumbers) else "-"
-        return f"FiveNumbers(status={status}, " + ", ".join(parts) + ")"
+        return f"FiveNumbers(status={status_repr(self.status)}, " + ", ".join(parts) + ")"
 
 
 def five_numbers(bc: BaseCycle) -> FiveNumbers:
@@ -181,6 +180,9 @@ class CycleNumbers(NamedTuple):
     k_im_bc: float
     status: int
 
+    def __repr__(self) -> str:
+        return FiveNumbers.__repr__(self).replace("FiveNumbers(", "CycleNumbers(", 1)
+
 
 # The packed input vector of `cycle_numbers`: shape (4), mu, kn (3), kt (3), F_D, q*, r sin beta.
 _PACKED = 14
@@ -232,3 +234,9 @@ def cycle_numbers(shape, mu=None, contacts=None, load=None) -> CycleNumbers:
     if psi_bc > SMALL_ROTATION_MRAD:
         warn_small_rotation(psi_bc, stacklevel=3)
     return CycleNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, int(status))
+
+
+__all__ = ["SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation", "MomentHalf",
+           "base_cycle_amplitude", "moment", "moment_half", "stretched_cycle", "FiveNumbers",
+           "five_numbers", "five_numbers_kernel", "complex_stiffness", "cycle_work",
+           "CycleNumbers", "cycle_numbers"]

@@ -59,3 +59,6 @@ def solve3(m, b, rel_tol=1e-12):
     safe_det = jnp.where(ok, det, 1.0)
     x = rowdot(adjugate3(m), b[..., None, :]) / safe_det[..., None]
     return jnp.where(ok[..., None], x, 0.0), ok
+
+
+__all__ = ["cross2", "generalized", "det3", "adjugate3", "rowdot", "vecmat", "solve3"]

@@ -139,3 +139,8 @@ def _per_contact(k):
     if np.ndim(k) == 0:
         return np.full(3, k) if isinstance(k, (np.ndarray, np.generic)) else jnp.broadcast_to(k, (3,))
     return k
+
+
+__all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
+           "VALIDATED_KT_OVER_KN", "above_validated_range", "Contacts", "LoadCase", "validate_mu",
+           "validate_contacts", "validate_load", "fast_ok", "prepare_inputs"]

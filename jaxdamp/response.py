@@ -37,30 +37,8 @@ from .cycle import base_cycle_kernel
 from .harmonics import complex_stiffness, five_numbers_kernel
 from .params import Contacts, LoadCase, prepare_inputs, validate_mu
 from .runtime import batch_jit
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 
-
-def _status_names(status) -> str:
-    """RESULTS name(s) of a concrete status (or its repr where it is traced)."""
-    try:
-        codes = np.asarray(status).reshape(-1)
-    except Exception:  # noqa: BLE001 - a tracer: no value to name
-        return repr(status)
-    names = [RESULTS(int(c)).name for c in codes]
-    return names[0] if np.ndim(status) == 0 else "[" + ", ".join(names) + "]"
-
-
-def _num_text(x, unit: str, fmt: str = ".5g") -> str:
-    """A concrete scalar or array as text with its unit (arrays by shape and range)."""
-    try:
-        a = np.asarray(x, float)
-    except Exception:  # noqa: BLE001 - a tracer
-        return repr(x)
-    if a.ndim == 0:
-        return f"{float(a):{fmt}} {unit}".rstrip()
-    if a.size <= 4:
-        return "[" + ", ".join(f"{float(v):{fmt}}" for v in a.reshape(-1)) + f"] {unit}"
-    return f"{a.shape} {float(a.min()):{fmt}} ... {float(a.max()):{fmt}} {unit}"
 
 # ----------------------------------------------------------------------------- the blade mode
 
@@ -123,8 +101,8 @@ class DamperStiffness(NamedTuple):
     k_values: KOfPsi | None = None
 
     def __repr__(self):
-        return (f"DamperStiffness(k_Re,stuck {_num_text(self.k_re_stuck, 'N mm/mrad')}, psi_ref "
-                f"{_num_text(self.psi_ref_mrad, 'mrad')}, status {_status_names(self.status)})")
+        return (f"DamperStiffness(k_Re,stuck {number_repr(self.k_re_stuck, 'N mm/mrad')}, psi_ref "
+                f"{number_repr(self.psi_ref_mrad, 'mrad')}, status {status_repr(self.status)})")
 
     def values(self, psi):
         """(k_re, k_im) at psi without derivatives with respect to the design."""
@@ -308,9 +286,9 @@ class FRF(NamedTuple):
     status: jnp.ndarray
 
     def __repr__(self):
-        return (f"FRF(amplitude {_num_text(self.amplitude_mm, 'mm')}, low branch "
-                f"{_num_text(self.f_low_hz, 'Hz')}, high branch {_num_text(self.f_high_hz, 'Hz')}, "
-                f"status {_status_names(self.status)})")
+        return (f"FRF(amplitude {number_repr(self.amplitude_mm, 'mm')}, low branch "
+                f"{number_repr(self.f_low_hz, 'Hz')}, high branch {number_repr(self.f_high_hz, 'Hz')}, "
+                f"status {status_repr(self.status)})")
 
 
 def _dyn(mode: BladeMode, k_of_psi, amplitude_mm):
@@ -407,11 +385,11 @@ class Peaks(NamedTuple):
     status: jnp.ndarray
 
     def __repr__(self):
-        return (f"Peaks(A* {_num_text(self.peak_amplitude_mm, 'mm')} at "
-                f"{_num_text(self.peak_frequency_hz, 'Hz')}, psi_a "
-                f"{_num_text(self.psi_a_mrad, 'mrad')}, "
-                f"roots {_num_text(self.n_roots, '', '.0f')}, "
-                f"status {_status_names(self.status)})")
+        return (f"Peaks(A* {number_repr(self.peak_amplitude_mm, 'mm')} at "
+                f"{number_repr(self.peak_frequency_hz, 'Hz')}, psi_a "
+                f"{number_repr(self.psi_a_mrad, 'mrad')}, "
+                f"roots {number_repr(self.n_roots, '', '.0f')}, "
+                f"status {status_repr(self.status)})")
 
 
 def peak_residual(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm):
@@ -587,7 +565,7 @@ class ResponseCurves(NamedTuple):
 
     def __repr__(self):
         return (f"ResponseCurves({self.peaks!r}, k_Re,stuck "
-                f"{_num_text(self.k_re_stuck, 'N mm/mrad')}, status {_status_names(self.status)})")
+                f"{number_repr(self.k_re_stuck, 'N mm/mrad')}, status {status_repr(self.status)})")
 
 
 _CURVE_PROGRAMS: dict = {}
@@ -675,9 +653,9 @@ class DesignerDiagram(NamedTuple):
     status: np.ndarray
 
     def __repr__(self):
-        return (f"DesignerDiagram(mu {_num_text(self.mu, '')}, F {_num_text(self.force_n, 'N')}, "
-                f"F_D {_num_text(self.fd_n, 'N')}, A* {_num_text(self.peak_vs_force_mm, 'mm')}, "
-                f"status {_status_names(self.status)})")
+        return (f"DesignerDiagram(mu {number_repr(self.mu, '')}, F {number_repr(self.force_n, 'N')}, "
+                f"F_D {number_repr(self.fd_n, 'N')}, A* {number_repr(self.peak_vs_force_mm, 'mm')}, "
+                f"status {status_repr(self.status)})")
 
 
 DIAGRAM_MUS = (0.3, 0.4, 0.5, 0.6, 0.7)

@@ -67,3 +67,6 @@ def batch_jit(fun=None, **kwargs):
     if fun is None:
         return lambda f: _BatchJit(f, kwargs)
     return _BatchJit(fun, kwargs)
+
+
+__all__ = ["CPU_BATCH_OPTIONS", "batch_compiler_options", "batch_jit"]

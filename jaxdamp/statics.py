@@ -186,3 +186,8 @@ def design_br_kernel(shape, mu_max, lo, hi) -> DesignResult:
     margin = statics_kernel(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
     status = RESULTS.promote(ok_status(jnp.shape(found)), ~found, RESULTS.no_root)
     return DesignResult(br, margin, RESULTS.promote(status, margin <= 0.0, RESULTS.liftoff))
+
+
+__all__ = ["FullSlipState", "FullSlipStatics", "contact_columns", "full_slip_state",
+           "statics_singular", "statics_kernel", "full_slip_statics", "WorkShapeFactors",
+           "full_slip_work_shape_factors", "DesignResult", "design_br", "design_br_kernel"]

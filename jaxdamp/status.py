@@ -59,37 +59,45 @@ _MESSAGES = {
 
 
 def _concrete(value):
-    """value as a numpy array, or None inside a trace (a repr must never force a tracer)."""
+    """value as a numpy array, or None inside a trace or for a non-number (a repr must never
+    force a tracer, nor raise)."""
     if isinstance(value, jax.core.Tracer):
         return None
     try:
-        return np.asarray(value)
+        v = np.asarray(value)
     except Exception:  # noqa: BLE001 - a repr must not raise
         return None
+    return v if v.dtype.kind in "biuf" else None
 
 
 def status_repr(status) -> str:
-    """A status by name: 'ok', or for a batch the count of each name ('ok: 12, liftoff: 3')."""
+    """A status by name: 'ok'; a few as a list ('[ok, liftoff]'); a batch as the count of each
+    name ('ok: 12, liftoff: 3')."""
     s = _concrete(status)
     if s is None:
         return "<traced>"
     if s.ndim == 0:
         return RESULTS(int(s)).name
+    if s.size <= 4:
+        return "[" + ", ".join(RESULTS(int(c)).name for c in s.reshape(-1)) + "]"
     codes, counts = np.unique(s, return_counts=True)
     return ", ".join(f"{RESULTS(int(c)).name}: {int(n)}" for c, n in zip(codes, counts))
 
 
-def number_repr(value, unit: str = "") -> str:
-    """A number with its unit ('0.6736 mrad'); an array as its shape and range."""
+def number_repr(value, unit: str = "", fmt: str = ".6g") -> str:
+    """A number with its unit ('0.6736 mrad'); a few as a list; an array by its shape and range."""
     v = _concrete(value)
     tail = f" {unit}" if unit else ""
     if v is None:
-        return "<traced>"
+        return "<traced>" if isinstance(value, jax.core.Tracer) else f"<{type(value).__name__}>"
+    v = v.astype(float)
     if v.ndim == 0:
-        return f"{float(v):.6g}{tail}"
+        return f"{float(v):{fmt}}{tail}"
     if v.size == 0:
         return f"<empty {v.shape}>"
-    return f"<{v.shape}: {float(np.min(v)):.4g} to {float(np.max(v)):.4g}{tail}>"
+    if v.size <= 4:
+        return "[" + ", ".join(f"{float(x):{fmt}}" for x in v.reshape(-1)) + "]" + tail
+    return f"<{v.shape}: {float(np.min(v)):{fmt}} to {float(np.max(v)):{fmt}}{tail}>"
 
 
 def from_flags(liftoff, failed=False, converged=True, ill_conditioned=False):
@@ -121,3 +129,6 @@ def status_of(result) -> RESULTS:
     if not flag("converged", True):
         return RESULTS.not_converged
     return RESULTS.ok
+
+
+__all__ = ["RESULTS", "status_repr", "number_repr", "from_flags", "ok_status", "status_of"]

@@ -75,3 +75,7 @@ def gross_slip_stiffness(bc: BaseCycle, psi_a_mrad):
 def base_cycle_amplitude(bc: BaseCycle):
     """psi_BC (mrad): half the larger of the two half-cycle spans, over q*."""
     return psi_mrad(jnp.maximum(bc.forward.span, bc.backward.span) / 2.0, bc.load.q_star)
+
+
+__all__ = ["moment", "MomentHalf", "moment_half", "stretched_cycle", "gross_slip_stiffness",
+           "base_cycle_amplitude"]

@@ -193,3 +193,8 @@ def numeric_first_harmonic(psi_v, M_v, psi_a, n=4096):
     k_re = float(2.0 * np.mean(m * np.cos(tau)) / psi_a)
     k_im = float(-2.0 * np.mean(m * np.sin(tau)) / psi_a)
     return m0, k_re, k_im
+
+
+__all__ = ["PSI_GRID_POINTS", "PSI_MAX_MRAD", "psi_grid", "STIFFNESS_SLOTS", "stiffness_at",
+           "section_data", "CycleSummary", "analyse_cycle", "point_names", "force_points",
+           "moment_polyline", "sample_cycle", "numeric_first_harmonic"]

@@ -245,3 +245,8 @@ def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
     length = cand.reshape(-1)[flat]
     # A cone event at N -> 0 is also a liftoff; a later liftoff check catches it.
     return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2)
+
+
+__all__ = ["STATE_NAMES", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
+           "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates", "TractChoice",
+           "choose_states", "TractEvent", "next_event"]

@@ -47,3 +47,12 @@ from .reference import make_scorer as make_scorer
 from .solver import OptimizationResult as OptimizationResult
 from .solver import SolverConfig as SolverConfig
 from .solver import optimize as optimize
+
+
+__all__ = ["k_im_at_amplitude", "robust_k_im", "DesignCheck", "active_constraints",
+           "check_design", "DEFAULT_BOUNDS", "DesignSpace", "VARIABLES", "design_of",
+           "design_space", "unit_of", "GridResult", "grid_search", "heatmap", "DEFAULT_OBJECTIVE",
+           "METRICS", "Objective", "parse_objective", "plot_paths", "DEFAULT_MARGIN_PCT",
+           "DEFAULT_MIN_VERTEX_DEG", "DEFAULT_MU_SET", "Evaluation", "Problem", "evaluate",
+           "is_feasible", "make_problem", "family_table", "make_scorer", "OptimizationResult",
+           "SolverConfig", "optimize"]

@@ -156,3 +156,7 @@ def infeasibility_reason(problem: Problem, check: DesignCheck, jacobian=None) ->
             text += (f" The violated constraints '{_short(problem, a)}' and '{_short(problem, b)}' "
                      f"pull {free} in opposite directions, so no design in the bounds meets both.")
     return text
+
+
+__all__ = ["DesignCheck", "check_design", "active_constraints", "violations", "conflicting_pairs",
+           "infeasibility_reason"]

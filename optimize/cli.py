@@ -191,3 +191,6 @@ def register(sub):
     add_json_arg(p)
     add_progress_arg(p)
     p.set_defaults(func=run)
+
+
+__all__ = ["payload_of", "run", "register"]

@@ -136,3 +136,8 @@ def describe_violation(mu, location: str, kind: str, dist_pct: float, min_normal
                 f"{kind}")
     return (f"mu={mu:g}, {where}: left resultant {dist_pct:.2f} % of L1-L2 from {kind} "
             f"(required >= {margin_pct:g} %)")
+
+
+__all__ = ["LOCATIONS", "LOCATION_TEXT", "KINDS", "BIG", "select_min", "Margins",
+           "point_constraints", "resultant_distances_pct", "cycle_points", "margins",
+           "constraint_label", "describe_violation"]

@@ -184,3 +184,9 @@ def family_start(space: DesignSpace, name: str) -> np.ndarray:
 def in_bounds(space: DesignSpace, x, tol=1e-12) -> bool:
     x = np.asarray(x, float)
     return bool(np.all(x >= np.asarray(space.lower) - tol) and np.all(x <= np.asarray(space.upper) + tol))
+
+
+__all__ = ["VARIABLES", "UNITS", "DEFAULT_BOUNDS", "DEFAULT_FIXED", "DesignSpace", "design_space",
+           "to_unit", "from_unit", "project", "shape_of", "design_from_vector", "design_of",
+           "unit_of", "embed", "free_columns", "vector_of", "shape_dict", "family_start",
+           "in_bounds"]

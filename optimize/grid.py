@@ -113,3 +113,6 @@ def heatmap(grid: GridResult, x_var: str = "theta_l", y_var: str = "theta_r"):
     best_xy = best if ix < iy else best.T
     Z = np.where(np.isfinite(best_xy), grid.sense * best_xy, np.nan).T
     return grid.axes[ix], grid.axes[iy], Z
+
+
+__all__ = ["GridResult", "grid_search", "heatmap"]

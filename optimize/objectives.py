@@ -143,3 +143,8 @@ def combined_refs(baseline_metrics):
     """Normalisers of the combined objective: the baseline's mean of each metric over the mu set."""
     refs = np.mean(np.asarray(baseline_metrics, float), axis=-2)
     return np.where(np.abs(refs) > 1e-12, refs, 1.0)
+
+
+__all__ = ["METRICS", "SENSE", "METRIC_UNITS", "AGGREGATES", "DEFAULT_OBJECTIVE",
+           "DEFAULT_WEIGHTS", "Objective", "parse_objective", "mu_index", "per_mu_scores",
+           "aggregate", "score", "reported_value", "combined_refs"]

@@ -61,3 +61,6 @@ def plot_paths(result, grid: GridResult, ax=None, family=True, cmap="viridis"):
                  fontsize=10)
     ax.legend(loc="lower left", fontsize=8)
     return ax
+
+
+__all__ = ["plot_paths"]

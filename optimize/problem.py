@@ -17,7 +17,7 @@ import numpy as np
 
 from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
                      five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
-from jaxdamp.params import validate_contacts, validate_load, validate_mu
+from jaxdamp import validate_contacts, validate_load, validate_mu
 
 from .constraints import Margins, margins
 from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit
@@ -206,3 +206,9 @@ def min_margin_pct(ev: Evaluation):
     """Smallest distance of the left resultant from the nearer pad, over mu, both ends and the
     cycle (% of L1-L2); this is the achieved margin, to compare with the required one."""
     return np.min(np.asarray(ev.margins.dist_pct), axis=(-3, -2, -1))
+
+
+__all__ = ["DEFAULT_MU_SET", "DEFAULT_MARGIN_PCT", "DEFAULT_MIN_VERTEX_DEG", "CHUNK", "JAC_BATCH",
+           "Problem", "make_problem", "Evaluation", "MU_PAD", "evaluate", "evaluate_shapes",
+           "evaluate_with_jacobian", "VERTEX_SCALE", "vertex_constraint", "is_feasible",
+           "max_violation", "min_margin_pct"]

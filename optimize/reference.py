@@ -66,3 +66,7 @@ def family_table(problem: Problem, scorer: Scorer, names=FAMILY_NAMES) -> list[d
     margins = min_margin_pct(ev)
     return [{"shape": n, "objective": float(v), "feasible": bool(f), "min_margin_pct": float(m)}
             for n, v, f, m in zip(names, values, feas, margins)]
+
+
+__all__ = ["BASELINE", "FAMILY_NAMES", "Scorer", "shape_vector", "evaluate_family", "make_scorer",
+           "family_table"]

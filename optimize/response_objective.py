@@ -24,9 +24,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp.geometry import DamperShape
-from jaxdamp.params import Contacts, LoadCase
-from jaxdamp.response import BladeMode, damper_stiffness, peak_response, scaled_stiffness
+from jaxdamp import (BladeMode, Contacts, DamperShape, LoadCase, damper_stiffness, peak_response,
+                     scaled_stiffness)
 
 from .design import VARIABLES
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
@@ -151,7 +150,7 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
             best_z, best_val = z, val
     best = _report(problem, "response optimum", complete_shape(problem, best_z), force_n, fd_spread, mode) \
         if best_z is not None else ResponseDesign("response optimum", (), None, False, None)
-    from jaxdamp.geometry import family_shape
+    from jaxdamp import family_shape
 
     s = family_shape("60sym")
     refs = [_report(problem, "60sym", np.array([s.theta_l, s.theta_r, s.br_over_hr, s.bl2_over_hl]),

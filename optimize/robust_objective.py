@@ -27,9 +27,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from jaxdamp import Contacts, DamperShape, LoadCase, family_shape
-from jaxdamp.response import BladeMode, damper_stiffness_kernel, peak_response
-from jaxdamp.uncertainty import (Scenarios, Uncertainty, magnification_kernel, peak_distribution,
-                                 sample_scenarios)
+from jaxdamp import (BladeMode, Scenarios, Uncertainty, damper_stiffness_kernel, magnification_kernel,
+                     peak_distribution, peak_response, sample_scenarios)
 
 from .design import VARIABLES
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem

@@ -11,13 +11,20 @@ _BACKEND_COMPILE_EVENT = "/jax/core/compile/backend_compile_duration"
 
 
 def tree_allclose(a, b, rtol=1e-12, atol=0.0) -> bool:
-    """True when two pytrees have the same structure and every pair of leaves is allclose
-    (None leaves must match None)."""
+    """True when two pytrees have the same structure and every pair of leaves has the same shape,
+    the same dtype kind (bool, integer, float) and close values (no broadcasting: a (3,) never
+    equals a (1,) or a scalar). None leaves must match None."""
     la, ta = jax.tree_util.tree_flatten(a)
     lb, tb = jax.tree_util.tree_flatten(b)
     if ta != tb:
         return False
-    return all(np.allclose(np.asarray(x), np.asarray(y), rtol=rtol, atol=atol) for x, y in zip(la, lb))
+    for x, y in zip(la, lb):
+        x, y = np.asarray(x), np.asarray(y)
+        if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
+            return False
+        if not np.allclose(x, y, rtol=rtol, atol=atol):
+            return False
+    return True
 
 
 def fd_jvp(f, x, v, h=1e-6):

@@ -157,3 +157,62 @@ except jd.Float64Required as exc:
 """
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.startswith("refused:") and "enable_x64" in out.stdout
+
+
+# The public surfaces other layers on top may use: the package's top level and its public
+# subpackages. optimize/ and benchmarks/ use only these (docs/architecture.md).
+PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "jaxdamp.cli"}
+# Benchmarks that measure an internal choice import the module that makes it: the solve forms
+# (linalg, tract, cycle), the compiler options (runtime), the two-stage batching (batch) and the
+# Jacobian programs (gradients). Nothing in optimize/ may.
+MEASURED_INTERNALS = {"jaxdamp.linalg", "jaxdamp.runtime", "jaxdamp.tract", "jaxdamp.cycle",
+                      "jaxdamp.batch", "jaxdamp.gradients"}
+
+
+def _public(target: str) -> bool:
+    """jaxdamp's top level, or a module of one of its public subpackages."""
+    return target in PUBLIC or target.rpartition(".")[0] in PUBLIC - {"jaxdamp"}
+
+
+def _scripts(folder):
+    for path in sorted((ROOT / folder).glob("*.py")):
+        yield f"{folder}.{path.stem}", path
+
+
+def test_optimize_and_benchmarks_use_the_public_api_only():
+    bad = []
+    for module, path in [*((m, p) for m, p in modules() if m.startswith("optimize")),
+                         *_scripts("benchmarks")]:
+        for target, _ in imports(module, path):
+            internal = module.startswith("benchmarks") and target in MEASURED_INTERNALS
+            if target.split(".")[0] == "jaxdamp" and not (_public(target) or internal):
+                bad.append(f"{module}: imports {target}")
+            if target.startswith("jax._src"):
+                bad.append(f"{module}: imports JAX's private {target}")
+    assert not bad, "\n".join(bad)
+
+
+def test_every_module_says_what_it_exports():
+    """Every library module has __all__, and every name in it exists; jaxdamp's __all__ holds
+    everything a user or optimize/ imports from it, so help(jaxdamp) lists the whole API."""
+    import importlib.util
+
+    bad = []
+    for module, path in modules():
+        if path.name == "__main__.py":
+            continue
+        mod = importlib.import_module(module)
+        names = getattr(mod, "__all__", None)
+        if names is None:
+            bad.append(f"{module}: no __all__")
+            continue
+        bad += [f"{module}.__all__ names a missing {n}" for n in names if not hasattr(mod, n)]
+    import jaxdamp
+
+    used = {n for module, path in [*modules(), *_scripts("benchmarks")]
+            if not module.startswith("jaxdamp")
+            for target, names in imports(module, path) if target == "jaxdamp" for n in names
+            if importlib.util.find_spec(f"jaxdamp.{n}") is None}  # a submodule is not an API name
+    bad += [f"jaxdamp.__all__ lacks {n}, which optimize/ or benchmarks/ import" for n in
+            sorted(used - set(jaxdamp.__all__))]
+    assert not bad, "\n".join(bad)

@@ -92,3 +92,6 @@ def run(args) -> int:
     lines += [f"  WARNING: {m}" for m in warned]
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["register", "run"]

@@ -87,3 +87,6 @@ def run(args) -> int:
         lines.append(f"wrote {markdown}")
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["register", "result_payload", "run"]

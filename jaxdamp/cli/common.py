@@ -501,3 +501,13 @@ def progress_bar(args, total=None, desc="", unit="it"):
 
     return tqdm(total=total, desc=desc, unit=unit, file=sys.stderr, disable=not show_progress(args),
                 leave=False, dynamic_ncols=True)
+
+
+__all__ = ["SCHEMA_VERSION", "FLAG_OF", "flag_message", "CliError", "UsageError", "Parser",
+           "add_shape_args", "shape_name", "parse_br", "centred_br", "shape_from_args",
+           "add_contact_args", "add_load_args", "add_design_args", "add_json_arg",
+           "add_progress_arg", "stiffness", "read_contacts_file", "contacts_from_args",
+           "resolve_mu", "k_text", "load_from_args", "float_list", "check_output_dir",
+           "check_output_file", "version", "model_warnings", "status_name", "number", "named",
+           "shape_echo", "contacts_echo", "load_echo", "clean", "document", "dumps", "emit",
+           "show_progress", "progress_bar"]

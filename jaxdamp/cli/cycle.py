@@ -106,3 +106,6 @@ def run(args) -> int:
     lines.append("  work shape factors: " + "  ".join(f"{k} {fmt(v, '.4f')}" for k, v in w.items()))
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["NUMBER_KEYS", "register", "cycle_payload", "run"]

@@ -40,3 +40,6 @@ def run(args) -> int:
                 + ("" if inside else "  (OUTSIDE L1-L2: no b_R avoids liftoff)"))
     C.emit(args, doc, text)
     return 0
+
+
+__all__ = ["register", "run"]

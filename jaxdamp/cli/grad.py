@@ -93,3 +93,6 @@ def run(args) -> int:
         lines.append(f"WARNING: {status.replace('_', ' ')}: these derivatives do not describe a damper.")
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["JSON_OUTPUTS", "UNITS", "register", "grad_payload", "run"]

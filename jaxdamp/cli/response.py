@@ -224,3 +224,6 @@ def run(args) -> int:
         lines.append(f"  figures written to {args.plot}")
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["STIFFNESS_NOTE", "register", "FORCE_BUCKET", "run"]

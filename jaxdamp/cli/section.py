@@ -36,3 +36,6 @@ def run(args) -> int:
     doc = C.document(status, {"files": [str(out)]}, shape=C.shape_echo(shape), mu=args.mu)
     C.emit(args, doc, f"wrote {out}")
     return 0
+
+
+__all__ = ["SUFFIXES", "register", "run"]

@@ -41,3 +41,6 @@ def run(args) -> int:
                  f"liftoff: {'YES' if status == 'liftoff' else 'no'}")
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["register", "run"]

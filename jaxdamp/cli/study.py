@@ -50,3 +50,6 @@ def run(args) -> int:
         load=C.load_echo(LoadCase(*(summary["load"][k] for k in ("F_D", "q_star", "r_sin_beta")))))
     C.emit(args, doc, "\n".join(lines))
     return 0
+
+
+__all__ = ["register", "run"]

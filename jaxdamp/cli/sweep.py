@@ -144,3 +144,8 @@ def res_load():
     from ..params import LoadCase
 
     return LoadCase()  # sweep runs the reference load case
+
+
+__all__ = ["MAX_DESIGNS", "MAX_BYTES", "BYTES_PER_DESIGN", "CHUNK_BYTES_PER_DESIGN",
+           "DESIGNS_PER_S_PER_DEVICE", "COMPILE_S", "register", "parse_values", "estimate",
+           "summary_of", "run", "res_load"]

@@ -13,3 +13,7 @@ from .calibration import comparison_table as comparison_table
 from .calibration import paper_targets as paper_targets
 from .study import compute_study as compute_study
 from .study import write_study as write_study
+
+
+__all__ = ["FAMILY", "family_shape", "paper_tables", "CalibrationResult", "CalibrationTargets",
+           "calibrate", "comparison_table", "paper_targets", "compute_study", "write_study"]

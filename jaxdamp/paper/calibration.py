@@ -542,3 +542,10 @@ def history_rows(res: CalibrationResult) -> list[dict]:
     split fit continues the count after the shared stage)."""
     return [{"iterate": i, "loss": float(loss), **dict(zip(_param_names(len(p)), p))}
             for i, (loss, p) in enumerate(zip(res.loss_history, res.param_history))]
+
+
+__all__ = ["NUMBERS", "FITTED_TABLES", "REPORTED_TABLES", "NOT_COMPARABLE", "TABLE_NAMES",
+           "DEFAULT_START_KN", "DEFAULT_START_KT", "CalibrationTargets", "paper_targets",
+           "CalibrationState", "CalibrationResult", "calibrate", "validate_start",
+           "target_numbers", "residuals_pct", "comparison_table", "comparison_document",
+           "history_rows"]

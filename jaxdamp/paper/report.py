@@ -480,3 +480,6 @@ def _figures(doc, figures, shapes):
             doc.h(2, f"{section}: {', '.join(named) if named else shapes}")
         for f in group:
             doc.figure(f["file"], f["caption"])
+
+
+__all__ = ["FIVE", "WORK", "Doc", "fmt", "build_report", "KEY_FIGURE_SECTION"]

@@ -171,3 +171,7 @@ def qualitative_findings(results: dict, scores: dict, share_tol: float = 0.02) -
     add("w_M = w_R1 + w_L1 + w_L2 for every shape", worst_err < 1e-6 if n else None,
         f"largest relative mismatch {worst_err:.1e} over {n} cycles")
     return out
+
+
+__all__ = ["INDICATORS", "SCORED_MU", "MARK_SYMBOLS", "rank_indicator", "score_table",
+           "qualitative_findings"]

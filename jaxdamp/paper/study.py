@@ -502,3 +502,13 @@ def write_study(out: Path, summary: dict) -> None:
 
 def _version() -> str:
     return __version__  # the one place the version lives (pyproject reads it too)
+
+
+__all__ = ["SCHEMA_VERSION", "DEFAULT_SHAPES", "DEFAULT_MU", "CONTRACT_KEYS", "PAPER_TABLES",
+           "CRITERION_TABLES", "CRITERION_TOL_PCT", "TABLE_B_KEYS", "NOTE_90R", "mu_key",
+           "paper_transitions", "paper_comparison", "paper_values", "compute_cases",
+           "result_entry", "CSV_NAMES", "write_tables", "BAND_AMPLITUDES", "BAND_SAMPLES",
+           "BAND_LO_FS", "BAND_HI_BC", "CURVE_PER_BAND", "NAMED_STATES", "GAP_ROUNDING",
+           "interpolation_gap", "amplitude_grids", "exact_curves", "stiffness_band_entry",
+           "stiffness_bands", "PEAK_FORCES_N", "peak_response_entry", "blade_mode_dict",
+           "check_study_inputs", "compute_study", "write_study"]

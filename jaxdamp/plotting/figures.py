@@ -803,3 +803,11 @@ def plot_family_comparison(results, paper=None):
     fig.legend(handles, labels, loc="outside lower center", ncol=len(labels), fontsize=10)
     fig.suptitle("Shapes compared: the five numbers and w_M", fontsize=13)
     return fig
+
+
+__all__ = ["PSI_LABEL", "MU_COLORS", "CONTACT_COLORS", "mu_color", "COINCIDENT_MARKERS",
+           "COINCIDENT_TOL", "lies_on", "hidden_lines", "mark_coincident_lines",
+           "section_lines_of_action", "plot_section", "force_track", "plot_equilibrium_tracks",
+           "plot_moment_cycles", "default_amplitudes", "plot_stretched_cycles",
+           "plot_complex_stiffness", "ZERO_BAR", "plot_energy", "FAMILY_PANELS",
+           "plot_family_comparison"]

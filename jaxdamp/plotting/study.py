@@ -202,3 +202,7 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     summary["meta"]["runtime_s"] = time.perf_counter() - t0
     write_study(out, summary)
     return summary
+
+
+__all__ = ["study_figures", "amplitude_data", "amplitude_stiffness_figure", "make_figures",
+           "key_figure", "run_study"]

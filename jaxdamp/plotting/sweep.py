@@ -149,3 +149,7 @@ def write_sweep(res: SweepResult, out: Path, extra: dict | None = None) -> list[
     png = out / "sweep.png"
     save_figure(heatmap_figure(res), png, dpi=110)
     return [npz, js, png]
+
+
+__all__ = ["HEATMAPS", "STATUS", "FAMILY_MARKS", "status_codes", "heatmap_figure", "sweep_arrays",
+           "write_sweep"]
