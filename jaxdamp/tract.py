@@ -85,7 +85,7 @@ def _rates(mech: Mechanics, m, signs, y, ok, direction) -> TractRates:
     gn = direction * per(mech.gn0) + rowdot(y[..., None, :], mech.Q)
     gt = direction * per(mech.gt0) + rowdot(y[..., None, :], mech.P)
     dN = kn * gn
-    dT = (1.0 - m) * (-kt * gt) + m * per(signs) * mech.mu * dN
+    dT = (1.0 - m) * (-kt * gt) + m * per(signs) * per(mech.mu) * dN
     # T = -kt (gt - slip) gives the slip rate; zero for stick contacts.
     dslip = m * (gt + dT / kt)
     return TractRates(dN, dT, dslip, ok & mech.stick_ok)
@@ -200,7 +200,8 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     rates = candidate_rates(mech, signs, direction)
     # Per-contact quantities against the (8 candidates, 3 contacts) table: explicit leading axis.
     at_limit, signs8 = at_limit[None], signs[None]
-    cone_rate = signs8 * rates.dT - mech.mu * rates.dN
+    # mu is shared () or per contact (3,): give it the table's leading axis too
+    cone_rate = signs8 * rates.dT - jnp.broadcast_to(mech.mu, rates.dN.shape) * rates.dN
     stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
     slip_ok = jnp.where(slipping, signs8 * rates.dslip <= RATE_TOL, True)
     allowed = ~jnp.any(slipping & ~at_limit, axis=1)

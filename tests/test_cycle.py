@@ -202,3 +202,21 @@ def test_bad_contacts_and_load():
         jd.base_cycle(jd.family_shape("60sym"), 0.5, jd.Contacts(100.0, -1.0))
     with pytest.raises(ValueError, match="q_star"):
         jd.base_cycle(jd.family_shape("60sym"), 0.5, REF, jd.LoadCase(q_star=0.0))
+
+
+def test_per_contact_mu_runs_under_strict_ranks_and_equals_the_shared_value():
+    """mu given per contact (R1, L1, L2) is the same physics as a shared mu when the three are equal
+    (conftest makes implicit rank promotion an error, which once broke the (8, 3) candidate table);
+    with different values the cycle still keeps the energy identity sum W_i = oint M dpsi."""
+    import numpy as np
+
+    shape = jd.family_shape("60sym")
+    shared = jd.five_numbers(jd.base_cycle(shape, 0.5)).numbers()
+    per = jd.five_numbers(jd.base_cycle(shape, np.array([0.5, 0.5, 0.5]))).numbers()
+    np.testing.assert_allclose(per, shared, rtol=1e-12)
+    bc = jd.base_cycle(shape, np.array([0.4, 0.5, 0.6]))
+    assert jd.RESULTS.name_of(bc.status) == "ok"
+    e = jd.contact_energies(bc)
+    assert abs(float(e.contacts.sum() - e.moment)) < 1e-9 * float(e.moment)
+    ac = jd.amplitude_cycle(shape, np.array([0.4, 0.5, 0.6]), 1.0)
+    assert jd.RESULTS.name_of(ac.status) == "ok" and float(ac.k_im) > 0.0
