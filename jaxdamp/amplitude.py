@@ -48,7 +48,7 @@ from .params import (Contacts, LoadCase, above_validated_range, prepare_inputs, 
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
-from .runtime import batch_jit
+from .runtime import batch_jit, padded_size
 from .status import RESULTS, number_repr, status_repr
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
                     choose_states, next_event)
@@ -577,12 +577,10 @@ def _stretched_curves(shapes, mu, contacts, load, psi):
 
 
 def _padded(index: np.ndarray) -> np.ndarray:
-    """index padded by repeating its first entry to a bucket size (multiples of an eighth of its
-    power of two, at least 16): a new count of elements rarely compiles a new program, and at most
-    ~1/8 of the work is padding."""
-    n = max(index.size, 1)
-    step = max(16, 1 << max(int(np.log2(n)) - 3, 0))
-    size = -(-n // step) * step
+    """index padded by repeating its first entry to `runtime.padded_size` (eight steps per octave,
+    at least 16): a new count rarely compiles a new program, and at most ~1/8 of the work is
+    padding."""
+    size = padded_size(index.size, 16, 8)
     return np.concatenate([index, np.full(size - index.size, index[0])])
 
 

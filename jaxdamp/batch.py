@@ -26,7 +26,7 @@ from .energy import work_shape_factors
 from .geometry import DamperShape, validate_shape
 from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .runtime import batch_jit
+from .runtime import batch_jit, padded_size
 from .statics import design_br_kernel
 from .status import RESULTS, number_repr, status_repr
 
@@ -232,8 +232,7 @@ def bucket_size(n: int, ndev: int, chunk: int) -> int:
     """Batch size actually compiled: chunk designs per device for large batches; for small ones the
     next power of two, at least MIN_BATCH, so that many batch sizes share a few compiled programs;
     always a multiple of ndev."""
-    small = max(MIN_BATCH, 1 << int(np.ceil(np.log2(max(n, 1)))))
-    size = min(chunk * ndev, small)
+    size = min(chunk * ndev, padded_size(n, MIN_BATCH))
     return -(-size // ndev) * ndev
 
 

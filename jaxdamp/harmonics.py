@@ -26,7 +26,7 @@ from .cycle import BaseCycle, base_cycle_kernel
 from .design import as_design
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
-from .runtime import batch_jit
+from .runtime import batch_jit, padded_size
 from .status import number_repr, status_repr
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
 # (which uses it above psi_BC); these names stay importable from here.
@@ -114,14 +114,13 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_
 
 
 def _bucketed(kernel, bc, psi_a_mrad):
-    """kernel(bc, psi) on concrete amplitudes padded to a power of two (at least 8, repeating the
-    last one), so that a new number of amplitudes does not compile a new program."""
+    """kernel(bc, psi) on concrete amplitudes padded (`runtime.padded_size`: a power of two, at
+    least 8, repeating the last one), so that a new number of amplitudes does not compile anew."""
     if isinstance(psi_a_mrad, jax.core.Tracer):
         return kernel(bc, psi_a_mrad)
     psi = np.asarray(psi_a_mrad, float)
     flat = psi.reshape(-1)
-    n = max(flat.size, 1)
-    size = max(8, 1 << int(np.ceil(np.log2(n))))
+    size = padded_size(flat.size, 8)
     padded = np.concatenate([flat, np.full(size - flat.size, flat[-1] if flat.size else 1.0)])
     k_re, k_im = kernel(bc, padded)
     return k_re[: flat.size].reshape(psi.shape), k_im[: flat.size].reshape(psi.shape)

@@ -35,6 +35,16 @@ def batch_compiler_options() -> dict:
     return dict(CPU_BATCH_OPTIONS)
 
 
+def padded_size(n: int, min_step: int, steps_per_octave: int = 1) -> int:
+    """The one padding rule of every batched call: n rounded up to a multiple of
+    max(min_step, 2^floor(log2 n) / steps_per_octave). With steps_per_octave = 1 that is the next
+    power of two (at least min_step); with 8, at most an eighth of the work is padding. Either way
+    a new count of elements rarely compiles a new program."""
+    n = max(int(n), 1)
+    step = max(int(min_step), (1 << (n.bit_length() - 1)) // int(steps_per_octave))
+    return -(-n // step) * step
+
+
 class _BatchJit:
     """jax.jit(fun, **kwargs) built at the first call with `batch_compiler_options()`: building it
     at import would start JAX's backend as a side effect."""
@@ -69,4 +79,4 @@ def batch_jit(fun=None, **kwargs):
     return _BatchJit(fun, kwargs)
 
 
-__all__ = ["CPU_BATCH_OPTIONS", "batch_compiler_options", "batch_jit"]
+__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "batch_compiler_options", "batch_jit"]

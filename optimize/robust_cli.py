@@ -78,7 +78,7 @@ def robust_text(p: dict) -> str:
              "  independent re-evaluation (A*/F, mm/N): dense grid worst | MC worst | MC q95"]
     for d in p["designs"]:
         shape = ", ".join(f"{x:.4g}" for x in d["shape"])
-        nums = ("infeasible (liftoff / margins)" if not d["feasible"] else
+        nums = (f"not certified: {d['reason']}" if not d["feasible"] else
                 f"{d['worst_dense']:.4f} | {d['worst_mc']:.4f} | {d['q95_mc']:.4f}")
         lines.append(f"  {d['name']:40} ({shape}): {nums}")
     if "plot" in p:

@@ -26,9 +26,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import Contacts, DamperShape, LoadCase, family_shape
-from jaxdamp import (BladeMode, Scenarios, Uncertainty, damper_stiffness_kernel, magnification_kernel,
-                     peak_distribution, peak_response, sample_scenarios)
+from jaxdamp import (RESULTS, BladeMode, Contacts, DamperShape, LoadCase, Scenarios, Uncertainty,
+                     damper_stiffness_kernel, family_shape, magnification_kernel, peak_distribution,
+                     peak_response, sample_scenarios)
 
 from .design import VARIABLES
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
@@ -188,7 +188,9 @@ class CertifiedDesign(NamedTuple):
 
     worst_dense: max over the dense grid and 50 forces; worst_mc, q95_mc: over the per-pair Monte
     Carlo samples (max over forces of the worst / of the 95th percentile); band_mm_per_n: (2, 50)
-    min and max over the dense grid per force; feasible: margins and status everywhere."""
+    min and max over the dense grid per force; feasible: margins and status everywhere; reason:
+    why not ("margins" where the optimiser's no-liftoff margins fail, else the damper statuses that
+    are not ok, with their counts among the scenarios), "ok" when feasible."""
 
     name: str
     shape: tuple
@@ -199,6 +201,7 @@ class CertifiedDesign(NamedTuple):
     force_n: tuple
     band_mm_per_n: tuple
     scenarios: int
+    reason: str = "ok"
 
 
 def dense_scenarios(problem: Problem, spec: RobustSpec, n_mu: int = 9, n_k: int = 3,
@@ -235,13 +238,25 @@ def certify(name: str, v, problem: Problem, spec: RobustSpec, mode: BladeMode = 
     mc = peak_distribution(shape, mc_scen, mode, forces, load, history=hist, levels=(0.95,),
                            progress=progress)
     ok = feasible and d.n_ok == len(dense.mu) and mc.n_ok == n_mc
+    reason = "ok" if ok else infeasibility_reason(feasible, np.concatenate([d.status, mc.status]))
     band = (np.nanmin(d.magnification, axis=0), np.nanmax(d.magnification, axis=0))
     return CertifiedDesign(name, tuple(map(float, v)), ok,
                            float(np.max(d.worst)) if ok else None,
                            float(np.max(mc.worst)) if ok else None,
                            float(np.max(mc.quantiles[0])) if ok else None,
                            tuple(map(float, forces)), tuple(tuple(map(float, b)) for b in band),
-                           len(dense.mu))
+                           len(dense.mu), reason)
+
+
+def infeasibility_reason(margins_ok: bool, status) -> str:
+    """Why a design is not certified, in words: the margins, and every damper status that is not
+    ok with how many scenarios gave it (a non-converged cycle is not a liftoff)."""
+    status = np.asarray(status)
+    parts = [] if margins_ok else ["margins (no-liftoff constraints at the mu set)"]
+    names, counts = np.unique(status[status != RESULTS.ok], return_counts=True)
+    parts += [f"{RESULTS(int(c)).name} in {int(n)} of {status.size} scenarios"
+              for c, n in zip(names, counts)]
+    return "; ".join(parts) or "ok"
 
 
 class RobustOptimum(NamedTuple):
@@ -319,4 +334,5 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
 
 __all__ = ["RobustSpec", "CertifiedDesign", "RobustOptimum", "ROBUST_MU_SET", "PREVIOUS_OPTIMA",
            "OBJECTIVES", "HISTORY_CHOICES", "validate_spec", "descent_forces", "objective_args",
-           "robust_values", "dense_scenarios", "certify", "reference_shapes", "optimize_robust"]
+           "robust_values", "dense_scenarios", "certify", "infeasibility_reason", "reference_shapes",
+           "optimize_robust"]

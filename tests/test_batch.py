@@ -65,7 +65,7 @@ def loop_cycles():
 
 
 def loop_summary(cycles):
-    nums = np.array([np.asarray(jd.five_numbers(bc)) for bc in cycles])
+    nums = np.array([np.asarray(jd.five_numbers(bc).numbers()) for bc in cycles])
     w = np.array([np.asarray(jd.work_shape_factors(bc)) for bc in cycles])
     cols = dict(zip(jd.FiveNumbers._fields, nums.T))
     cols.update(zip(("w_R1", "w_L1", "w_L2", "w_M"), w.T))

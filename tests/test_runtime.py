@@ -86,3 +86,16 @@ def test_import_starts_no_backend():
             "print(xla_bridge.backends_are_initialized())")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_one_padding_rule():
+    """runtime.padded_size, the padding of every batched call: never below n, a short ladder of
+    sizes (power-of-two steps: the next power of two; eight steps per octave: at most 1/8 waste)."""
+    from jaxdamp.runtime import padded_size
+
+    for n in range(1, 5000):
+        pow2 = padded_size(n, 8)
+        assert pow2 >= max(n, 8) and pow2 & (pow2 - 1) == 0 and pow2 < 2 * max(n, 8)
+        fine = padded_size(n, 16, 8)
+        assert fine >= n and fine % 16 == 0 and (fine - n) <= max(16, n / 8)
+    assert len({padded_size(n, 8) for n in range(1, 1025)}) == 8  # 8, 16, ..., 1024

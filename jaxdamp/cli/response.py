@@ -74,11 +74,13 @@ def _forces(text):
 
 
 _num = C.number
-FORCE_BUCKET = 4  # forces are padded to a multiple of this: a new count rarely compiles anew
+FORCE_BUCKET = 4  # forces are padded (runtime.padded_size) to a power of two, at least this
 
 
 def _padded(forces):
-    n = -(-len(forces) // FORCE_BUCKET) * FORCE_BUCKET
+    from ..runtime import padded_size
+
+    n = padded_size(len(forces), FORCE_BUCKET)
     return jnp.asarray(forces + [forces[-1]] * (n - len(forces)), float)
 
 
