@@ -16,7 +16,7 @@ import numpy as np
 from .design import Design, as_design
 from .geometry import DamperShape
 from .status import from_flags, number_repr, status_repr
-from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
+from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
@@ -335,7 +335,8 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
 
     shape: a DamperShape (then mu is required) or a whole Design.
     mu: friction coefficient (> 0). contacts: kn, kt in N/mm. load: F_D (N), q* (mm), r sin(beta) (mm).
-    Liftoff, non-convergence and singular states are reported in the result's flags, never as NaN.
+    Liftoff, non-convergence, singular and ill-conditioned cycles are reported in the result's
+    `status` (jaxdamp.RESULTS), never as NaN.
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
     design = as_design(shape, mu, contacts, load)
@@ -345,8 +346,7 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
             and np.shape(design.mu) != (3,):
         raise ValueError(f"mu must be one number or one per contact (3 values) in (0, 5]; "
                          f"got shape {np.shape(design.mu)}")
-    shape, mu, contacts, load = prepare_inputs(*design)
-    return base_cycle_kernel(shape, mu, contacts, load, max_tracts=max_tracts, max_pairs=max_pairs)
+    return base_cycle_kernel(*design.prepared(), max_tracts=max_tracts, max_pairs=max_pairs)
 
 
 def _letters():

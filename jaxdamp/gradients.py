@@ -34,7 +34,7 @@ from .cycle import base_cycle_kernel
 from .design import Design, as_design
 from .geometry import DamperShape
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
-from .params import Contacts, LoadCase, prepare_inputs
+from .params import Contacts, LoadCase
 
 # The design variables that a derivative reports, with the Design field each one lives in.
 PARAMETERS = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "mu", "kn", "kt")
@@ -142,7 +142,7 @@ def _collapse(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
 def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
              psi_a_mrad=0.0) -> tuple[Outputs, Flags]:
     """The differentiated outputs and flags of one design (the same program the gradients trace)."""
-    design = Design(*prepare_inputs(*as_design(shape, mu, contacts, load)))
+    design = as_design(shape, mu, contacts, load).prepared()
     validate_psi_a(psi_a_mrad)
     return _value(design, jnp.asarray(psi_a_mrad, float))
 
@@ -150,7 +150,7 @@ def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = L
 def _jac(shape, mu, contacts, load, psi_a, mode):
     _check_mode(mode)
     given = as_design(shape, mu, contacts, load)
-    design = Design(*prepare_inputs(*given))
+    design = given.prepared()
     validate_psi_a(psi_a)
     jac, (values, flags) = _jacobian[mode](design, jnp.asarray(psi_a, float))
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
@@ -189,7 +189,7 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
         raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
     shared = (np.ndim(designs.contacts.kn) == 1, np.ndim(designs.contacts.kt) == 1)
     n = int(np.shape(designs.mu)[0])
-    prepared = Design(*prepare_inputs(*designs))
+    prepared = designs.prepared()
     prepared = prepared._replace(contacts=Contacts(
         *(np.broadcast_to(np.reshape(k, (n, -1)), (n, 3)) for k in prepared.contacts)))
     validate_psi_a(psi_a)

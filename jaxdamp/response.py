@@ -515,7 +515,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         n_roots = jnp.sum(change).astype(jnp.int32)
         # The first max_roots sign changes, in ascending order (cells without a change sort last).
         cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1))[:max_roots]
-        found = jnp.arange(max_roots) < n_roots
+        found = jnp.arange(max_roots, dtype=jnp.int32) < n_roots
         lo = grid[cells]
         hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
 

@@ -41,7 +41,7 @@ import numpy as np
 import jax, jax.numpy as jnp
 import jaxdamp as jd
 from jaxdamp import response as rs
-from jaxdamp.plotting.response import frf_figure, designer_diagram_figure, harmonic_error_figure
+from jaxdamp.plotting.response import response_figure, designer_diagram_figure, harmonic_error_figure
 
 jd.enable_x64()
 t_start = time.perf_counter()
@@ -66,12 +66,17 @@ def peak_paper(s, mu, f):
     new_markdown_cell("""\
 ## 1. FRFs with and without the damper
 
-Solid: with the damper (exact k(ψ_a)); dashed: no damper (free); dotted: damper stuck. At small
-force the damper sticks (stiffer, no extra damping); once it slips it cuts the peak by an order of
-magnitude; at large force the friction force saturates and the response climbs back towards the
-free line. The printed table adds the peak from the paper's interpolated curve."""),
+Solid: with the damper (exact k(ψ_a)); dashed: no damper (free); dash-dotted: damper stuck, each
+limit drawn across its own resonance, and A*_free/A* written at each damped peak. At small force the
+damper sticks (stiffer, no extra damping); once it slips it cuts the peak by an order of magnitude;
+at large force the friction force saturates and the response climbs back towards the free line.
+`jd.response_curves` returns the peaks and the three FRFs of every force from one compiled program;
+the printed table adds the peak from the paper's interpolated curve."""),
     new_code_cell("""\
 forces = [1.0, 5.0, 20.0, 50.0]
+res = jd.response_curves(shape, 0.5, mode=mode, force_n=forces)
+fig = response_figure(res, forces, title="60sym, mu = 0.5: exact k(psi_a)")
+peaks = [peak(shape, 0.5, jnp.asarray(f)) for f in forces]
 
 @jax.jit
 def curves(f, top):
@@ -80,10 +85,6 @@ def curves(f, top):
     return (rs.frf(d, mode, f, a), rs.frf(rs.no_damper(), mode, f, a),
             rs.frf(rs.stuck_damper(d.k_re_stuck), mode, f, a))
 
-peaks = [peak(shape, 0.5, jnp.asarray(f)) for f in forces]
-cs = [curves(jnp.asarray(f), p.max_amplitude_mm) for f, p in zip(forces, peaks)]
-fig = frf_figure([c[0] for c in cs], forces, [c[1] for c in cs], [c[2] for c in cs],
-                 title="60sym, mu = 0.5: exact k(psi_a)")
 for f, p in zip(forces, peaks):
     q = peak_paper(shape, 0.5, jnp.asarray(f))
     print(f"F = {f:5g} N: A* = {float(p.peak_amplitude_mm):.4f} mm at {float(p.peak_frequency_hz):.3f} Hz, "
