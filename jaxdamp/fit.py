@@ -1,0 +1,501 @@
+"""Contact parameters (mu, kn, kt) from measured moment hysteresis loops, with their uncertainty.
+
+A measured loop is a series of samples (psi_i in mrad, M_i in N mm), several periods long, sampled
+anyhow, with noise and a constant offset in each channel. `analyse_loop` finds its turning points,
+its centre psi_c and amplitude psi_a (medians of the per-period extremes), and gives every sample
+its *travel phase*: the half it lies on (forward = psi decreasing, the half that starts at the
+Base-Cycle's state 0, as in `amplitude.py`) and the fraction u in [0, 1] of that half's travel.
+
+The residual of a sample is the measured moment minus the model's exact steady loop
+(`amplitude_kernel` at the measured psi_a, from the chosen history) at the same half and travel
+fraction, minus a per-loop moment offset: the loops are compared as functions of the travel phase,
+never point to nearest point, so the corners (where a contact starts to slip) count with their
+full weight. The psi offset is the measured centre psi_c.
+
+Parameters theta (the solver's unknowns): log mu (one shared, or one per contact), log(kn / K_REF)
+and log(kt / K_REF) (shared, per side: R1 | L1 = L2, or per contact), and one moment offset per loop
+in units of the data's moment scale. Logs keep mu, kn and kt positive and the problem well scaled.
+
+The solve is optimistix's Levenberg-Marquardt (its QR linear solve; Jacobian columns by forward mode
+through the exact cycle's custom JVP). Two stages: plain least squares from a generic start, then a
+robust pseudo-Huber loss (residuals rescaled, r * sqrt(2 / (1 + sqrt(1 + (r/delta)^2))), so that
+sum of squares = 2 delta^2 sum (sqrt(1 + (r/delta)^2) - 1)) with delta = ROBUST_DELTA times the
+residuals' robust standard deviation (1.4826 MAD) after stage one. Outliers then weigh like
+|r| instead of r^2.
+
+Uncertainty: the Gauss-Newton covariance s^2 (J^T J)^-1 of the rescaled residuals at the optimum
+(J from forward mode, s^2 = sum r^2 / (n - p)), standard errors, correlations, and confidence
+intervals (for mu, kn, kt: exp of the log-parameter's interval, so they are asymmetric). A parameter
+is reported as NOT IDENTIFIABLE (value null) when the Jacobian has a (near) null direction it takes
+part in, or when its interval would span more than a factor MAX_SPAN; the intervals of the others
+are then computed with the unidentified ones held at their fitted values (said in the result).
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ._validate import check_range, require_x64
+from .amplitude import INITIAL_STATES, amplitude_kernel
+from .conventions import travel_mm
+from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
+from .params import Contacts, LoadCase, validate_load
+from .status import RESULTS
+
+__all__ = ["MomentLoop", "LoopFit", "FitSpec", "analyse_loop", "fit_loops", "loop_model_moment",
+           "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
+
+# Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
+# kn = 1e4 N/mm, kt = kn / 2.
+DEFAULT_START = {"mu": 0.5, "kn": 1.0e4, "kt": 5.0e3}
+K_REF = 1.0e4  # N/mm, the stiffness of log-parameter 0
+GROUPINGS = {"mu": ("shared", "contact"), "kn": ("shared", "side", "contact"),
+             "kt": ("shared", "side", "contact")}
+_INDEX = {"shared": (0, 0, 0), "side": (0, 1, 1), "contact": (0, 1, 2)}
+_LABELS = {"shared": ("",), "side": ("R1", "L"), "contact": CONTACT_NAMES}
+ROBUST_DELTA = 2.0  # pseudo-Huber threshold, in robust standard deviations of the residuals
+MAX_SPAN = 4.0  # an interval wider than a factor 4 (hi / lo) is no measurement of the parameter
+NULL_RCOND = 1e-7  # singular values below this fraction of the largest: null directions
+NULL_LOADING = 0.1  # a parameter with a component above this in a null direction is in it
+CONFIDENCE = 0.95
+MIN_SAMPLES_PER_HALF = 3
+ZONE = 0.25  # samples beyond +-ZONE of the range from its middle lie near a top / bottom
+
+
+class LoopError(ValueError):
+    """A measured loop that cannot be used (one line, says why)."""
+
+
+class MomentLoop(NamedTuple):
+    """A measured moment loop, analysed (numpy arrays, one entry per sample)."""
+
+    psi: np.ndarray  # mrad, as measured
+    moment: np.ndarray  # N mm, as measured
+    psi_a: float  # mrad, amplitude found from the data
+    psi_c: float  # mrad, centre found from the data
+    forward: np.ndarray  # bool: the sample lies on the forward half (psi decreasing)
+    u: np.ndarray  # travel fraction along its half, in [0, 1] (0 at the half's start)
+    periods: int  # closed periods found (pairs of turning points after the first)
+
+
+class FitSpec(NamedTuple):
+    """How each contact parameter is shared: mu 'shared' | 'contact'; kn, kt 'shared' | 'side'
+    (R1 | L1 = L2) | 'contact'."""
+
+    mu: str = "shared"
+    kn: str = "shared"
+    kt: str = "shared"
+
+    def sizes(self) -> tuple[int, int, int]:
+        return tuple(len(_LABELS[g]) for g in self)
+
+    def names(self) -> list[str]:
+        out = []
+        for p, g in zip(("mu", "kn", "kt"), self):
+            out += [p if not lab else f"{p}_{lab}" for lab in _LABELS[g]]
+        return out
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """[start, stop) of the runs of True in mask."""
+    d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return list(zip(np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]))
+
+
+def analyse_loop(psi, moment, name: str = "loop") -> MomentLoop:
+    """Turning points, centre, amplitude and travel phase of a measured (psi, M) series.
+
+    LoopError (a ValueError, one line naming `name`) for: unequal lengths, a NaN or infinity, fewer
+    than two points, a constant psi, no closed period (psi must go top-bottom-top or
+    bottom-top-bottom), an amplitude outside (0, 1e4] mrad."""
+    psi = np.asarray(psi, float).reshape(-1)
+    moment = np.asarray(moment, float).reshape(-1)
+    if psi.shape != moment.shape:
+        raise LoopError(f"{name}: psi and moment have different lengths ({psi.size}, {moment.size})")
+    for label, v in (("psi_mrad", psi), ("moment_nmm", moment)):
+        bad = np.nonzero(~np.isfinite(v))[0]
+        if bad.size:
+            raise LoopError(f"{name}: {label} is not a finite number at sample {int(bad[0]) + 1} "
+                            f"({bad.size} such samples); remove or fill them")
+    if psi.size < 2:
+        raise LoopError(f"{name}: {psi.size} sample{'s' if psi.size != 1 else ''}; a loop needs "
+                        "at least one closed period of psi")
+    lo, hi = float(psi.min()), float(psi.max())
+    span = hi - lo
+    if not span > 1e-12 * max(abs(hi), abs(lo), 1.0):
+        raise LoopError(f"{name}: psi_mrad is constant ({hi:g} mrad): no loop")
+    mid = 0.5 * (hi + lo)
+    tops = [(a, b, a + int(np.argmax(psi[a:b]))) for a, b in _runs(psi > mid + ZONE * span)]
+    bots = [(a, b, a + int(np.argmin(psi[a:b]))) for a, b in _runs(psi < mid - ZONE * span)]
+    turns = sorted([(i, 1, a, b) for a, b, i in tops] + [(i, -1, a, b) for a, b, i in bots])
+    # an extreme at the very end of the series may be a cut, not a turning point: keep it only where
+    # it reaches the median of the interior ones (within 2 % of the range)
+    interior = lambda kind: [psi[i] for i, k, a, b in turns  # noqa: E731
+                             if k == kind and 0 < i < psi.size - 1]
+    keep = []
+    for i, k, a, b in turns:
+        if i in (0, psi.size - 1):
+            ref = interior(k)
+            ref = np.median(ref) if ref else (hi if k > 0 else lo)
+            if abs(psi[i] - ref) > 0.02 * span:
+                continue
+        keep.append((i, k))
+    if len(keep) < 3:
+        raise LoopError(f"{name}: no closed period: psi must run top-bottom-top or bottom-top-bottom "
+                        f"(found {len(keep)} turning point{'s' if len(keep) != 1 else ''})")
+    top = float(np.median([psi[i] for i, k in keep if k > 0]))
+    bottom = float(np.median([psi[i] for i, k in keep if k < 0]))
+    psi_c, psi_a = 0.5 * (top + bottom), 0.5 * (top - bottom)
+    if not 0.0 < psi_a <= 1e4:
+        raise LoopError(f"{name}: amplitude {psi_a:g} mrad is out of range: must be in (0, 10000] mrad")
+    # the half of every sample: between a top and the next bottom psi decreases (forward)
+    idx = np.array([i for i, _ in keep])
+    kinds = np.array([k for _, k in keep])
+    n = psi.size
+    pos = np.searchsorted(idx, np.arange(n), side="right")  # turning points at or before sample j
+    nxt = np.clip(pos, 0, len(idx) - 1)
+    prev = np.clip(pos - 1, 0, len(idx) - 1)
+    # after a top (or before the first turning point, when it is a bottom): decreasing
+    forward = np.where(pos > 0, kinds[prev] > 0, kinds[nxt] < 0)
+    # a turning-point sample itself starts the next half
+    x = np.clip((psi - psi_c) / psi_a, -1.0, 1.0)
+    u = np.where(forward, 0.5 * (1.0 - x), 0.5 * (1.0 + x))
+    half_len = np.diff(idx)
+    if np.any(half_len < MIN_SAMPLES_PER_HALF - 1):
+        raise LoopError(f"{name}: a half-period has fewer than {MIN_SAMPLES_PER_HALF} samples; "
+                        "sample the loop more finely")
+    periods = (len(keep) - 1) // 2
+    return MomentLoop(psi, moment, psi_a, psi_c, forward.astype(bool), u, periods)
+
+
+# ---------------------------------------------------------------- the model side (pure JAX)
+def loop_model_moment(ac, forward, u):
+    """The moment (N mm) of an AmplitudeCycle's steady loop at travel phase (forward, u): u in
+    [0, 1] the fraction of the half's travel 2 psi_a q* / 1e3 (mm) from the half's start. The loop is
+    piecewise linear in travel, so this is exact; differentiable in every input of the cycle."""
+    travel = 2.0 * travel_mm(ac.psi_a, ac.load.q_star)
+    t = u * travel
+
+    def on(half, t):
+        m0 = platform_moment(ac.shape, ac.load, half.N0, half.T0)
+        dm = platform_moment(ac.shape, ac.load, half.dN, half.dT)
+        dv = jnp.where(half.active, half.dv, 0.0)
+        start = jnp.cumsum(dv) - dv
+        # tract j holds t when start_j <= t (the last active one that does)
+        j = jnp.sum((start[None, :] <= t[:, None]) & half.active[None, :], axis=1) - 1
+        j = jnp.clip(j, 0, dv.shape[0] - 1)
+        return m0[j] + dm[j] * (t - start[j])
+
+    return jnp.where(forward, on(ac.forward, t), on(ac.backward, t))
+
+
+def _expand(theta, spec: FitSpec):
+    """(mu, kn (3,), kt (3,), offsets) from the parameter vector."""
+    n_mu, n_kn, n_kt = spec.sizes()
+    lmu = theta[:n_mu]
+    lkn = theta[n_mu:n_mu + n_kn]
+    lkt = theta[n_mu + n_kn:n_mu + n_kn + n_kt]
+    mu = jnp.exp(lmu)[0] if spec.mu == "shared" else jnp.exp(lmu)
+    kn = K_REF * jnp.exp(lkn[jnp.asarray(_INDEX[spec.kn])])
+    kt = K_REF * jnp.exp(lkt[jnp.asarray(_INDEX[spec.kt])])
+    return mu, kn, kt, theta[n_mu + n_kn + n_kt:]
+
+
+class _Data(NamedTuple):
+    """The loops stacked and padded (loops, samples)."""
+
+    psi_a: jnp.ndarray  # (L,)
+    forward: jnp.ndarray  # (L, n) bool
+    u: jnp.ndarray  # (L, n)
+    moment: jnp.ndarray  # (L, n), in units of scale
+    mask: jnp.ndarray  # (L, n) 1.0 for a sample, 0.0 for padding
+    scale: jnp.ndarray  # N mm, the moment scale
+
+
+def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
+    """(model moment (L, n) in units of scale, offsets, cycle statuses (L,))."""
+    mu, kn, kt, off = _expand(theta, spec)
+    contacts = Contacts(kn, kt)
+
+    def one(psi_a, fwd, u):
+        ac = amplitude_kernel(shape, mu, contacts, load, psi_a, initial=history)
+        return loop_model_moment(ac, fwd, u), ac.status
+
+    m, status = jax.vmap(one)(data.psi_a, data.forward, data.u)
+    return m / data.scale, off, status
+
+
+_model_jit = jax.jit(_model, static_argnames=("spec", "history"))
+
+
+def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
+    """Residuals (flattened, padding zero) in units of the moment scale, pseudo-Huber rescaled
+    where inv_delta > 0 (1 / delta; 0: plain least squares)."""
+    m, off, _ = _model(theta, shape, load, data, spec, history)
+    r = (data.moment - m - off[:, None]) * data.mask
+    z = r * inv_delta
+    return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1)
+
+
+_LISTENERS: list = []  # the running fit's step callback (one compiled program for every caller)
+
+
+def _report(step, loss, step_size):
+    for f in _LISTENERS[-1:]:
+        f(step, loss, step_size)
+
+
+def _verbose(**kw):
+    jax.debug.callback(_report, kw["num_steps"][1], kw["loss_last_accepted_step"][1],
+                       kw["step_size"][1])
+
+
+@partial(jax.jit, static_argnames=("spec", "history", "max_steps", "rtol"))
+def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol):
+    import optimistix as optx
+
+    def fn(theta, args):
+        return fit_residuals(theta, shape, load, data, spec, history, inv_delta)
+
+    verbose = _verbose
+    solver = optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3, verbose=verbose)
+    sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False)
+    r = fn(sol.value, None)
+    jac = jax.jacfwd(fn)(sol.value, None)
+    _, _, status = _model(sol.value, shape, load, data, spec, history)
+    return sol.value, r, jac, sol.result == optx.RESULTS.successful, sol.stats["num_steps"], status
+
+
+class LoopFit(NamedTuple):
+    """The fitted contact parameters and their uncertainty (`fit_loops`).
+
+    names: the parameters (mu, kn, kt per their grouping, then offset_0...); value, se, lo, hi:
+    per parameter, NaN where not identifiable (mu dimensionless, kn, kt in N/mm, offsets in N mm;
+    lo, hi: the CONFIDENCE interval); correlation: (p, p), NaN rows for the unidentified ones.
+    identifiable: bool per parameter; why: per parameter, "" or the reason it is not identifiable.
+    mu, kn, kt: the fitted values as the solver takes them (mu a number or (3,), kn, kt (3,) N/mm),
+    including unidentified ones at the value the solver ended on (to run the model, not as results).
+    """
+
+    names: list
+    value: np.ndarray
+    se: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    correlation: np.ndarray
+    identifiable: np.ndarray
+    why: list
+    mu: object
+    kn: np.ndarray
+    kt: np.ndarray
+    offsets: np.ndarray  # N mm per loop
+    sigma: float  # N mm, residual standard deviation (robust stage, rescaled residuals)
+    rms: np.ndarray  # N mm per loop, plain rms residual at the optimum
+    loops: list  # the MomentLoop of each input
+    fitted: list  # per loop, the model moment (N mm, offset included) at each sample
+    statuses: np.ndarray  # RESULTS code of each loop's model cycle at the optimum
+    converged: bool
+    steps: list  # LM steps per stage
+    history: list  # (stage, step, loss) as the solver went
+    spec: FitSpec
+    initial: str
+    status: int  # RESULTS code: ok, not_converged, liftoff, ... (the worst)
+    held: list  # names held at their fitted values when the intervals were computed
+
+    def as_dict(self) -> dict:
+        """Plain-Python view (floats, lists; None where a number does not exist)."""
+        f = lambda v: None if v is None or not np.isfinite(v) else float(v)  # noqa: E731
+        params = {}
+        for i, n in enumerate(self.names):
+            params[n] = {"value": f(self.value[i]), "se": f(self.se[i]), "lo": f(self.lo[i]),
+                         "hi": f(self.hi[i]), "identifiable": bool(self.identifiable[i]),
+                         "why": self.why[i] or None}
+        return {"parameters": params, "correlation": [[f(v) for v in row] for row in self.correlation],
+                "sigma_nmm": f(self.sigma), "rms_nmm": [f(v) for v in self.rms],
+                "converged": self.converged, "steps": self.steps,
+                "status": RESULTS.name_of(self.status)}
+
+
+def _robust_sd(r):
+    r = np.asarray(r)
+    return float(1.4826 * np.median(np.abs(r - np.median(r))))
+
+
+def _pad(n: int) -> int:
+    return max(64, 1 << int(np.ceil(np.log2(max(n, 1)))))
+
+
+def _stack(loops: list[MomentLoop], scale: float) -> _Data:
+    n = _pad(max(lp.psi.size for lp in loops))
+    L = len(loops)
+    fwd, u, m, mask = (np.zeros((L, n), bool), np.zeros((L, n)), np.zeros((L, n)), np.zeros((L, n)))
+    for i, lp in enumerate(loops):
+        k = lp.psi.size
+        fwd[i, :k], u[i, :k], m[i, :k], mask[i, :k] = lp.forward, lp.u, lp.moment / scale, 1.0
+    return _Data(jnp.asarray([lp.psi_a for lp in loops]), jnp.asarray(fwd), jnp.asarray(u),
+                 jnp.asarray(m), jnp.asarray(mask), jnp.asarray(scale))
+
+
+def _covariance(jac, sigma2, names, n_phys):
+    """Identifiability, then the covariance of the identifiable parameters (others held)."""
+    p = jac.shape[1]
+    ok = np.ones(p, bool)
+    why = [""] * p
+    _, s, vt = np.linalg.svd(jac, full_matrices=False)
+    if s[0] <= 0.0:
+        return ok & False, ["the loops carry no information on it (zero Jacobian)"] * p, \
+            np.full((p, p), np.nan)
+    for k in np.nonzero(s < NULL_RCOND * s[0])[0]:
+        involved = np.nonzero(np.abs(vt[k]) > NULL_LOADING)[0]
+        for j in involved:
+            if ok[j]:
+                others = [names[i] for i in involved if i != j]
+                why[j] = ("not identifiable: the loops do not constrain it"
+                          + (f" apart from {', '.join(others)}" if others else "")
+                          + " (a null direction of the Jacobian)")
+            ok[j] = False
+    cov = np.full((p, p), np.nan)
+    for _ in range(p):
+        J = jac[:, ok]
+        c = sigma2 * np.linalg.pinv(J.T @ J)
+        se = np.sqrt(np.maximum(np.diag(c), 0.0))
+        z = _z()
+        # log-parameters (the first n_phys): an interval wider than MAX_SPAN is no measurement
+        wide = [j for jj, j in enumerate(np.nonzero(ok)[0])
+                if j < n_phys and np.exp(2 * z * se[jj]) > MAX_SPAN]
+        if not wide:
+            cov[np.ix_(ok, ok)] = c
+            break
+        worst = max(wide, key=lambda j: se[list(np.nonzero(ok)[0]).index(j)])
+        span = float(np.exp(2 * z * se[list(np.nonzero(ok)[0]).index(worst)]))
+        why[worst] = (f"not identifiable from these loops: its {CONFIDENCE:.0%} interval would span a "
+                      f"factor {span:.3g} (more than {MAX_SPAN:g})")
+        ok[worst] = False
+    return ok, why, cov
+
+
+def _z() -> float:
+    from statistics import NormalDist
+
+    return NormalDist().inv_cdf(0.5 + CONFIDENCE / 2)
+
+
+def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
+              mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
+              robust: bool = True, max_steps: int = 100, rtol: float = 1e-8,
+              callback: Callable | None = None, names=None) -> LoopFit:
+    """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
+
+    loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
+    sampling) or of MomentLoop; shape: the damper's DamperShape; load: F_D, q*, r sin(beta) of the
+    test. initial: the history of the model's steady cycle, "gross_slip" or "assembly". mu: "shared"
+    or "contact"; kn, kt: "shared", "side" (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"}
+    (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
+    callback(stage, step, loss): called as the solver goes (from the compiled solve).
+
+    Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
+    parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
+    raise LoopError (a ValueError) naming the loop.
+    """
+    require_x64()
+    validate_shape(shape)
+    validate_load(load)
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    for key, g in (("mu", mu), ("kn", kn), ("kt", kt)):
+        if g not in GROUPINGS[key]:
+            raise ValueError(f"{key} grouping must be one of {', '.join(GROUPINGS[key])}; got {g!r}")
+    st = dict(DEFAULT_START, **(start or {}))
+    check_range("mu", st["mu"], 0.0, 5.0, lo_open=True)
+    check_range("kn", st["kn"], 0.0, 1e12, lo_open=True, unit="N/mm")
+    check_range("kt", st["kt"], 0.0, 1e12, lo_open=True, unit="N/mm")
+    if not isinstance(max_steps, int) or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
+    loops = list(loops)
+    if not loops:
+        raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
+    names = names or [f"loop {i + 1}" for i in range(len(loops))]
+    loops = [lp if isinstance(lp, MomentLoop) else analyse_loop(*lp, name=nm)
+             for lp, nm in zip(loops, names)]
+    for lp, nm in zip(loops, names):
+        check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
+    spec = FitSpec(mu, kn, kt)
+    n_mu, n_kn, n_kt = spec.sizes()
+    n_phys = n_mu + n_kn + n_kt
+    scale = max(float(np.ptp(lp.moment)) for lp in loops) / 2.0 or 1.0
+    data = _stack(loops, scale)
+    shape_j = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
+    load_j = LoadCase(*(jnp.asarray(v, float) for v in load))
+    theta = np.concatenate([np.full(n_mu, np.log(st["mu"])), np.full(n_kn, np.log(st["kn"] / K_REF)),
+                            np.full(n_kt, np.log(st["kt"] / K_REF)), np.zeros(len(loops))])
+    # start offsets: the mean gap between the measured loop and the model at the start
+    m0, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
+    theta[n_phys:] = gap
+    history, steps = [], []
+    stage_box = [0]
+
+    def cb(step, loss, step_size):
+        history.append((stage_box[0], int(step), float(loss)))
+        if callback is not None:
+            callback(stage_box[0], int(step), float(loss))
+
+    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol)
+    _LISTENERS.append(cb)
+    try:
+        theta, r, jac, ok, nsteps, status = _solve(jnp.asarray(theta), shape_j, load_j, data,
+                                                   jnp.asarray(0.0), **kw)
+        steps.append(int(nsteps))
+        converged = bool(ok)
+        mask = np.asarray(data.mask).reshape(-1) > 0
+        if robust:
+            delta = ROBUST_DELTA * max(_robust_sd(np.asarray(r)[mask]), 1e-12)
+            stage_box[0] = 1
+            theta, r, jac, ok, nsteps, status = _solve(theta, shape_j, load_j, data,
+                                                       jnp.asarray(1.0 / delta), **kw)
+            steps.append(int(nsteps))
+            converged = bool(ok)
+        jax.effects_barrier()
+    finally:
+        _LISTENERS.remove(cb)
+    theta, r, jac = np.asarray(theta), np.asarray(r)[mask], np.asarray(jac)[mask]
+    n, p = r.size, theta.size
+    dof = max(n - p, 1)
+    sigma2 = float(np.sum(r ** 2) / dof)
+    pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
+    ident, why, cov = _covariance(jac, sigma2, pnames, n_phys)
+    se_t = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    z = _z()
+    value = np.concatenate([np.exp(theta[:n_mu]), K_REF * np.exp(theta[n_mu:n_phys]),
+                            theta[n_phys:] * scale])
+    se = np.concatenate([value[:n_phys] * se_t[:n_phys], se_t[n_phys:] * scale])
+    lo = np.concatenate([value[:n_phys] * np.exp(-z * se_t[:n_phys]), value[n_phys:] - z * se[n_phys:]])
+    hi = np.concatenate([value[:n_phys] * np.exp(z * se_t[:n_phys]), value[n_phys:] + z * se[n_phys:]])
+    d = np.sqrt(np.diag(cov))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(d, d)
+    for a in (value, se, lo, hi):
+        a[~ident] = np.nan
+    mu_v, kn_v, kt_v, _ = (np.asarray(v) for v in _expand(jnp.asarray(theta), spec))
+    m_fit, off, cyc_status = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    fitted = np.asarray((m_fit + off[:, None]) * scale)
+    fitted_list = [fitted[i, :lp.psi.size] for i, lp in enumerate(loops)]
+    rms = np.array([float(np.sqrt(np.mean((lp.moment - f) ** 2))) for lp, f in zip(loops, fitted_list)])
+    cyc_status = np.asarray(cyc_status)
+    worst = RESULTS.ok
+    for s in cyc_status:
+        if not RESULTS.valid(int(s)):
+            worst = int(s)
+    if worst == RESULTS.ok and not converged:
+        worst = RESULTS.not_converged
+    held = [nm for nm, k in zip(pnames, ident) if not k]
+    return LoopFit(pnames, value, se, lo, hi, corr, ident, why,
+                   float(mu_v) if mu_v.ndim == 0 else mu_v, kn_v, kt_v, value[n_phys:] if np.all(
+                       ident[n_phys:]) else theta[n_phys:] * scale, float(np.sqrt(sigma2) * scale),
+                   rms, loops, fitted_list, cyc_status, converged, steps, history, spec, initial,
+                   int(worst), held)
