@@ -43,6 +43,8 @@ from .geometry import SectionGeometry as SectionGeometry
 from .geometry import family_shape as family_shape
 from .geometry import paper_tables as paper_tables
 from .geometry import section_geometry as section_geometry
+from .fit import LoopFit as LoopFit
+from .fit import fit_loops as fit_loops
 from .gradients import FiveNumbersJacobian as FiveNumbersJacobian
 from .gradients import KImGradient as KImGradient
 from .gradients import batch_jacobian as batch_jacobian

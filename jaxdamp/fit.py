@@ -47,7 +47,7 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "LoopFit", "FitSpec", "analyse_loop", "fit_loops", "loop_model_moment",
+__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
 
 # Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
@@ -387,7 +387,7 @@ def _z() -> float:
 
 def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
               mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
-              robust: bool = True, max_steps: int = 100, rtol: float = 1e-8,
+              robust: bool = True, max_steps: int = 100, rtol: float = 1e-6,
               callback: Callable | None = None, names=None) -> LoopFit:
     """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
 
@@ -499,3 +499,19 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
                        ident[n_phys:]) else theta[n_phys:] * scale, float(np.sqrt(sigma2) * scale),
                    rms, loops, fitted_list, cyc_status, converged, steps, history, spec, initial,
                    int(worst), held)
+
+
+def sample_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                load: LoadCase = LoadCase(), *, t, initial: str = "gross_slip"):
+    """(psi, M) of the model's exact steady loop sampled at times t (periods) of psi = psi_a cos(2 pi
+    t): psi in mrad, M in N mm (numpy). A test loop for `fit_loops` (add noise and offsets)."""
+    from .amplitude import amplitude_cycle
+
+    t = np.asarray(t, float)
+    ac = amplitude_cycle(shape, mu, psi_a_mrad, contacts, load, initial=initial)
+    phase = np.mod(t, 1.0)
+    forward = phase < 0.5  # psi decreasing from the top
+    x = np.cos(2.0 * np.pi * t)
+    u = np.where(forward, 0.5 * (1.0 - x), 0.5 * (1.0 + x))
+    m = loop_model_moment(ac, jnp.asarray(forward), jnp.asarray(u))
+    return float(psi_a_mrad) * x, np.asarray(m)

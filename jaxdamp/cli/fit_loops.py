@@ -1,0 +1,223 @@
+"""`jaxdamp fit-loops`: contact parameters (mu, kn, kt) from measured moment hysteresis loops, with
+standard errors, intervals, correlations and a statement of what the loops do not identify."""
+
+from __future__ import annotations
+
+import csv
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from . import common as C
+
+MOMENT_COLUMNS = ("psi_mrad", "moment_nmm")
+CONTACT_COLUMNS = ("disp_mm", "force_n")
+
+
+def register(sub) -> None:
+    p = sub.add_parser("fit-loops", help="fit mu, kn, kt to measured moment loops (CSV psi_mrad,moment_nmm "
+                                         "or NPZ), with their uncertainty")
+    p.add_argument("files", nargs="+", metavar="FILE",
+                   help="one loop per file: CSV with a header row psi_mrad,moment_nmm (rotation in mrad, "
+                        "moment in N mm), or NPZ with arrays of those names; several periods, any "
+                        "sampling; amplitude, centre and offsets are found from the data")
+    C.add_shape_args(p)
+    C.add_load_args(p)
+    p.add_argument("--history", choices=("gross_slip", "assembly"), default="gross_slip",
+                   help="the history of the model's steady cycle (default gross_slip)")
+    p.add_argument("--per-contact", default="",
+                   help="parameters fitted per contact (R1, L1, L2): a comma list of mu, kn, kt "
+                        "(default: none, one value shared by the three contacts)")
+    p.add_argument("--per-side", default="",
+                   help="parameters fitted per side (R1 | L1 = L2): a comma list of kn, kt")
+    p.add_argument("--start-mu", type=float, default=None, help="start mu, in (0, 5] (default 0.5, generic)")
+    p.add_argument("--start-kn", type=float, default=None, help="start kn, N/mm (default 1e4, generic)")
+    p.add_argument("--start-kt", type=float, default=None, help="start kt, N/mm (default 5e3, generic)")
+    p.add_argument("--no-robust", action="store_true",
+                   help="plain least squares only (default: a second stage with a pseudo-Huber loss)")
+    p.add_argument("--max-steps", type=int, default=100, help="Levenberg-Marquardt steps per stage (default 100)")
+    p.add_argument("--plot", metavar="DIR", default=None,
+                   help="write a figure per loop (measured, fitted, residual) and parameters.csv here")
+    p.add_argument("--out", metavar="FILE", default=None,
+                   help="also write the JSON document here (usable as --contacts-from FILE)")
+    C.add_json_arg(p)
+    p.add_argument("--no-progress", action="store_true", help="no convergence lines on stderr")
+    p.set_defaults(func=run)
+
+
+def _groups(args) -> dict:
+    out = {"mu": "shared", "kn": "shared", "kt": "shared"}
+    for flag, text, allowed, kind in (("--per-contact", args.per_contact, ("mu", "kn", "kt"), "contact"),
+                                      ("--per-side", args.per_side, ("kn", "kt"), "side")):
+        for name in (s.strip().lower() for s in text.split(",") if s.strip()):
+            if name not in allowed:
+                raise C.CliError(f"{flag} takes a comma list of {', '.join(allowed)}; got {name!r}")
+            if out[name] != "shared":
+                raise C.CliError(f"{name} is given both per contact and per side; choose one")
+            out[name] = kind
+    return out
+
+
+def read_loop(path) -> tuple[np.ndarray, np.ndarray]:
+    """(psi_mrad, moment_nmm) of a CSV (header row) or NPZ file; CliError in one line otherwise."""
+    p = Path(path).expanduser()
+    label = str(path)
+    if not p.is_file():
+        raise C.CliError(f"{label!r} does not exist or is not a file")
+    if p.suffix.lower() == ".npz":
+        try:
+            with np.load(p, allow_pickle=False) as z:
+                cols = {k.lower(): np.asarray(z[k]) for k in z.files}
+        except Exception as exc:  # noqa: BLE001 - any unreadable archive
+            raise C.CliError(f"{label!r} is not a readable NPZ file ({type(exc).__name__})") from None
+        header = list(cols)
+    else:
+        try:
+            with open(p, newline="", encoding="utf-8-sig") as fh:
+                rows = [r for r in csv.reader(fh) if r and any(c.strip() for c in r)]
+        except (OSError, UnicodeDecodeError) as exc:
+            raise C.CliError(f"{label!r} cannot be read as CSV: {exc}") from None
+        if not rows:
+            raise C.CliError(f"{label!r} is empty; expected a header row {','.join(MOMENT_COLUMNS)}")
+        header = [h.strip().lower() for h in rows[0]]
+        cols = {}
+        for j, h in enumerate(header):
+            vals = []
+            for k, r in enumerate(rows[1:], start=2):
+                text = r[j].strip() if j < len(r) else ""
+                try:
+                    vals.append(float(text) if text else np.nan)
+                except ValueError:
+                    if h in MOMENT_COLUMNS:
+                        raise C.CliError(f"{label!r} line {k}: {h} is not a number ({text!r})") from None
+                    vals.append(np.nan)
+            cols[h] = np.asarray(vals)
+    if all(c in header for c in CONTACT_COLUMNS) and not all(c in header for c in MOMENT_COLUMNS):
+        raise C.CliError(f"{label!r}: per-contact loops ({','.join(CONTACT_COLUMNS)}) are not supported "
+                         f"yet; give moment loops with columns {','.join(MOMENT_COLUMNS)}")
+    missing = [c for c in MOMENT_COLUMNS if c not in header]
+    if missing:
+        raise C.CliError(f"{label!r} has no column {', '.join(missing)}; expected columns "
+                         f"{','.join(MOMENT_COLUMNS)} (rotation in mrad, moment in N mm); found "
+                         f"{','.join(header) or 'none'}")
+    psi, m = (np.asarray(cols[c], float).reshape(-1) for c in MOMENT_COLUMNS)
+    return psi, m
+
+
+def _fmt(v, digits=5) -> str:
+    return "-" if v is None or not np.isfinite(v) else f"{v:.{digits}g}"
+
+
+def run(args) -> int:
+    from ..fit import DEFAULT_START, LoopError, analyse_loop, fit_loops
+
+    groups = _groups(args)
+    shape = C.shape_from_args(args)
+    load = C.load_from_args(args)
+    start = {"mu": args.start_mu, "kn": args.start_kn, "kt": args.start_kt}
+    start = {k: (DEFAULT_START[k] if v is None else v) for k, v in start.items()}
+    if args.max_steps < 1:
+        raise C.CliError(f"--max-steps must be an integer >= 1; got {args.max_steps}")
+    for flag, key, hi in (("--start-mu", "mu", 5.0), ("--start-kn", "kn", 1e12), ("--start-kt", "kt", 1e12)):
+        if not 0.0 < start[key] <= hi:
+            raise C.CliError(f"{flag} must be in (0, {hi:g}]; got {start[key]:g}")
+    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
+    out = None if args.out is None else C.check_output_file("--out", args.out, suffixes=(".json",))
+    loops = []
+    for f in args.files:
+        psi, m = read_loop(f)
+        try:
+            loops.append(analyse_loop(psi, m, name=repr(str(f))))
+        except LoopError as exc:
+            raise C.CliError(str(exc)) from None
+
+    progress = not args.no_progress
+
+    def tick(stage, step, loss):
+        if progress:
+            what = "least squares" if stage == 0 else "robust (pseudo-Huber)"
+            print(f"fit-loops: stage {stage + 1} ({what}) step {step:3d}  loss {loss:.6e}",
+                  file=sys.stderr, flush=True)
+
+    fit = fit_loops(loops, shape, load=load, initial=args.history, start=start,
+                    robust=not args.no_robust, max_steps=args.max_steps, callback=tick,
+                    names=[repr(str(f)) for f in args.files], **groups)
+    from ..status import RESULTS
+
+    status = RESULTS.name_of(fit.status)
+    names = fit.names
+    params = fit.as_dict()
+    unident = [n for n, ok in zip(names, fit.identifiable) if not ok]
+    mu_out = fit.mu if np.ndim(fit.mu) == 0 else [float(v) for v in fit.mu]
+    contacts = {"kn_n_per_mm": [float(v) for v in fit.kn], "kt_n_per_mm": [float(v) for v in fit.kt],
+                "mu": mu_out}
+    notes = ["kn, kt, mu under 'contacts' are the solver's end values, for --contacts-from; "
+             "'parameters' holds the results with their intervals (null where not identifiable)"]
+    if unident:
+        notes.append(f"not identifiable from these loops: {', '.join(unident)}; their values under "
+                     "'contacts' are not measurements (any value along the Jacobian's null direction "
+                     f"fits as well); the intervals of the others hold them fixed")
+    if groups["mu"] == "contact":
+        notes.append("per-contact mu: the other commands' --contacts-from takes one mu only")
+    loop_rows = [{"file": str(f), "samples": int(lp.psi.size), "periods": int(lp.periods),
+                  "psi_a_mrad": C.number(lp.psi_a), "psi_c_mrad": C.number(lp.psi_c),
+                  "offset_nmm": C.number(fit.offsets[i]), "rms_nmm": C.number(fit.rms[i]),
+                  "cycle_status": RESULTS.name_of(fit.statuses[i])}
+                 for i, (f, lp) in enumerate(zip(args.files, fit.loops))]
+    payload = {"contacts": contacts, "parameters": params["parameters"],
+               "correlation": {"names": names, "matrix": params["correlation"]},
+               "confidence": 0.95, "not_identifiable": unident, "sigma_nmm": params["sigma_nmm"],
+               "loops": loop_rows,
+               "convergence": {"converged": fit.converged, "steps": fit.steps,
+                               "history": [{"stage": s + 1, "step": k, "loss": v} for s, k, v in fit.history]},
+               "notes": notes}
+    doc = C.document(status, payload, files=[str(f) for f in args.files], shape=C.shape_echo(shape),
+                     load=C.load_echo(load), history=args.history, groups=groups,
+                     start={"mu": start["mu"], "kn_n_per_mm": start["kn"], "kt_n_per_mm": start["kt"]},
+                     robust=not args.no_robust, max_steps=args.max_steps)
+    lines = [f"Contact parameters from {len(loops)} loop{'s' if len(loops) != 1 else ''} "
+             f"({args.history} history; mu {groups['mu']}, kn {groups['kn']}, kt {groups['kt']})",
+             f"  {'parameter':12} {'value':>12} {'std err':>10}   95 % interval"]
+    for i, n in enumerate(names):
+        if fit.identifiable[i]:
+            lines.append(f"  {n:12} {_fmt(fit.value[i]):>12} {_fmt(fit.se[i], 3):>10}   "
+                         f"[{_fmt(fit.lo[i])}, {_fmt(fit.hi[i])}]")
+        else:
+            lines.append(f"  {n:12} {'NOT IDENTIFIABLE':>12}   {fit.why[i]}")
+    lines.append("  units: mu -, kn and kt N/mm, offsets N mm (offset_i: loop i's moment offset)")
+    lines.append(f"  residual sd {_fmt(fit.sigma, 3)} N mm; LM steps {fit.steps}; "
+                 f"converged {fit.converged}")
+    for row in loop_rows:
+        lines.append(f"  {row['file']}: psi_a {_fmt(row['psi_a_mrad'])} mrad, centre "
+                     f"{_fmt(row['psi_c_mrad'], 4)} mrad, {row['periods']} period(s), "
+                     f"{row['samples']} samples, rms {_fmt(row['rms_nmm'], 3)} N mm")
+    big = [(names[a], names[b], fit.correlation[a, b]) for a in range(len(names))
+           for b in range(a + 1, len(names)) if np.isfinite(fit.correlation[a, b])
+           and abs(fit.correlation[a, b]) > 0.9]
+    for a, b, c in big:
+        lines.append(f"  strongly correlated: {a} and {b} ({c:+.3f})")
+    lines += [f"  note: {n}" for n in notes[1:]]
+    if plot_dir is not None:
+        from ..plotting.fit import plot_loop_fit
+        import matplotlib.pyplot as plt
+
+        for i, f in enumerate(args.files):
+            fig = plot_loop_fit(fit, i, shape, load, title=f"{Path(f).name}: psi_a = "
+                                f"{fit.loops[i].psi_a:.4g} mrad")
+            path = plot_dir / f"loop_{i + 1}_{Path(f).stem}.png"
+            C.save_figure(fig, path, dpi=110)
+            plt.close(fig)
+            lines.append(f"wrote {path}")
+        rows = ["parameter,value,std_err,lo_95,hi_95,identifiable,why"]
+        for i, n in enumerate(names):
+            rows.append(",".join([n, _fmt(fit.value[i], 10), _fmt(fit.se[i], 6), _fmt(fit.lo[i], 10),
+                                  _fmt(fit.hi[i], 10), str(bool(fit.identifiable[i])).lower(),
+                                  '"' + fit.why[i].replace('"', "'") + '"']))
+        C.write_text(plot_dir / "parameters.csv", "\n".join(rows) + "\n")
+        lines.append(f"wrote {plot_dir / 'parameters.csv'}")
+    if out is not None:
+        C.write_text(out, C.dumps(doc) + "\n")
+        lines.append(f"wrote {out}")
+    C.emit(args, doc, "\n".join(lines))
+    return 0
