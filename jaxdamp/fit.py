@@ -47,7 +47,7 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop",
+__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
 
 # Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
@@ -327,7 +327,7 @@ def _robust_sd(r):
 
 
 def _pad(n: int) -> int:
-    return max(64, 1 << int(np.ceil(np.log2(max(n, 1)))))
+    return max(512, 1 << int(np.ceil(np.log2(max(n, 1)))))
 
 
 def _stack(loops: list[MomentLoop], scale: float) -> _Data:
@@ -341,8 +341,13 @@ def _stack(loops: list[MomentLoop], scale: float) -> _Data:
                  jnp.asarray(m), jnp.asarray(mask), jnp.asarray(scale))
 
 
-def _covariance(jac, sigma2, names, n_phys):
-    """Identifiability, then the covariance of the identifiable parameters (others held)."""
+def identify(jac, sigma2, names, n_phys):
+    """(identifiable (p,) bool, why (p,) reasons, covariance (p, p), NaN for the unidentified) from
+    the residuals' Jacobian (n, p) at the optimum and the residual variance sigma2. The first n_phys
+    parameters are logs (their interval spans exp(2 z se)). A parameter with a component above
+    NULL_LOADING in a direction whose singular value is below NULL_RCOND of the largest is not
+    identifiable; then, one at a time, the log-parameter with the widest interval beyond MAX_SPAN.
+    The covariance of the rest holds the unidentified ones fixed."""
     p = jac.shape[1]
     ok = np.ones(p, bool)
     why = [""] * p
@@ -468,7 +473,7 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     dof = max(n - p, 1)
     sigma2 = float(np.sum(r ** 2) / dof)
     pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
-    ident, why, cov = _covariance(jac, sigma2, pnames, n_phys)
+    ident, why, cov = identify(jac, sigma2, pnames, n_phys)
     se_t = np.sqrt(np.maximum(np.diag(cov), 0.0))
     z = _z()
     value = np.concatenate([np.exp(theta[:n_mu]), K_REF * np.exp(theta[n_mu:n_phys]),
