@@ -47,7 +47,7 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify",
+__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
 
 # Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
@@ -390,23 +390,28 @@ def _z() -> float:
     return NormalDist().inv_cdf(0.5 + CONFIDENCE / 2)
 
 
-def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
-              mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
-              robust: bool = True, max_steps: int = 100, rtol: float = 1e-6,
-              callback: Callable | None = None, names=None) -> LoopFit:
-    """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
+class FitProblem(NamedTuple):
+    """The least-squares problem of `fit_loops`, for your own solver: residuals(theta, inv_delta)
+    (jit-compiled; flattened, padding zero, units of `scale`; inv_delta = 0 plain least squares, else
+    1 / the pseudo-Huber threshold) from theta0 (the generic start, offsets from the data)."""
 
-    loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
-    sampling) or of MomentLoop; shape: the damper's DamperShape; load: F_D, q*, r sin(beta) of the
-    test. initial: the history of the model's steady cycle, "gross_slip" or "assembly". mu: "shared"
-    or "contact"; kn, kt: "shared", "side" (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"}
-    (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
-    callback(stage, step, loss): called as the solver goes (from the compiled solve).
+    residuals: Callable
+    theta0: np.ndarray
+    names: list
+    scale: float
+    loops: list
+    spec: FitSpec
+    n_phys: int
+    data: object
+    shape: DamperShape
+    load: LoadCase
+    initial: str
 
-    Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
-    parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
-    raise LoopError (a ValueError) naming the loop.
-    """
+
+def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
+                mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
+                names=None) -> FitProblem:
+    """The checked, analysed and stacked problem that `fit_loops` solves (same arguments)."""
     require_x64()
     validate_shape(shape)
     validate_load(load)
@@ -419,8 +424,6 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     check_range("mu", st["mu"], 0.0, 5.0, lo_open=True)
     check_range("kn", st["kn"], 0.0, 1e12, lo_open=True, unit="N/mm")
     check_range("kt", st["kt"], 0.0, 1e12, lo_open=True, unit="N/mm")
-    if not isinstance(max_steps, int) or max_steps < 1:
-        raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
     loops = list(loops)
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
@@ -442,6 +445,36 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     m0, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
     gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
     theta[n_phys:] = gap
+    pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
+    res = jax.jit(lambda th, inv_delta: fit_residuals(th, shape_j, load_j, data, spec, initial,
+                                                      inv_delta))
+    return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial)
+
+
+def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
+              mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
+              robust: bool = True, max_steps: int = 100, rtol: float = 1e-6,
+              callback: Callable | None = None, names=None) -> LoopFit:
+    """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
+
+    loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
+    sampling) or of MomentLoop; shape: the damper's DamperShape; load: F_D, q*, r sin(beta) of the
+    test. initial: the history of the model's steady cycle, "gross_slip" or "assembly". mu: "shared"
+    or "contact"; kn, kt: "shared", "side" (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"}
+    (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
+    callback(stage, step, loss): called as the solver goes (from the compiled solve).
+
+    Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
+    parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
+    raise LoopError (a ValueError) naming the loop.
+    """
+    if not isinstance(max_steps, int) or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
+    prob = fit_problem(loops, shape, load=load, initial=initial, mu=mu, kn=kn, kt=kt, start=start,
+                       names=names)
+    spec, n_phys, data, scale, theta = prob.spec, prob.n_phys, prob.data, prob.scale, prob.theta0
+    shape_j, load_j, loops = prob.shape, prob.load, prob.loops
+    n_mu = spec.sizes()[0]
     history, steps = [], []
     stage_box = [0]
 
@@ -472,7 +505,7 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     n, p = r.size, theta.size
     dof = max(n - p, 1)
     sigma2 = float(np.sum(r ** 2) / dof)
-    pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
+    pnames = prob.names
     ident, why, cov = identify(jac, sigma2, pnames, n_phys)
     se_t = np.sqrt(np.maximum(np.diag(cov), 0.0))
     z = _z()

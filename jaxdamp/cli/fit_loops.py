@@ -150,7 +150,9 @@ def run(args) -> int:
     params = fit.as_dict()
     unident = [n for n, ok in zip(names, fit.identifiable) if not ok]
     mu_out = fit.mu if np.ndim(fit.mu) == 0 else [float(v) for v in fit.mu]
-    contacts = {"kn_n_per_mm": [float(v) for v in fit.kn], "kt_n_per_mm": [float(v) for v in fit.kt],
+    # a shared stiffness as one number: commands that take one pair (sweep, optimize) read it too
+    k_out = lambda k, g: float(k[0]) if g == "shared" else [float(v) for v in k]  # noqa: E731
+    contacts = {"kn_n_per_mm": k_out(fit.kn, groups["kn"]), "kt_n_per_mm": k_out(fit.kt, groups["kt"]),
                 "mu": mu_out}
     notes = ["kn, kt, mu under 'contacts' are the solver's end values, for --contacts-from; "
              "'parameters' holds the results with their intervals (null where not identifiable)"]
