@@ -406,6 +406,7 @@ class FitProblem(NamedTuple):
     shape: DamperShape
     load: LoadCase
     initial: str
+    loss0: float  # 0.5 sum r^2 at theta0 (plain)
 
 
 def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
@@ -445,10 +446,13 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     m0, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
     gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
     theta[n_phys:] = gap
+    r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
+    loss0 = float(0.5 * jnp.sum(r0 * r0))
     pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
     res = jax.jit(lambda th, inv_delta: fit_residuals(th, shape_j, load_j, data, spec, initial,
                                                       inv_delta))
-    return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial)
+    return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial,
+                      loss0)
 
 
 def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
@@ -479,11 +483,16 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     stage_box = [0]
 
     def cb(step, loss, step_size):
+        if int(step) == 0:  # optimistix reports no loss before its first step
+            return
         history.append((stage_box[0], int(step), float(loss)))
         if callback is not None:
             callback(stage_box[0], int(step), float(loss))
 
     kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol)
+    history.append((0, 0, prob.loss0))  # the generic start
+    if callback is not None:
+        callback(0, 0, prob.loss0)
     _LISTENERS.append(cb)
     try:
         theta, r, jac, ok, nsteps, status = _solve(jnp.asarray(theta), shape_j, load_j, data,
@@ -499,6 +508,7 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
             steps.append(int(nsteps))
             converged = bool(ok)
         jax.effects_barrier()
+        history.sort()  # (stage, step): debug callbacks may arrive out of order
     finally:
         _LISTENERS.remove(cb)
     theta, r, jac = np.asarray(theta), np.asarray(r)[mask], np.asarray(jac)[mask]
