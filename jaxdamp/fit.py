@@ -28,7 +28,7 @@ Uncertainty: the Gauss-Newton covariance s^2 (J^T J)^-1 of the rescaled residual
 intervals (for mu, kn, kt: exp of the log-parameter's interval, so they are asymmetric). A parameter
 is reported as NOT IDENTIFIABLE (value null) when the Jacobian has a (near) null direction it takes
 part in, or when its interval would span more than a factor MAX_SPAN; the intervals of the others
-are then computed with the unidentified ones held at their fitted values (said in the result).
+come from the pseudo-inverse of J^T J without the null directions (nothing held fixed).
 """
 
 from __future__ import annotations
@@ -305,7 +305,7 @@ class LoopFit(NamedTuple):
     spec: FitSpec
     initial: str
     status: int  # RESULTS code: ok, not_converged, liftoff, ... (the worst)
-    held: list  # names held at their fitted values when the intervals were computed
+    held: list  # the names not identified (their values are where the solver ended, no result)
 
     def as_dict(self) -> dict:
         """Plain-Python view (floats, lists; None where a number does not exist)."""
@@ -346,41 +346,39 @@ def identify(jac, sigma2, names, n_phys):
     the residuals' Jacobian (n, p) at the optimum and the residual variance sigma2. The first n_phys
     parameters are logs (their interval spans exp(2 z se)). A parameter with a component above
     NULL_LOADING in a direction whose singular value is below NULL_RCOND of the largest is not
-    identifiable; then, one at a time, the log-parameter with the widest interval beyond MAX_SPAN.
-    The covariance of the rest holds the unidentified ones fixed."""
+    identifiable, nor is a log-parameter whose interval would span more than MAX_SPAN. The
+    covariance is sigma2 (J^T J)^+ (pseudo-inverse with the null directions cut): for a parameter
+    outside the null directions it is its full variance, the weakly determined directions
+    included; nothing is held fixed."""
     p = jac.shape[1]
     ok = np.ones(p, bool)
     why = [""] * p
     _, s, vt = np.linalg.svd(jac, full_matrices=False)
-    if s[0] <= 0.0:
-        return ok & False, ["the loops carry no information on it (zero Jacobian)"] * p, \
+    if not s[0] > 0.0:
+        return ok & False, ["not identifiable: the loops carry no information on it (zero Jacobian)"] * p, \
             np.full((p, p), np.nan)
     for k in np.nonzero(s < NULL_RCOND * s[0])[0]:
         involved = np.nonzero(np.abs(vt[k]) > NULL_LOADING)[0]
         for j in involved:
             if ok[j]:
                 others = [names[i] for i in involved if i != j]
-                why[j] = ("not identifiable: the loops do not constrain it"
-                          + (f" apart from {', '.join(others)}" if others else "")
+                why[j] = ("not identifiable: the loops constrain only a combination of it"
+                          + (f" with {', '.join(others)}" if others else " (it does not change them)")
                           + " (a null direction of the Jacobian)")
             ok[j] = False
-    cov = np.full((p, p), np.nan)
-    for _ in range(p):
-        J = jac[:, ok]
-        c = sigma2 * np.linalg.pinv(J.T @ J)
-        se = np.sqrt(np.maximum(np.diag(c), 0.0))
-        z = _z()
-        # log-parameters (the first n_phys): an interval wider than MAX_SPAN is no measurement
-        wide = [j for jj, j in enumerate(np.nonzero(ok)[0])
-                if j < n_phys and np.exp(2 * z * se[jj]) > MAX_SPAN]
-        if not wide:
-            cov[np.ix_(ok, ok)] = c
-            break
-        worst = max(wide, key=lambda j: se[list(np.nonzero(ok)[0]).index(j)])
-        span = float(np.exp(2 * z * se[list(np.nonzero(ok)[0]).index(worst)]))
-        why[worst] = (f"not identifiable from these loops: its {CONFIDENCE:.0%} interval would span a "
+    keep = s >= NULL_RCOND * s[0]
+    vk = vt[keep]
+    cov = sigma2 * (vk.T / s[keep] ** 2) @ vk
+    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    z = _z()
+    for j in range(min(n_phys, p)):
+        span = float(np.exp(min(2 * z * se[j], 700.0)))
+        if ok[j] and span > MAX_SPAN:
+            why[j] = (f"not identifiable from these loops: its {CONFIDENCE:.0%} interval would span a "
                       f"factor {span:.3g} (more than {MAX_SPAN:g})")
-        ok[worst] = False
+            ok[j] = False
+    cov[~ok, :] = np.nan
+    cov[:, ~ok] = np.nan
     return ok, why, cov
 
 

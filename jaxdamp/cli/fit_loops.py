@@ -159,7 +159,8 @@ def run(args) -> int:
     if unident:
         notes.append(f"not identifiable from these loops: {', '.join(unident)}; their values under "
                      "'contacts' are not measurements (any value along the Jacobian's null direction "
-                     f"fits as well); the intervals of the others hold them fixed")
+                     f"fits as well); the intervals of the others are for what the loops determine (pseudo-inverse "
+                     "of J^T J without the null directions)")
     if groups["mu"] == "contact":
         notes.append("per-contact mu: the other commands' --contacts-from takes one mu only")
     loop_rows = [{"file": str(f), "samples": int(lp.psi.size), "periods": int(lp.periods),
