@@ -262,3 +262,21 @@ def test_fit_refuses_float32():
             jd.fit_loops([(np.cos(np.linspace(0, 9, 50)), np.zeros(50))], SHAPE)
     finally:
         jax.config.update("jax_enable_x64", True)
+
+
+def test_unidentifiable_parameters_are_reported_not_numbered(capsys, tmp_path):
+    """kn per contact from moment loops: the command names what the loops do not determine, gives
+    no number for it, and keeps intervals for the rest (one compiled program more: ~1 min cold)."""
+    files = [_write_csv(tmp_path / f"{i}.csv", psi, m) for i, (psi, m) in enumerate(_noisy_loops()[::2])]
+    code, text, _ = run_cli(capsys, "fit-loops", *files, "--shape", "60sym", "--per-contact", "kn",
+                            "--per-side", "kt", "--json", "--no-progress")
+    d = strict_json(text)
+    assert code == 0 and d["inputs"]["groups"] == {"mu": "shared", "kn": "contact", "kt": "side"}
+    p = d["parameters"]
+    for name in ("kn_R1", "kn_L1", "kn_L2"):
+        assert name in d["not_identifiable"] and p[name]["value"] is None and p[name]["se"] is None
+        assert "not identifiable" in p[name]["why"]
+    assert p["mu"]["identifiable"] and p["mu"]["lo"] <= TRUE["mu"] <= p["mu"]["hi"]
+    assert p["kt_L"]["identifiable"] and p["kt_L"]["lo"] <= TRUE["kt"] <= p["kt_L"]["hi"]
+    assert any("not identifiable from these loops" in n for n in d["notes"])
+    assert len(d["contacts"]["kn_n_per_mm"]) == 3  # the model still runs with them
