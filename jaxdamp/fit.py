@@ -429,7 +429,7 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
     loops = [lp if isinstance(lp, MomentLoop) else analyse_loop(*lp, name=nm)
              for lp, nm in zip(loops, names)]
-    for lp, nm in zip(loops, names):
+    for lp in loops:
         check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
     spec = FitSpec(mu, kn, kt)
     n_mu, n_kn, n_kt = spec.sizes()
