@@ -47,7 +47,7 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
+__all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "contact_path", "contact_loop_force", "sample_contact_loop", "COMPONENTS", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
 
 # Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
@@ -82,6 +82,62 @@ class MomentLoop(NamedTuple):
     u: np.ndarray  # travel fraction along its half, in [0, 1] (0 at the half's start)
     periods: int  # closed periods found (pairs of turning points after the first)
 
+    x = property(lambda self: self.psi, doc="the driving channel as measured (psi, mrad)")
+    y = property(lambda self: self.moment, doc="the force channel as measured (M, N mm)")
+
+
+COMPONENTS = ("tangential", "normal")
+MAX_DISP_MM = 100.0  # a contact loop's displacement amplitude must lie in (0, 100] mm
+
+
+class ContactLoop(NamedTuple):
+    """A measured per-contact loop, analysed: one contact's relative displacement (mm) against its
+    tangential or normal force (N), recorded over a steady cycle driven at platform amplitude psi_a
+    (mrad, given: the contact's own displacement amplitude depends on the unknown stiffnesses, so
+    it cannot place the loop on the model's cycle). Tangential: disp = the platform's displacement
+    relative to the damper along the contact's up-flank tangent (so that force = T rises with it in
+    stick: T = kt (disp + const) there); normal: disp = the approach (compression > 0)."""
+
+    disp: np.ndarray  # mm, as measured
+    force: np.ndarray  # N, as measured
+    psi_a: float  # mrad, the platform amplitude of the test (given)
+    disp_a: float  # mm, the displacement amplitude found from the data
+    disp_c: float  # mm, its centre found from the data
+    forward: np.ndarray  # bool: the sample lies on a half along which disp decreases
+    u: np.ndarray  # fraction along its half of the displacement range (for figures only)
+    periods: int
+    contact: int  # 0 R1, 1 L1, 2 L2
+    component: str  # "tangential" | "normal"
+
+    x = property(lambda self: self.disp, doc="the driving channel as measured (disp, mm)")
+    y = property(lambda self: self.force, doc="the force channel as measured (N)")
+
+
+def analyse_contact_loop(disp, force, contact, component: str, psi_a_mrad, name: str = "loop") -> ContactLoop:
+    """Turning points, centre and amplitude of a measured contact loop (disp mm, force N) of contact
+    `contact` (0-2 or "R1", "L1", "L2"), component "tangential" or "normal", recorded at the
+    platform amplitude psi_a_mrad. LoopError (one line) for unusable data, as `analyse_loop`."""
+    if isinstance(contact, str):
+        if contact.upper() not in CONTACT_NAMES:
+            raise LoopError(f"{name}: contact must be one of {', '.join(CONTACT_NAMES)}; got {contact!r}")
+        contact = CONTACT_NAMES.index(contact.upper())
+    if contact not in (0, 1, 2):
+        raise LoopError(f"{name}: contact must be 0, 1, 2 (R1, L1, L2); got {contact!r}")
+    if component not in COMPONENTS:
+        raise LoopError(f"{name}: component must be tangential or normal; got {component!r}")
+    try:
+        psi_a = float(psi_a_mrad)
+    except (TypeError, ValueError):
+        raise LoopError(f"{name}: the platform amplitude psi_a must be a number in (0, 10000] mrad; "
+                        f"got {psi_a_mrad!r}") from None
+    if not 0.0 < psi_a <= 1e4:
+        raise LoopError(f"{name}: the platform amplitude psi_a {psi_a:g} mrad is out of range: must be "
+                        "in (0, 10000] mrad")
+    lp = analyse_loop(disp, force, name, columns=("disp_mm", "force_n"), unit="mm",
+                      max_amplitude=MAX_DISP_MM)
+    return ContactLoop(lp.psi, lp.moment, psi_a, lp.psi_a, lp.psi_c, lp.forward, lp.u, lp.periods,
+                       int(contact), component)
+
 
 class FitSpec(NamedTuple):
     """How each contact parameter is shared: mu 'shared' | 'contact'; kn, kt 'shared' | 'side'
@@ -107,7 +163,8 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]))
 
 
-def analyse_loop(psi, moment, name: str = "loop") -> MomentLoop:
+def analyse_loop(psi, moment, name: str = "loop", *, columns=("psi_mrad", "moment_nmm"),
+                 unit: str = "mrad", max_amplitude: float = 1e4) -> MomentLoop:
     """Turning points, centre, amplitude and travel phase of a measured (psi, M) series.
 
     LoopError (a ValueError, one line naming `name`) for: unequal lengths, a NaN or infinity, fewer
@@ -116,19 +173,20 @@ def analyse_loop(psi, moment, name: str = "loop") -> MomentLoop:
     psi = np.asarray(psi, float).reshape(-1)
     moment = np.asarray(moment, float).reshape(-1)
     if psi.shape != moment.shape:
-        raise LoopError(f"{name}: psi and moment have different lengths ({psi.size}, {moment.size})")
-    for label, v in (("psi_mrad", psi), ("moment_nmm", moment)):
+        raise LoopError(f"{name}: {columns[0]} and {columns[1]} have different lengths ({psi.size}, "
+                        f"{moment.size})")
+    for label, v in zip(columns, (psi, moment)):
         bad = np.nonzero(~np.isfinite(v))[0]
         if bad.size:
             raise LoopError(f"{name}: {label} is not a finite number at sample {int(bad[0]) + 1} "
                             f"({bad.size} such samples); remove or fill them")
     if psi.size < 2:
         raise LoopError(f"{name}: {psi.size} sample{'s' if psi.size != 1 else ''}; a loop needs "
-                        "at least one closed period of psi")
+                        f"at least one closed period of {columns[0]}")
     lo, hi = float(psi.min()), float(psi.max())
     span = hi - lo
     if not span > 1e-12 * max(abs(hi), abs(lo), 1.0):
-        raise LoopError(f"{name}: psi_mrad is constant ({hi:g} mrad): no loop")
+        raise LoopError(f"{name}: {columns[0]} is constant ({hi:g} {unit}): no loop")
     mid = 0.5 * (hi + lo)
     tops = [(a, b, a + int(np.argmax(psi[a:b]))) for a, b in _runs(psi > mid + ZONE * span)]
     bots = [(a, b, a + int(np.argmin(psi[a:b]))) for a, b in _runs(psi < mid - ZONE * span)]
@@ -146,13 +204,14 @@ def analyse_loop(psi, moment, name: str = "loop") -> MomentLoop:
                 continue
         keep.append((i, k))
     if len(keep) < 3:
-        raise LoopError(f"{name}: no closed period: psi must run top-bottom-top or bottom-top-bottom "
+        raise LoopError(f"{name}: no closed period: {columns[0]} must run top-bottom-top or bottom-top-bottom "
                         f"(found {len(keep)} turning point{'s' if len(keep) != 1 else ''})")
     top = float(np.median([psi[i] for i, k in keep if k > 0]))
     bottom = float(np.median([psi[i] for i, k in keep if k < 0]))
     psi_c, psi_a = 0.5 * (top + bottom), 0.5 * (top - bottom)
-    if not 0.0 < psi_a <= 1e4:
-        raise LoopError(f"{name}: amplitude {psi_a:g} mrad is out of range: must be in (0, 10000] mrad")
+    if not 0.0 < psi_a <= max_amplitude:
+        raise LoopError(f"{name}: amplitude {psi_a:g} {unit} is out of range: must be in (0, "
+                        f"{max_amplitude:g}] {unit}")
     # the half of every sample: between a top and the next bottom psi decreases (forward)
     idx = np.array([i for i, _ in keep])
     kinds = np.array([k for _, k in keep])
@@ -194,6 +253,84 @@ def loop_model_moment(ac, forward, u):
     return jnp.where(forward, on(ac.forward, t), on(ac.backward, t))
 
 
+# ---------------------------------------------------------------- per-contact loops (pure JAX)
+def _half_states(half, kt_i, kn_i, i, s_start):
+    """Contact i at the vertices of a half (its start, every tract start, its end): (d_t, d_n, T, N,
+    slip at the end). d_t = T / kt - slip (mm: the platform's tangential displacement relative to
+    the damper at the contact, T = -kt (gt - slip) with gt = -d_t + const), d_n = N / kn (mm, the
+    normal approach); forces in units of F_D; s_start the slip at the half's start (mm)."""
+    dv = jnp.where(half.active, half.dv, 0.0)
+    start = jnp.cumsum(dv) - dv
+    t = jnp.concatenate([start, jnp.sum(dv)[None]])
+    j = jnp.sum((start[None, :] <= t[:, None]) & half.active[None, :], axis=1) - 1
+    j = jnp.clip(j, 0, dv.shape[0] - 1)
+    h = t - start[j]
+    T = half.T0[j, i] + half.dT[j, i] * h
+    N = half.N0[j, i] + half.dN[j, i] * h
+    ds = jnp.where(half.active, half.dslip[:, i], 0.0) * dv
+    s = s_start + (jnp.cumsum(ds) - ds)[j] + half.dslip[j, i] * h
+    return T / kt_i - s, N / kn_i, T, N, s[-1], half.active
+
+
+def contact_path(ac, i, normal):
+    """Contact i's (displacement mm, force in units of F_D) at the vertices of each half of an
+    AmplitudeCycle's steady loop: ((d_fwd, f_fwd), (d_bwd, f_bwd), active tracts fwd, bwd), with
+    d the tangential d_t = T / kt - slip or (normal) d_n = N / kn; exact (piecewise linear between
+    the vertices in the travel, hence in d)."""
+    kt_i = ac.contacts.kt[i] / ac.load.F_D if jnp.ndim(ac.contacts.kt) else ac.contacts.kt / ac.load.F_D
+    kn_i = ac.contacts.kn[i] / ac.load.F_D if jnp.ndim(ac.contacts.kn) else ac.contacts.kn / ac.load.F_D
+    dtf, dnf, Tf, Nf, sf, af = _half_states(ac.forward, kt_i, kn_i, i, 0.0)
+    dtb, dnb, Tb, Nb, _, ab = _half_states(ac.backward, kt_i, kn_i, i, sf)
+    pick = lambda a, b: jnp.where(normal, a, b)  # noqa: E731
+    return (pick(dnf, dtf), pick(Nf, Tf)), (pick(dnb, dtb), pick(Nb, Tb)), af, ab
+
+
+def _safe_div(a, b):
+    ok = b != 0.0
+    return jnp.where(ok, a / jnp.where(ok, b, 1.0), 0.0)
+
+
+def _force_at(d, f, active, xq):
+    """f at displacement xq along one half's vertices (d, f): piecewise linear; the segment is the
+    last non-degenerate one starting at or before xq in the half's direction (the first one before
+    the start, the last one carried on past the end)."""
+    sgn = jnp.where(d[-1] >= d[0], 1.0, -1.0)
+    z = sgn * d
+    zq = sgn * xq
+    dz = z[1:] - z[:-1]
+    tol = 1e-12 * (jnp.max(jnp.abs(d)) + 1e-300)
+    valid = active & (dz > tol)
+    k = jnp.arange(dz.shape[0])
+    cand = valid[None, :] & (z[None, :-1] <= zq[:, None])
+    first = jnp.argmax(valid)
+    kk = jnp.max(jnp.where(cand, k[None, :], -1), axis=1)
+    kk = jnp.where(kk < 0, first, kk)
+    slope = _safe_div(f[1:] - f[:-1], dz)
+    return f[kk] + slope[kk] * (zq - z[kk])
+
+
+def contact_loop_force(ac, i, normal, decreasing, x):
+    """The model force (units of F_D) of contact i (tangential, or normal where `normal`) at the
+    measured displacement x (mm, relative to the loop's centre: 0.5 (max + min) of the model's d
+    over the cycle) on the half along which d decreases (`decreasing`) or increases. Exact,
+    differentiable. Also returns whether d is monotone along both halves (else a force is not a
+    function of d on a half, and the loop cannot be compared this way)."""
+    (df, ff), (db, fb), af, ab = contact_path(ac, i, normal)
+    allv = jnp.concatenate([df, db])
+    centre = 0.5 * (jnp.max(allv) + jnp.min(allv))
+    xq = x + centre
+    fwd_dec = df[-1] < df[0]
+    use_fwd = decreasing == fwd_dec
+    F = jnp.where(use_fwd, _force_at(df, ff, af, xq), _force_at(db, fb, ab, xq))
+
+    def mono(d, a):
+        s = jnp.where(d[-1] >= d[0], 1.0, -1.0)
+        dz = s * (d[1:] - d[:-1])
+        return jnp.all(~a | (dz >= -1e-9 * (jnp.max(allv) - jnp.min(allv) + 1e-300)))
+
+    return F, mono(df, af) & mono(db, ab)
+
+
 def _expand(theta, spec: FitSpec):
     """(mu, kn (3,), kt (3,), offsets) from the parameter vector."""
     n_mu, n_kn, n_kt = spec.sizes()
@@ -214,20 +351,28 @@ class _Data(NamedTuple):
     u: jnp.ndarray  # (L, n)
     moment: jnp.ndarray  # (L, n), in units of scale
     mask: jnp.ndarray  # (L, n) 1.0 for a sample, 0.0 for padding
-    scale: jnp.ndarray  # N mm, the moment scale
+    scale: jnp.ndarray  # (L,) each loop's force scale (N mm for moment loops, N for contact loops)
+    kind: jnp.ndarray  # (L,) int: 0 moment loop, 1 tangential contact loop, 2 normal contact loop
+    contact: jnp.ndarray  # (L,) int: the contact of a contact loop (0 R1, 1 L1, 2 L2)
+    x: jnp.ndarray  # (L, n) contact loops: displacement from the measured centre, mm
 
 
 def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
-    """(model moment (L, n) in units of scale, offsets, cycle statuses (L,))."""
+    """(model moment or contact force (L, n) in units of each loop's scale, offsets, cycle statuses
+    (L,), per loop: False for a tangential contact loop whose model displacement is not monotone
+    along a half (then its force is not a function of the displacement there))."""
     mu, kn, kt, off = _expand(theta, spec)
     contacts = Contacts(kn, kt)
 
-    def one(psi_a, fwd, u):
+    def one(psi_a, fwd, u, kind, contact, x):
         ac = amplitude_kernel(shape, mu, contacts, load, psi_a, initial=history)
-        return loop_model_moment(ac, fwd, u), ac.status
+        m = loop_model_moment(ac, fwd, u)
+        # contact loops: `forward` holds "the measured displacement decreases on this half"
+        f, mono = contact_loop_force(ac, contact, kind == 2, fwd, x)
+        return jnp.where(kind == 0, m, f * load.F_D), ac.status, mono | (kind != 1)
 
-    m, status = jax.vmap(one)(data.psi_a, data.forward, data.u)
-    return m / data.scale, off, status
+    m, status, mono = jax.vmap(one)(data.psi_a, data.forward, data.u, data.kind, data.contact, data.x)
+    return m / data.scale[:, None], off, status, mono
 
 
 _model_jit = jax.jit(_model, static_argnames=("spec", "history"))
@@ -236,7 +381,7 @@ _model_jit = jax.jit(_model, static_argnames=("spec", "history"))
 def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
     """Residuals (flattened, padding zero) in units of the moment scale, pseudo-Huber rescaled
     where inv_delta > 0 (1 / delta; 0: plain least squares)."""
-    m, off, _ = _model(theta, shape, load, data, spec, history)
+    m, off, _, _ = _model(theta, shape, load, data, spec, history)
     r = (data.moment - m - off[:, None]) * data.mask
     z = r * inv_delta
     return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1)
@@ -267,7 +412,7 @@ def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rt
     sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False)
     r = fn(sol.value, None)
     jac = jax.jacfwd(fn)(sol.value, None)
-    _, _, status = _model(sol.value, shape, load, data, spec, history)
+    _, _, status, _ = _model(sol.value, shape, load, data, spec, history)
     return sol.value, r, jac, sol.result == optx.RESULTS.successful, sol.stats["num_steps"], status
 
 
@@ -293,11 +438,12 @@ class LoopFit(NamedTuple):
     mu: object
     kn: np.ndarray
     kt: np.ndarray
-    offsets: np.ndarray  # N mm per loop
-    sigma: float  # N mm, residual standard deviation (robust stage, rescaled residuals)
-    rms: np.ndarray  # N mm per loop, plain rms residual at the optimum
-    loops: list  # the MomentLoop of each input
-    fitted: list  # per loop, the model moment (N mm, offset included) at each sample
+    offsets: np.ndarray  # per loop: N mm (moment loop) or N (contact loop)
+    sigma: float  # residual standard deviation (robust stage, rescaled residuals), N mm or N; NaN
+    # where moment and contact loops are fitted together (no common unit)
+    rms: np.ndarray  # per loop, plain rms residual at the optimum (N mm or N)
+    loops: list  # the MomentLoop or ContactLoop of each input
+    fitted: list  # per loop, the model moment (N mm) or force (N), offset included, at each sample
     statuses: np.ndarray  # RESULTS code of each loop's model cycle at the optimum
     converged: bool
     steps: list  # LM steps per stage
@@ -306,6 +452,8 @@ class LoopFit(NamedTuple):
     initial: str
     status: int  # RESULTS code: ok, not_converged, liftoff, ... (the worst)
     held: list  # the names not identified (their values are where the solver ended, no result)
+    monotone: np.ndarray  # per loop: False for a tangential contact loop whose model displacement
+    # is not monotone along a half at the optimum (its force is then not a function of it there)
 
     def as_dict(self) -> dict:
         """Plain-Python view (floats, lists; None where a number does not exist)."""
@@ -330,15 +478,23 @@ def _pad(n: int) -> int:
     return max(512, 1 << int(np.ceil(np.log2(max(n, 1)))))
 
 
-def _stack(loops: list[MomentLoop], scale: float) -> _Data:
-    n = _pad(max(lp.psi.size for lp in loops))
+def _stack(loops: list, scale) -> _Data:
+    n = _pad(max(lp.x.size for lp in loops))
     L = len(loops)
-    fwd, u, m, mask = (np.zeros((L, n), bool), np.zeros((L, n)), np.zeros((L, n)), np.zeros((L, n)))
+    fwd, u, m, mask, x = (np.zeros((L, n), bool), np.zeros((L, n)), np.zeros((L, n)), np.zeros((L, n)),
+                          np.zeros((L, n)))
+    kind, contact = np.zeros(L, np.int32), np.zeros(L, np.int32)
+    scale = np.broadcast_to(np.asarray(scale, float), (L,))
     for i, lp in enumerate(loops):
-        k = lp.psi.size
-        fwd[i, :k], u[i, :k], m[i, :k], mask[i, :k] = lp.forward, lp.u, lp.moment / scale, 1.0
+        k = lp.x.size
+        fwd[i, :k], u[i, :k], m[i, :k], mask[i, :k] = lp.forward, lp.u, lp.y / scale[i], 1.0
+        if isinstance(lp, ContactLoop):
+            kind[i] = 1 + COMPONENTS.index(lp.component)
+            contact[i] = lp.contact
+            x[i, :k] = lp.disp - lp.disp_c
     return _Data(jnp.asarray([lp.psi_a for lp in loops]), jnp.asarray(fwd), jnp.asarray(u),
-                 jnp.asarray(m), jnp.asarray(mask), jnp.asarray(scale))
+                 jnp.asarray(m), jnp.asarray(mask), jnp.asarray(scale), jnp.asarray(kind),
+                 jnp.asarray(contact), jnp.asarray(x))
 
 
 def identify(jac, sigma2, names, n_phys):
@@ -396,7 +552,7 @@ class FitProblem(NamedTuple):
     residuals: Callable
     theta0: np.ndarray
     names: list
-    scale: float
+    scale: np.ndarray  # (L,) per loop: N mm or N
     loops: list
     spec: FitSpec
     n_phys: int
@@ -427,21 +583,26 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
-    loops = [lp if isinstance(lp, MomentLoop) else analyse_loop(*lp, name=nm)
+    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*lp, name=nm)
              for lp, nm in zip(loops, names)]
     for lp in loops:
         check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
     spec = FitSpec(mu, kn, kt)
     n_mu, n_kn, n_kt = spec.sizes()
     n_phys = n_mu + n_kn + n_kt
-    scale = max(float(np.ptp(lp.moment)) for lp in loops) / 2.0 or 1.0
+    # one residual scale per unit (N mm for moment loops, N for contact loops): half the largest
+    # range of the loops in that unit
+    group = lambda lp: isinstance(lp, ContactLoop)  # noqa: E731
+    gscale = {g: max(float(np.ptp(lp.y)) for lp in loops if group(lp) == g) / 2.0 or 1.0
+              for g in {group(lp) for lp in loops}}
+    scale = np.array([gscale[group(lp)] for lp in loops])
     data = _stack(loops, scale)
     shape_j = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
     load_j = LoadCase(*(jnp.asarray(v, float) for v in load))
     theta = np.concatenate([np.full(n_mu, np.log(st["mu"])), np.full(n_kn, np.log(st["kn"] / K_REF)),
                             np.full(n_kt, np.log(st["kt"] / K_REF)), np.zeros(len(loops))])
     # start offsets: the mean gap between the measured loop and the model at the start
-    m0, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    m0, _, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
     gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
     theta[n_phys:] = gap
     r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
@@ -528,10 +689,12 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     for a in (value, se, lo, hi):
         a[~ident] = np.nan
     mu_v, kn_v, kt_v, _ = (np.asarray(v) for v in _expand(jnp.asarray(theta), spec))
-    m_fit, off, cyc_status = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
-    fitted = np.asarray((m_fit + off[:, None]) * scale)
-    fitted_list = [fitted[i, :lp.psi.size] for i, lp in enumerate(loops)]
-    rms = np.array([float(np.sqrt(np.mean((lp.moment - f) ** 2))) for lp, f in zip(loops, fitted_list)])
+    m_fit, off, cyc_status, mono = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    fitted = np.asarray((m_fit + off[:, None]) * scale[:, None])
+    fitted_list = [fitted[i, :lp.x.size] for i, lp in enumerate(loops)]
+    rms = np.array([float(np.sqrt(np.mean((lp.y - f) ** 2))) for lp, f in zip(loops, fitted_list)])
+    # one residual sd where all loops share a unit (N mm or N); mixed units have none (see rms)
+    sigma = float(np.sqrt(sigma2) * scale[0]) if np.all(scale == scale[0]) else float("nan")
     cyc_status = np.asarray(cyc_status)
     worst = RESULTS.ok
     for s in cyc_status:
@@ -542,9 +705,9 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     held = [nm for nm, k in zip(pnames, ident) if not k]
     return LoopFit(pnames, value, se, lo, hi, corr, ident, why,
                    float(mu_v) if mu_v.ndim == 0 else mu_v, kn_v, kt_v, value[n_phys:] if np.all(
-                       ident[n_phys:]) else theta[n_phys:] * scale, float(np.sqrt(sigma2) * scale),
+                       ident[n_phys:]) else theta[n_phys:] * scale, sigma,
                    rms, loops, fitted_list, cyc_status, converged, steps, history, spec, initial,
-                   int(worst), held)
+                   int(worst), held, np.asarray(mono, bool))
 
 
 def sample_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
@@ -561,3 +724,48 @@ def sample_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contact
     u = np.where(forward, 0.5 * (1.0 - x), 0.5 * (1.0 + x))
     m = loop_model_moment(ac, jnp.asarray(forward), jnp.asarray(u))
     return float(psi_a_mrad) * x, np.asarray(m)
+
+
+def sample_contact_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                        load: LoadCase = LoadCase(), *, contact, component: str, t,
+                        initial: str = "gross_slip"):
+    """(disp in mm, force in N) of contact `contact` (0-2) of the model's exact steady loop at
+    platform amplitude psi_a_mrad, sampled at times t (periods) of psi = psi_a cos(2 pi t): a test
+    loop for `fit_loops` (add noise and offsets; centre: disp at the forward extreme is the model's
+    d there, forward half first). Evaluated along the travel, tract by tract (numpy), not through
+    the displacement inversion the fit uses."""
+    from .amplitude import amplitude_cycle
+
+    if component not in COMPONENTS:
+        raise ValueError(f"component must be tangential or normal; got {component!r}")
+    t = np.asarray(t, float)
+    ac = amplitude_cycle(shape, mu, psi_a_mrad, contacts, load, initial=initial)
+    F_D = float(load.F_D)
+    kt = float(np.broadcast_to(np.asarray(contacts.kt, float), (3,))[contact]) / F_D
+    kn = float(np.broadcast_to(np.asarray(contacts.kn, float), (3,))[contact]) / F_D
+    travel = 2.0 * float(travel_mm(psi_a_mrad, load.q_star))
+    phase = np.mod(t, 1.0)
+    forward = phase < 0.5
+    x = np.cos(2.0 * np.pi * t)
+    u = np.where(forward, 0.5 * (1.0 - x), 0.5 * (1.0 + x))
+
+    def along(half, s0, tv):
+        h = {k: np.asarray(getattr(half, k)) for k in ("dv", "N0", "T0", "dN", "dT", "dslip", "active")}
+        out_T, out_N, out_S = np.zeros_like(tv), np.zeros_like(tv), np.zeros_like(tv)
+        pos, s = 0.0, s0
+        for j in np.nonzero(h["active"])[0]:
+            L = h["dv"][j]
+            sel = (tv >= pos) & ((tv <= pos + L) | (j == np.nonzero(h["active"])[0][-1]))
+            dt = tv[sel] - pos
+            out_T[sel] = h["T0"][j, contact] + h["dT"][j, contact] * dt
+            out_N[sel] = h["N0"][j, contact] + h["dN"][j, contact] * dt
+            out_S[sel] = s + h["dslip"][j, contact] * dt
+            pos, s = pos + L, s + h["dslip"][j, contact] * L
+        return out_T, out_N, out_S, s
+
+    Tf, Nf, Sf, s_end = along(ac.forward, 0.0, u * travel)
+    Tb, Nb, Sb, _ = along(ac.backward, s_end, u * travel)
+    T, N, S = np.where(forward, Tf, Tb), np.where(forward, Nf, Nb), np.where(forward, Sf, Sb)
+    if component == "tangential":
+        return T / kt - S, T * F_D
+    return N / kn, N * F_D
