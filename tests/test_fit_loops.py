@@ -220,7 +220,6 @@ def test_cli_fit_json_feeds_contacts_from(capsys, tmp_path):
 
 @pytest.mark.parametrize("content, says", [
     ("psi_mrad,force\n1,2\n", "no column moment_nmm"),
-    ("disp_mm,force_n\n1,2\n", "per-contact loops"),
     ("psi_mrad,moment_nmm\n1,2\n", "1 sample"),
     ("psi_mrad,moment_nmm\n1,2\n0,nan\n-1,3\n", "not a finite number at sample 2"),
     ("psi_mrad,moment_nmm\n1,2\n0,abc\n", "line 3"),
@@ -280,3 +279,168 @@ def test_unidentifiable_parameters_are_reported_not_numbered(capsys, tmp_path):
     assert p["kt_L"]["identifiable"] and p["kt_L"]["lo"] <= TRUE["kt"] <= p["kt_L"]["hi"]
     assert any("not identifiable from these loops" in n for n in d["notes"])
     assert len(d["contacts"]["kn_n_per_mm"]) == 3  # the model still runs with them
+
+
+# ---------------------------------------------------------------- per-contact loops (disp_mm, force_n)
+# Tangential loops of the three contacts, one per amplitude (the same three-loop program as above).
+CONTACT_CASES = ((0.8, 0, 20.0), (1.5, 1, -30.0), (3.0, 2, 10.0))  # psi_a mrad, contact, force offset N
+DISP_OFFSET = 0.01  # mm
+
+
+def _contact_loops(seed=2, n=500, noise=0.005, component="tangential", cases=CONTACT_CASES):
+    from jaxdamp.fit import sample_contact_loop
+
+    rng = np.random.default_rng(seed)
+    out = []
+    for a, c, off in cases:
+        t = np.sort(rng.uniform(0.0, 2.5, n))
+        d, f = sample_contact_loop(SHAPE, TRUE["mu"], a, CONTACTS, contact=c, component=component, t=t)
+        out.append((d + DISP_OFFSET, f + off + rng.normal(0.0, noise * np.ptp(f), n)))
+    return out
+
+
+def test_contact_loops_recovered_inside_intervals():
+    """Tangential force against the contact's own displacement, one loop per contact: mu, kn, kt and
+    the force offsets come back inside their intervals."""
+    from jaxdamp.fit import analyse_contact_loop
+
+    loops = [analyse_contact_loop(d, f, c, "tangential", a, name=f"c{c}")
+             for (d, f), (a, c, _) in zip(_contact_loops(), CONTACT_CASES)]
+    fit = jd.fit_loops(loops, SHAPE)
+    assert fit.converged and jd.RESULTS.name_of(fit.status) == "ok" and all(fit.monotone)
+    assert fit.names == ["mu", "kn", "kt", "offset_0", "offset_1", "offset_2"] and all(fit.identifiable)
+    for i, key in enumerate(("mu", "kn", "kt")):
+        assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
+    for j, (_, _, off) in enumerate(CONTACT_CASES):
+        assert abs(fit.value[3 + j] - off) <= 3.0 * fit.se[3 + j]
+    for lp, (a, c, _) in zip(fit.loops, CONTACT_CASES):
+        assert lp.psi_a == a and lp.contact == c and lp.periods == 2
+    # residual sd near the noise put in (N)
+    noise = np.mean([0.005 * np.ptp(f) for _, f in _contact_loops()])
+    assert fit.sigma == pytest.approx(noise, rel=0.3)
+
+
+def test_contact_model_force_is_exact_at_the_truth():
+    """The fit's displacement-inverted model force equals the travel-sampled one (no noise): the
+    residual at the true parameters is rounding only."""
+    from jaxdamp.fit import analyse_contact_loop, fit_problem
+
+    from jaxdamp.fit import sample_contact_loop
+
+    rng = np.random.default_rng(12)
+    loops = []
+    for a, c, _ in CONTACT_CASES:  # random times that include the reversals (exact centre found)
+        t = np.sort(np.concatenate([rng.uniform(0.1, 2.4, 300), [0.5, 1.0, 1.5, 2.0]]))
+        d, f = sample_contact_loop(SHAPE, TRUE["mu"], a, CONTACTS, contact=c, component="tangential", t=t)
+        loops.append(analyse_contact_loop(d + DISP_OFFSET, f, c, "tangential", a))
+    prob = fit_problem(loops, SHAPE)
+    theta = np.concatenate([[np.log(TRUE["mu"]), np.log(TRUE["kn"] / 1e4), np.log(TRUE["kt"] / 1e4)],
+                            np.zeros(3)])
+    r = np.asarray(prob.residuals(theta, 0.0))
+    assert np.max(np.abs(r)) < 1e-9  # units of the force scale (~ 250 N)
+
+
+def _march_contact_loop(a, contact, n_steps=120, pairs=4):
+    """Two periods of one contact's (d_t = T / kt - slip in mm, T in N) from the time marcher's
+    steady cycle (fine uniform steps; no direct method in it)."""
+    import jax
+
+    from jaxdamp.baselines.timemarch import initial_state, march_half, march_model
+    from jaxdamp.conventions import travel_mm
+    from jaxdamp.params import LoadCase, prepare_inputs
+
+    shape, mu, contacts, load = prepare_inputs(SHAPE, TRUE["mu"], CONTACTS, LoadCase())
+
+    @jax.jit
+    def run(a):
+        m, _ = march_model(shape, mu, contacts, load)
+        h = 2.0 * travel_mm(a, m.q_star) / n_steps
+
+        def pair(s, _):
+            s1, f = march_half(m, s, -1.0, h, n_steps)
+            s2, b = march_half(m, s1, 1.0, h, n_steps)
+            return s2, (f.samples, b.samples)
+
+        _, (f, b) = jax.lax.scan(pair, initial_state(m), None, length=pairs)
+        return m.kt, m.F_D, f, b
+
+    kt, F_D, f, b = run(a)
+    kt = float(kt[contact])
+    d = lambda s: np.asarray(s.T[-1, :, contact]) / kt - np.asarray(s.p[-1, :, contact])  # noqa: E731
+    T = lambda s: np.asarray(s.T[-1, :, contact]) * float(F_D)  # noqa: E731
+    assert np.all(np.asarray(f.converged)) and np.all(np.asarray(b.converged))
+    return (np.concatenate([d(f), d(b)[1:], d(f)[1:], d(b)[1:]]),
+            np.concatenate([T(f), T(b)[1:], T(f)[1:], T(b)[1:]]))
+
+
+def test_contact_loops_from_the_time_marcher():
+    from jaxdamp.fit import analyse_contact_loop
+
+    rng = np.random.default_rng(5)
+    loops = []
+    for a, c, _ in CONTACT_CASES:
+        d, f = _march_contact_loop(a, c)
+        loops.append(analyse_contact_loop(d, f + rng.normal(0.0, 0.002 * np.ptp(f), f.size), c,
+                                          "tangential", a))
+    fit = jd.fit_loops(loops, SHAPE, start={"mu": 0.6, "kn": 5e3, "kt": 2e3})
+    assert fit.converged and all(fit.identifiable)
+    for i, key in enumerate(("mu", "kn", "kt")):
+        assert fit.value[i] == pytest.approx(TRUE[key], rel=0.03), key
+        assert fit.lo[i] <= TRUE[key] <= fit.hi[i] or abs(fit.value[i] / TRUE[key] - 1) < 0.01
+
+
+def test_cli_normal_contact_loops_identify_kn_only(capsys, tmp_path):
+    """Normal force against the approach is the line N = kn d (no hysteresis in the normal spring):
+    kn comes back inside its interval; mu, kt (and the offsets) are stated not identifiable, with no
+    number."""
+    cases = ((0.8, 0, 5.0), (0.8, 1, -5.0), (0.8, 2, 0.0))
+    files = [_write_csv(tmp_path / f"n{i}.csv", d, f, header="disp_mm,force_n")
+             for i, (d, f) in enumerate(_contact_loops(component="normal", cases=cases))]
+    code, text, _ = run_cli(capsys, "fit-loops", *files, "--shape", "60sym", "--contact", "R1,L1,L2",
+                            "--component", "normal", "--psi-a", "0.8", "--json", "--no-progress",
+                            "--plot", tmp_path / "plots")
+    assert code == 0
+    d = strict_json(text)
+    p = d["parameters"]
+    # the force offsets go with them: a free offset cannot be told from the mean normal force,
+    # the only place where mu and kt enter a normal loop
+    assert set(d["not_identifiable"]) == {"mu", "kt", "offset_0", "offset_1", "offset_2"}
+    for name in ("mu", "kt"):
+        assert p[name]["value"] is None and "not identifiable" in p[name]["why"]
+    assert p["kn"]["identifiable"] and p["kn"]["lo"] <= TRUE["kn"] <= p["kn"]["hi"]
+    rows = d["loops"]
+    assert [r["contact"] for r in rows] == ["R1", "L1", "L2"] and rows[0]["component"] == "normal"
+    assert d["sigma_unit"] == "N" and d["sigma_nmm"] is None
+    assert len(list((tmp_path / "plots").glob("loop_*.png"))) == 3
+
+
+@pytest.mark.parametrize("content, flags, says", [
+    ("disp_mm,force\n1,2\n", (), "no column force_n"),
+    ("disp_mm,force_n\n1,2\n0,3\n", (), "give --contact"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R1"), "give --component"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R1", "--component", "tangential"), "give --psi-a"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R3", "--component", "normal", "--psi-a", "1"),
+     "--contact takes R1, L1 or L2"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R1", "--component", "shear", "--psi-a", "1"),
+     "--component takes tangential or normal"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R1", "--component", "normal", "--psi-a", "-1"),
+     "--psi-a must be in"),
+    ("disp_mm,force_n\n1,2\n0,3\n", ("--contact", "R1,L1", "--component", "normal", "--psi-a", "1"),
+     "one per per-contact file (1); got 2"),
+    ("disp_mm,force_n\n1,2\n", ("--contact", "R1", "--component", "normal", "--psi-a", "1"), "1 sample"),
+    ("disp_mm,force_n\n1,2\n0,nan\n-1,3\n", ("--contact", "R1", "--component", "normal", "--psi-a", "1"),
+     "force_n is not a finite number at sample 2"),
+    ("disp_mm,force_n\n1,2\n0,abc\n", ("--contact", "R1", "--component", "normal", "--psi-a", "1"),
+     "line 3: force_n"),
+    ("disp_mm,force_n\n" + "".join(f"{float(np.cos(x))!r},1\n" for x in np.linspace(0, 3, 40)),
+     ("--contact", "L2", "--component", "tangential", "--psi-a", "1"), "no closed period: disp_mm"),
+    ("disp_mm,force_n\n" + "".join(f"{float(500 * np.cos(x))!r},1\n" for x in np.linspace(0, 13, 90)),
+     ("--contact", "L2", "--component", "tangential", "--psi-a", "1"), "out of range"),
+    ("psi_mrad,moment_nmm,disp_mm,force_n\n1,2,3,4\n", (), "both a moment loop"),
+    ("psi_mrad,moment_nmm\n1,2\n0,3\n", ("--psi-a", "1"), "none of the files is one"),
+])
+def test_cli_bad_contact_files_one_line_exit_2(capsys, tmp_path, content, flags, says):
+    f = tmp_path / "bad.csv"
+    f.write_text(content)
+    code, _, err = run_cli(capsys, "fit-loops", f, "--shape", "60sym", *flags)
+    assert code == 2 and says in one_error_line(err), one_error_line(err)

@@ -1,5 +1,6 @@
-"""`jaxdamp fit-loops`: contact parameters (mu, kn, kt) from measured moment hysteresis loops, with
-standard errors, intervals, correlations and a statement of what the loops do not identify."""
+"""`jaxdamp fit-loops`: contact parameters (mu, kn, kt) from measured hysteresis loops (moment against
+platform rotation, or one contact's force against its relative displacement), with standard errors,
+intervals, correlations and a statement of what the loops do not identify."""
 
 from __future__ import annotations
 
@@ -13,17 +14,32 @@ from . import common as C
 
 MOMENT_COLUMNS = ("psi_mrad", "moment_nmm")
 CONTACT_COLUMNS = ("disp_mm", "force_n")
+CONTACT_NAMES = ("R1", "L1", "L2")  # as jaxdamp.geometry (not imported here: no JAX at CLI start)
+COMPONENTS = ("tangential", "normal")
 
 
 def register(sub) -> None:
-    p = sub.add_parser("fit-loops", help="fit mu, kn, kt to measured moment loops (CSV psi_mrad,moment_nmm "
-                                         "or NPZ), with their uncertainty")
+    p = sub.add_parser("fit-loops", help="fit mu, kn, kt to measured loops (CSV psi_mrad,moment_nmm or "
+                                         "disp_mm,force_n, or NPZ), with their uncertainty")
     p.add_argument("files", nargs="+", metavar="FILE",
                    help="one loop per file: CSV with a header row psi_mrad,moment_nmm (rotation in mrad, "
-                        "moment in N mm), or NPZ with arrays of those names; several periods, any "
-                        "sampling; amplitude, centre and offsets are found from the data")
+                        "moment in N mm) or disp_mm,force_n (one contact's relative displacement in mm "
+                        "and its tangential or normal force in N: give --contact, --component and "
+                        "--psi-a), or NPZ with arrays of those names; several periods, any sampling; "
+                        "amplitude, centre and offsets are found from the data")
     C.add_shape_args(p)
     C.add_load_args(p)
+    p.add_argument("--contact", default=None,
+                   help="per-contact loops: the contact, R1, L1 or L2; one for all such files or a comma "
+                        "list with one per such file, in order")
+    p.add_argument("--component", default=None,
+                   help="per-contact loops: tangential (force along the up-flank tangent against the "
+                        "platform's displacement relative to the damper along it) or normal (compressive "
+                        "force against the approach); one, or a comma list with one per such file")
+    p.add_argument("--psi-a", default=None, metavar="MRAD",
+                   help="per-contact loops: the platform rotation amplitude (mrad) the loop was recorded "
+                        "at (needed: a contact's own displacement range depends on the unknown "
+                        "stiffnesses); one, or a comma list with one per such file")
     p.add_argument("--history", choices=("gross_slip", "assembly"), default="gross_slip",
                    help="the history of the model's steady cycle (default gross_slip)")
     p.add_argument("--per-contact", default="",
@@ -59,12 +75,14 @@ def _groups(args) -> dict:
     return out
 
 
-def read_loop(path) -> tuple[np.ndarray, np.ndarray]:
-    """(psi_mrad, moment_nmm) of a CSV (header row) or NPZ file; CliError in one line otherwise."""
+def read_loop(path) -> tuple[str, np.ndarray, np.ndarray]:
+    """(kind, x, y) of a CSV (header row) or NPZ file: kind "moment" (x psi_mrad, y moment_nmm) or
+    "contact" (x disp_mm, y force_n); CliError in one line otherwise."""
     p = Path(path).expanduser()
     label = str(path)
     if not p.is_file():
         raise C.CliError(f"{label!r} does not exist or is not a file")
+    known = MOMENT_COLUMNS + CONTACT_COLUMNS
     if p.suffix.lower() == ".npz":
         try:
             with np.load(p, allow_pickle=False) as z:
@@ -79,7 +97,8 @@ def read_loop(path) -> tuple[np.ndarray, np.ndarray]:
         except (OSError, UnicodeDecodeError) as exc:
             raise C.CliError(f"{label!r} cannot be read as CSV: {exc}") from None
         if not rows:
-            raise C.CliError(f"{label!r} is empty; expected a header row {','.join(MOMENT_COLUMNS)}")
+            raise C.CliError(f"{label!r} is empty; expected a header row {','.join(MOMENT_COLUMNS)} "
+                             f"or {','.join(CONTACT_COLUMNS)}")
         header = [h.strip().lower() for h in rows[0]]
         cols = {}
         for j, h in enumerate(header):
@@ -89,20 +108,64 @@ def read_loop(path) -> tuple[np.ndarray, np.ndarray]:
                 try:
                     vals.append(float(text) if text else np.nan)
                 except ValueError:
-                    if h in MOMENT_COLUMNS:
+                    if h in known:
                         raise C.CliError(f"{label!r} line {k}: {h} is not a number ({text!r})") from None
                     vals.append(np.nan)
             cols[h] = np.asarray(vals)
-    if all(c in header for c in CONTACT_COLUMNS) and not all(c in header for c in MOMENT_COLUMNS):
-        raise C.CliError(f"{label!r}: per-contact loops ({','.join(CONTACT_COLUMNS)}) are not supported "
-                         f"yet; give moment loops with columns {','.join(MOMENT_COLUMNS)}")
+    has_m = [c in header for c in MOMENT_COLUMNS]
+    has_c = [c in header for c in CONTACT_COLUMNS]
+    if all(has_m) and all(has_c):
+        raise C.CliError(f"{label!r} holds both a moment loop ({','.join(MOMENT_COLUMNS)}) and a "
+                         f"per-contact loop ({','.join(CONTACT_COLUMNS)}); give one loop per file")
+    if any(has_c) and not any(has_m):
+        missing = [c for c, h in zip(CONTACT_COLUMNS, has_c) if not h]
+        if missing:
+            raise C.CliError(f"{label!r} has no column {', '.join(missing)}; a per-contact loop needs "
+                             f"columns {','.join(CONTACT_COLUMNS)} (displacement in mm, force in N); "
+                             f"found {','.join(header)}")
+        x, y = (np.asarray(cols[c], float).reshape(-1) for c in CONTACT_COLUMNS)
+        return "contact", x, y
     missing = [c for c in MOMENT_COLUMNS if c not in header]
     if missing:
         raise C.CliError(f"{label!r} has no column {', '.join(missing)}; expected columns "
-                         f"{','.join(MOMENT_COLUMNS)} (rotation in mrad, moment in N mm); found "
-                         f"{','.join(header) or 'none'}")
+                         f"{','.join(MOMENT_COLUMNS)} (rotation in mrad, moment in N mm) or "
+                         f"{','.join(CONTACT_COLUMNS)} (one contact); found {','.join(header) or 'none'}")
     psi, m = (np.asarray(cols[c], float).reshape(-1) for c in MOMENT_COLUMNS)
-    return psi, m
+    return "moment", psi, m
+
+
+def _per_file(flag: str, text, n: int, parse) -> list:
+    """A per-contact flag's values, one per per-contact file (a single value serves them all)."""
+    if text is None:
+        return []
+    items = [t.strip() for t in str(text).split(",")]
+    if len(items) == 1:
+        items = items * n
+    if len(items) != n:
+        raise C.CliError(f"{flag} takes one value or one per per-contact file ({n}); got {len(items)}")
+    return [parse(flag, t) for t in items]
+
+
+def _parse_contact(flag, t):
+    if t.upper() not in CONTACT_NAMES:
+        raise C.CliError(f"{flag} takes R1, L1 or L2; got {t!r}")
+    return t.upper()
+
+
+def _parse_component(flag, t):
+    if t.lower() not in COMPONENTS:
+        raise C.CliError(f"{flag} takes tangential or normal; got {t!r}")
+    return t.lower()
+
+
+def _parse_psi_a(flag, t):
+    try:
+        v = float(t)
+    except ValueError:
+        raise C.CliError(f"{flag} takes numbers in (0, 10000] mrad; got {t!r}") from None
+    if not 0.0 < v <= 1e4:
+        raise C.CliError(f"{flag} must be in (0, 10000] mrad; got {t}")
+    return v
 
 
 def _fmt(v, digits=5) -> str:
@@ -110,7 +173,7 @@ def _fmt(v, digits=5) -> str:
 
 
 def run(args) -> int:
-    from ..fit import DEFAULT_START, LoopError, analyse_loop, fit_loops
+    from ..fit import DEFAULT_START, ContactLoop, LoopError, analyse_contact_loop, analyse_loop, fit_loops
 
     groups = _groups(args)
     shape = C.shape_from_args(args)
@@ -124,11 +187,33 @@ def run(args) -> int:
             raise C.CliError(f"{flag} must be in (0, {hi:g}]; got {start[key]:g}")
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     out = None if args.out is None else C.check_output_file("--out", args.out, suffixes=(".json",))
-    loops = []
-    for f in args.files:
-        psi, m = read_loop(f)
+    read = [read_loop(f) for f in args.files]
+    n_c = sum(kind == "contact" for kind, _, _ in read)
+    if n_c == 0:
+        given = [fl for fl, v in (("--contact", args.contact), ("--component", args.component),
+                                  ("--psi-a", args.psi_a)) if v is not None]
+        if given:
+            raise C.CliError(f"{', '.join(given)} describe per-contact loops (disp_mm,force_n); none of "
+                             "the files is one")
+    else:
+        for flag, v in (("--contact", args.contact), ("--component", args.component), ("--psi-a", args.psi_a)):
+            if v is None:
+                first = next(f for f, (kind, _, _) in zip(args.files, read) if kind == "contact")
+                raise C.CliError(f"{str(first)!r} is a per-contact loop (disp_mm,force_n): give {flag} "
+                                 "(--contact R1|L1|L2, --component tangential|normal, --psi-a MRAD: "
+                                 "the platform amplitude it was recorded at)")
+    contacts_of = _per_file("--contact", args.contact, n_c, _parse_contact)
+    components = _per_file("--component", args.component, n_c, _parse_component)
+    psi_as = _per_file("--psi-a", args.psi_a, n_c, _parse_psi_a)
+    loops, k = [], 0
+    for f, (kind, x, y) in zip(args.files, read):
         try:
-            loops.append(analyse_loop(psi, m, name=repr(str(f))))
+            if kind == "moment":
+                loops.append(analyse_loop(x, y, name=repr(str(f))))
+            else:
+                loops.append(analyse_contact_loop(x, y, contacts_of[k], components[k], psi_as[k],
+                                                  name=repr(str(f))))
+                k += 1
         except LoopError as exc:
             raise C.CliError(str(exc)) from None
 
@@ -163,14 +248,32 @@ def run(args) -> int:
                      "of J^T J without the null directions)")
     if groups["mu"] == "contact":
         notes.append("per-contact mu: the other commands' --contacts-from takes one mu only")
-    loop_rows = [{"file": str(f), "samples": int(lp.psi.size), "periods": int(lp.periods),
-                  "psi_a_mrad": C.number(lp.psi_a), "psi_c_mrad": C.number(lp.psi_c),
-                  "offset_nmm": C.number(fit.offsets[i]), "rms_nmm": C.number(fit.rms[i]),
-                  "cycle_status": RESULTS.name_of(fit.statuses[i])}
-                 for i, (f, lp) in enumerate(zip(args.files, fit.loops))]
+    def loop_row(i, f, lp):
+        row = {"file": str(f), "samples": int(lp.x.size), "periods": int(lp.periods)}
+        if isinstance(lp, ContactLoop):
+            row.update({"kind": "contact", "contact": CONTACT_NAMES[lp.contact], "component": lp.component,
+                        "psi_a_mrad": C.number(lp.psi_a), "disp_a_mm": C.number(lp.disp_a),
+                        "disp_c_mm": C.number(lp.disp_c), "offset_n": C.number(fit.offsets[i]),
+                        "rms_n": C.number(fit.rms[i]), "monotone": bool(fit.monotone[i])})
+        else:
+            row.update({"kind": "moment", "psi_a_mrad": C.number(lp.psi_a),
+                        "psi_c_mrad": C.number(lp.psi_c), "offset_nmm": C.number(fit.offsets[i]),
+                        "rms_nmm": C.number(fit.rms[i])})
+        row["cycle_status"] = RESULTS.name_of(fit.statuses[i])
+        return row
+
+    kinds = {isinstance(lp, ContactLoop) for lp in fit.loops}
+    sigma_unit = "N mm" if kinds == {False} else "N" if kinds == {True} else "none (mixed units: see each loop's rms)"
+    loop_rows = [loop_row(i, f, lp) for i, (f, lp) in enumerate(zip(args.files, fit.loops))]
+    bent = [str(f) for f, lp, ok in zip(args.files, fit.loops, fit.monotone) if not ok]
+    if bent:
+        notes.append(f"at the fitted parameters the model's contact displacement of {', '.join(bent)} "
+                     "turns within a half-cycle, so its force is not a function of the displacement "
+                     "there and the comparison is only approximate: prefer moment loops or another contact")
     payload = {"contacts": contacts, "parameters": params["parameters"],
                "correlation": {"names": names, "matrix": params["correlation"]},
-               "confidence": 0.95, "not_identifiable": unident, "sigma_nmm": params["sigma_nmm"],
+               "confidence": 0.95, "not_identifiable": unident, "sigma_nmm": params["sigma_nmm"] if sigma_unit == "N mm" else None,
+               "sigma": params["sigma_nmm"], "sigma_unit": sigma_unit,
                "loops": loop_rows,
                "convergence": {"converged": fit.converged, "steps": fit.steps,
                                "history": [{"stage": s + 1, "step": k, "loss": v} for s, k, v in fit.history]},
@@ -188,13 +291,21 @@ def run(args) -> int:
                          f"[{_fmt(fit.lo[i])}, {_fmt(fit.hi[i])}]")
         else:
             lines.append(f"  {n:12} {'NOT IDENTIFIABLE':>12}   {fit.why[i]}")
-    lines.append("  units: mu -, kn and kt N/mm, offsets N mm (offset_i: loop i's moment offset)")
-    lines.append(f"  residual sd {_fmt(fit.sigma, 3)} N mm; LM steps {fit.steps}; "
+    lines.append("  units: mu -, kn and kt N/mm, offsets N mm for moment loops and N for per-contact loops "
+                 "(offset_i: loop i's force offset)")
+    lines.append(f"  residual sd {_fmt(fit.sigma, 3)} {sigma_unit}; LM steps {fit.steps}; "
                  f"converged {fit.converged}")
     for row in loop_rows:
-        lines.append(f"  {row['file']}: psi_a {_fmt(row['psi_a_mrad'])} mrad, centre "
-                     f"{_fmt(row['psi_c_mrad'], 4)} mrad, {row['periods']} period(s), "
-                     f"{row['samples']} samples, rms {_fmt(row['rms_nmm'], 3)} N mm")
+        if row["kind"] == "contact":
+            lines.append(f"  {row['file']}: {row['contact']} {row['component']} at psi_a "
+                         f"{_fmt(row['psi_a_mrad'])} mrad, displacement amplitude "
+                         f"{_fmt(row['disp_a_mm'], 4)} mm, centre {_fmt(row['disp_c_mm'], 4)} mm, "
+                         f"{row['periods']} period(s), {row['samples']} samples, rms "
+                         f"{_fmt(row['rms_n'], 3)} N")
+        else:
+            lines.append(f"  {row['file']}: psi_a {_fmt(row['psi_a_mrad'])} mrad, centre "
+                         f"{_fmt(row['psi_c_mrad'], 4)} mrad, {row['periods']} period(s), "
+                         f"{row['samples']} samples, rms {_fmt(row['rms_nmm'], 3)} N mm")
     big = [(names[a], names[b], fit.correlation[a, b]) for a in range(len(names))
            for b in range(a + 1, len(names)) if np.isfinite(fit.correlation[a, b])
            and abs(fit.correlation[a, b]) > 0.9]
@@ -206,8 +317,10 @@ def run(args) -> int:
         import matplotlib.pyplot as plt
 
         for i, f in enumerate(args.files):
-            fig = plot_loop_fit(fit, i, shape, load, title=f"{Path(f).name}: psi_a = "
-                                f"{fit.loops[i].psi_a:.4g} mrad")
+            lp = fit.loops[i]
+            what = (f"{CONTACT_NAMES[lp.contact]} {lp.component}, " if isinstance(lp, ContactLoop) else "")
+            fig = plot_loop_fit(fit, i, shape, load, title=f"{Path(f).name}: {what}psi_a = "
+                                f"{lp.psi_a:.4g} mrad")
             path = plot_dir / f"loop_{i + 1}_{Path(f).stem}.png"
             C.save_figure(fig, path, dpi=110)
             plt.close(fig)
