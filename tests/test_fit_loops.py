@@ -444,3 +444,19 @@ def test_cli_bad_contact_files_one_line_exit_2(capsys, tmp_path, content, flags,
     f.write_text(content)
     code, _, err = run_cli(capsys, "fit-loops", f, "--shape", "60sym", *flags)
     assert code == 2 and says in one_error_line(err), one_error_line(err)
+
+
+def test_moment_and_contact_loops_fitted_together():
+    """Two moment loops and one tangential contact loop in one fit: units kept apart (offsets in
+    N mm and N, no common residual sd), parameters inside their intervals."""
+    from jaxdamp.fit import analyse_contact_loop
+
+    moment = _noisy_loops()[:2]
+    (d, f), = _contact_loops(cases=CONTACT_CASES[2:])
+    a, c, off = CONTACT_CASES[2]
+    fit = jd.fit_loops(moment + [analyse_contact_loop(d, f, c, "tangential", a)], SHAPE)
+    assert fit.converged and all(fit.identifiable) and np.isnan(fit.sigma)
+    for i, key in enumerate(("mu", "kn", "kt")):
+        assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
+    for j, o in enumerate(OFFSETS[:2] + (off,)):
+        assert abs(fit.value[3 + j] - o) <= 3.0 * fit.se[3 + j]
