@@ -1,4 +1,14 @@
-"""Contact parameters (mu, kn, kt) from measured moment hysteresis loops, with their uncertainty.
+"""Contact parameters (mu, kn, kt) from measured hysteresis loops, with their uncertainty.
+
+Two kinds of loop, freely mixed: moment loops (psi in mrad, M in N mm; below) and per-contact loops
+(one contact's relative displacement d in mm against its tangential or normal force in N, recorded
+at a given platform amplitude psi_a; `analyse_contact_loop`). A per-contact loop is compared as the
+force against its own displacement on each half: the measured d's turning points mark the
+reversals, a sample on a stretch where d decreases is compared with the model half along which the
+contact's d decreases, at the same d (the model loop centred on the measured centre), minus a force
+offset. The model's d is d_t = T / kt - slip (tangential; T = -kt (gt - slip), so gt = -d_t + const)
+or d_n = N / kn (normal), exact and piecewise linear over the steady cycle from `amplitude_kernel`;
+forces are in units of F_D in the model and N in the data (times load.F_D).
 
 A measured loop is a series of samples (psi_i in mrad, M_i in N mm), several periods long, sampled
 anyhow, with noise and a constant offset in each channel. `analyse_loop` finds its turning points,
