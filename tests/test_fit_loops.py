@@ -396,6 +396,9 @@ def test_cli_normal_contact_loops_identify_kn_only(capsys, tmp_path):
     cases = ((0.8, 0, 5.0), (0.8, 1, -5.0), (0.8, 2, 0.0))
     files = [_write_csv(tmp_path / f"n{i}.csv", d, f, header="disp_mm,force_n")
              for i, (d, f) in enumerate(_contact_loops(component="normal", cases=cases))]
+    d2, f2 = _contact_loops(component="normal", cases=cases)[2]  # one as NPZ
+    np.savez(tmp_path / "n2.npz", disp_mm=d2, force_n=f2)
+    files[2] = tmp_path / "n2.npz"
     code, text, _ = run_cli(capsys, "fit-loops", *files, "--shape", "60sym", "--contact", "R1,L1,L2",
                             "--component", "normal", "--psi-a", "0.8", "--json", "--no-progress",
                             "--plot", tmp_path / "plots")
@@ -460,3 +463,38 @@ def test_moment_and_contact_loops_fitted_together():
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
     for j, o in enumerate(OFFSETS[:2] + (off,)):
         assert abs(fit.value[3 + j] - o) <= 3.0 * fit.se[3 + j]
+
+
+@settings(max_examples=15, deadline=None)
+@given(a=st.floats(1e-3, 50.0), c=st.floats(-1.0, 1.0), periods=st.floats(1.6, 4.0),
+       per_period=st.integers(60, 300), seed=st.integers(0, 2 ** 16), contact=st.sampled_from(["R1", "L1", "L2", 0, 2]),
+       component=st.sampled_from(["tangential", "normal"]), psi_a=st.floats(1e-3, 1e4))
+def test_random_valid_contact_loops_analysed(a, c, periods, per_period, seed, contact, component, psi_a):
+    """A contact loop's displacement is analysed as psi is (amplitude, centre, halves: forward =
+    displacement decreasing); the contact, component and the given psi_a are kept."""
+    from jaxdamp.fit import analyse_contact_loop
+
+    rng = np.random.default_rng(seed)
+    t = np.sort(rng.uniform(0.0, periods, int(per_period * periods)))
+    d = c + a * np.cos(2 * np.pi * t)
+    lp = analyse_contact_loop(d, np.sin(t), contact, component, psi_a)
+    ref = analyse_loop(d, np.sin(t))
+    assert lp.disp_a == ref.psi_a and lp.disp_c == ref.psi_c and lp.periods == ref.periods
+    assert np.array_equal(lp.forward, ref.forward) and lp.disp_a == pytest.approx(a, rel=2e-2)
+    assert lp.contact == (contact if isinstance(contact, int) else ["R1", "L1", "L2"].index(contact))
+    assert lp.component == component and lp.psi_a == psi_a
+
+
+def test_contact_loop_api_errors_one_line():
+    from jaxdamp.fit import analyse_contact_loop
+
+    d = np.cos(np.linspace(0, 4 * np.pi, 80))
+    for args, says in (((d, d, "R4", "normal", 1.0), "contact must be one of R1, L1, L2"),
+                       ((d, d, 3, "normal", 1.0), "contact must be 0, 1, 2"),
+                       ((d, d, 0, "shear", 1.0), "tangential or normal"),
+                       ((d, d, 0, "normal", 0.0), "out of range"),
+                       ((d, d, 0, "normal", "x"), "must be a number"),
+                       ((d * 1e3, d, 0, "normal", 1.0), "mm is out of range: must be in (0, 100] mm")):
+        with pytest.raises(LoopError) as e:
+            analyse_contact_loop(*args)
+        assert says in str(e.value) and "\n" not in str(e.value), (says, str(e.value))
