@@ -57,7 +57,9 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "contact_path", "contact_loop_force", "sample_contact_loop", "COMPONENTS", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops", "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
+__all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "contact_path", "contact_loop_force",
+           "sample_contact_loop", "COMPONENTS", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops",
+           "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
 
 # Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
@@ -214,7 +216,8 @@ def analyse_loop(psi, moment, name: str = "loop", *, columns=("psi_mrad", "momen
                 continue
         keep.append((i, k))
     if len(keep) < 3:
-        raise LoopError(f"{name}: no closed period: {columns[0]} must run top-bottom-top or bottom-top-bottom "
+        raise LoopError(f"{name}: no closed period: {columns[0]} must run top-bottom-top or "
+                        "bottom-top-bottom "
                         f"(found {len(keep)} turning point{'s' if len(keep) != 1 else ''})")
     top = float(np.median([psi[i] for i, k in keep if k > 0]))
     bottom = float(np.median([psi[i] for i, k in keep if k < 0]))

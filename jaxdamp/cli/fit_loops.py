@@ -196,7 +196,8 @@ def run(args) -> int:
             raise C.CliError(f"{', '.join(given)} describe per-contact loops (disp_mm,force_n); none of "
                              "the files is one")
     else:
-        for flag, v in (("--contact", args.contact), ("--component", args.component), ("--psi-a", args.psi_a)):
+        for flag, v in (("--contact", args.contact), ("--component", args.component),
+                        ("--psi-a", args.psi_a)):
             if v is None:
                 first = next(f for f, (kind, _, _) in zip(args.files, read) if kind == "contact")
                 raise C.CliError(f"{str(first)!r} is a per-contact loop (disp_mm,force_n): give {flag} "
@@ -263,7 +264,8 @@ def run(args) -> int:
         return row
 
     kinds = {isinstance(lp, ContactLoop) for lp in fit.loops}
-    sigma_unit = "N mm" if kinds == {False} else "N" if kinds == {True} else "none (mixed units: see each loop's rms)"
+    sigma_unit = ("N mm" if kinds == {False} else "N" if kinds == {True}
+                  else "none (mixed units: see each loop's rms)")
     loop_rows = [loop_row(i, f, lp) for i, (f, lp) in enumerate(zip(args.files, fit.loops))]
     bent = [str(f) for f, lp, ok in zip(args.files, fit.loops, fit.monotone) if not ok]
     if bent:
@@ -272,7 +274,8 @@ def run(args) -> int:
                      "there and the comparison is only approximate: prefer moment loops or another contact")
     payload = {"contacts": contacts, "parameters": params["parameters"],
                "correlation": {"names": names, "matrix": params["correlation"]},
-               "confidence": 0.95, "not_identifiable": unident, "sigma_nmm": params["sigma_nmm"] if sigma_unit == "N mm" else None,
+               "confidence": 0.95, "not_identifiable": unident,
+               "sigma_nmm": params["sigma_nmm"] if sigma_unit == "N mm" else None,
                "sigma": params["sigma_nmm"], "sigma_unit": sigma_unit,
                "loops": loop_rows,
                "convergence": {"converged": fit.converged, "steps": fit.steps,
