@@ -19,6 +19,7 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
   `peak_response`, `peak_band`, `frf`, `designer_diagram`.
+- Measured loops: `fit_loops` (mu, kn, kt with intervals from moment or contact loops).
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
 - Optimisation building block: `ALState`, `al_init`, `al_update` (augmented Lagrangian).
 
@@ -137,6 +138,12 @@ from .response import DesignerDiagram as DesignerDiagram
 from .response import designer_diagram as designer_diagram
 from .response import DIAGRAM_MUS as DIAGRAM_MUS
 
+# Contact parameters from measured loops
+from .fit import LoopFit as LoopFit
+from .fit import fit_loops as fit_loops
+from .fit import fit_problem as fit_problem
+from .fit import sample_loop as sample_loop
+
 # Uncertain contacts (Monte Carlo over the peak)
 from .uncertainty import Uncertainty as Uncertainty
 from .uncertainty import Scenarios as Scenarios
@@ -182,5 +189,5 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "Peaks", "peak_response", "design_peaks", "peak_band", "ResponseCurves",
            "response_curves", "DesignerDiagram", "designer_diagram", "DIAGRAM_MUS", "Uncertainty",
            "Scenarios", "PeakDistribution", "sample_scenarios", "peak_distribution",
-           "magnification_kernel", "ALConfig", "ALState", "al_init", "al_update",
+           "magnification_kernel", "LoopFit", "fit_loops", "fit_problem", "sample_loop", "ALConfig", "ALState", "al_init", "al_update",
            "al_value_and_grad"]

@@ -25,7 +25,7 @@ UNITS = __doc__.split("\n\n", 1)[1]
 
 # Built-in commands, one module each, every one exposing register(sub) and run(args) -> int.
 COMMANDS = ("statics", "design_br", "cycle", "amplitude", "response", "grad", "sweep", "calibrate",
-            "study", "section")
+            "fit_loops", "study", "section")
 # Third-party commands: entry points of this group load a register(sub) function
 # (pyproject.toml declares `optimize = "optimize.cli:register"`).
 ENTRY_POINT_GROUP = "jaxdamp.commands"
