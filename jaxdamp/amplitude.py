@@ -172,6 +172,10 @@ class AmplitudeCycle(NamedTuple):
     closure: jnp.ndarray  # max force change over the last pair (units of F_D)
     cycles: jnp.ndarray  # pairs of halves run until the forces repeated (int32)
     status: jnp.ndarray  # RESULTS code (int32): ok, shakedown, not_converged, liftoff, singular
+    # (halves, MAX_TRACTS) tract lengths (mm) of every half run, preliminary and transient halves
+    # included, in order (zeros after the last): within one sequence they are affine in psi_a, and
+    # where one reaches zero the sequence changes (`jaxdamp.sequence`)
+    history_dv: jnp.ndarray = None
 
 
 def gross_slip_state(shape: DamperShape, mu):
@@ -365,13 +369,14 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                     gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
                     stop=closed | bad, bad=c["bad"] | bad,
                     liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
-                    pairs=c["pairs"] + is_bwd.astype(jnp.int32))
+                    pairs=c["pairs"] + is_bwd.astype(jnp.int32),
+                    hist=c["hist"].at[j].set(half.dv))
 
     empty = _empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
-                pairs=jnp.array(0, jnp.int32))
+                pairs=jnp.array(0, jnp.int32), hist=jnp.zeros((n_halves, max_tracts)))
     end = repeat_until(run_half, init, n_halves, loop, lambda c: c["stop"])
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
@@ -390,7 +395,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
                           start[3:], fwd, bwd, zero(k_re), zero(k_im), zero(energy), zero(work),
-                          gap, npairs.astype(jnp.int32), status)
+                          gap, npairs.astype(jnp.int32), status, end["hist"])
 
 
 _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))

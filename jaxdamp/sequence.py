@@ -134,6 +134,17 @@ class Probe(NamedTuple):
     k_im: jnp.ndarray
     status: jnp.ndarray
     cycles: jnp.ndarray
+    seq_lo: jnp.ndarray  # the amplitudes (mrad) below / above psi_a where the first tract of the
+    seq_hi: jnp.ndarray  # whole history (any half run) reaches zero length: the sequence changes
+
+
+def _sequence_bounds(psi, dv, ddv):
+    """(lo, hi): nearest roots below / above psi of the affine tract lengths dv + (p - psi) ddv."""
+    live = (dv > 0.0) & (jnp.abs(ddv) * psi > 1e-13 * jnp.maximum(dv, 1e-300))
+    r = jnp.where(live, psi - dv / jnp.where(live, ddv, 1.0), jnp.nan)
+    above = live & (r > psi)
+    below = live & (r < psi)
+    return (jnp.max(jnp.where(below, r, -jnp.inf)), jnp.min(jnp.where(above, r, jnp.inf)))
 
 
 def probe_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
@@ -146,15 +157,16 @@ def probe_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
     def run(p):
         ac = amplitude_kernel(shape, mu, contacts, load, p, N_init, T_init, initial=initial,
                               max_tracts=max_tracts, max_pairs=max_pairs, loop=loop)
-        return _rows(ac), (ac.k_re, ac.k_im, ac.status, ac.cycles)
+        return (_rows(ac), ac.history_dv), (ac.k_re, ac.k_im, ac.status, ac.cycles)
 
     psi = jnp.asarray(psi_a, float)
-    rows, d_rows, (k_re, k_im, status, cycles) = jax.jvp(run, (psi,), (jnp.ones_like(psi),),
-                                                         has_aux=True)
+    (rows, hist), (d_rows, d_hist), (k_re, k_im, status, cycles) = jax.jvp(
+        run, (psi,), (jnp.ones_like(psi),), has_aux=True)
     valid = RESULTS.valid(status)
     d_rows = jnp.where(valid, d_rows, 0.0)
     rows = jnp.where(valid, rows, 0.0)
-    return Probe(rows, d_rows, k_re, k_im, status, cycles)
+    lo, hi = _sequence_bounds(psi, hist.reshape(-1), d_hist.reshape(-1))
+    return Probe(rows, d_rows, k_re, k_im, status, cycles, lo, hi)
 
 
 @batch_jit(static_argnames=("initial", "max_tracts", "max_pairs"))
@@ -252,26 +264,16 @@ def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=Non
         # 1. one piece: each model reproduces the other probe
         ra, ia = model_k(recs, ga, pb, gi)
         rb, ib = model_k(recs, gb, pa, gi)
-        same = (st_a == st_b) & (
+        seq_ok = (recs["seq_hi"][ga] >= pb * (1 - 1e-12)) & (recs["seq_lo"][gb] <= pa * (1 + 1e-12))
+        same = (st_a == st_b) & seq_ok & (
             ~valid_a | ((np.abs(ra - recs["k_re"][gb]) <= tol) & (np.abs(ia - recs["k_im"][gb]) <= tol)
                         & (np.abs(rb - recs["k_re"][ga]) <= tol) & (np.abs(ib - recs["k_im"][ga]) <= tol)))
         # 2. a break where a tract's affine length reaches zero
         cand = np.full(len(gaps), np.nan)
         both = valid_a & valid_b & ~same
         if np.any(both):
-            def roots(rec_idx, side):
-                dv = recs["corners"][rec_idx][:, [0, 3], :].reshape(len(rec_idx), -1)
-                sl = recs["slopes"][rec_idx][:, [0, 3], :].reshape(len(rec_idx), -1)
-                p = recs["psi"][rec_idx][:, None]
-                live = (np.abs(sl) > 1e-14 * np.maximum(np.max(np.abs(dv), axis=1, keepdims=True), 1e-300))
-                with np.errstate(divide="ignore", invalid="ignore"):
-                    r = np.where(live, p - dv / np.where(live, sl, 1.0), np.nan)
-                inside = (r > pa[:, None]) & (r < pb[:, None])
-                if side == "left":  # a tract of the left model leaves: first root above pa
-                    return np.nanmin(np.where(inside & (sl < 0), r, np.inf), axis=1)
-                return np.nanmax(np.where(inside & (sl > 0), r, -np.inf), axis=1)
-            left = roots(ga, "left")
-            right = roots(gb, "right")
+            left = np.where(recs["seq_hi"][ga] < pb, recs["seq_hi"][ga], np.inf)
+            right = np.where(recs["seq_lo"][gb] > pa, recs["seq_lo"][gb], -np.inf)
             for c in (left, right):
                 use = both & np.isfinite(c) & np.isnan(cand)
                 # the break must lie where both models still hold
