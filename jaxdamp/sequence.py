@@ -35,14 +35,19 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel
+from ._validate import check_range
+from .amplitude import (INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, StiffnessCurves, amplitude_kernel,
+                        broadcast_designs, flat_cycles, stretched_curves)
+from .geometry import validate_shape
+from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .conventions import travel_mm
 from .fourier import half_fourier
 from .geometry import platform_moment
 from .runtime import batch_jit
 from .status import RESULTS
+from .tract import NO_EVENT
 
-__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "curve_at", "loop_stiffness",
+__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "sequence_curves", "curve_at", "loop_stiffness",
            "probe_kernel", "refit_kernel", "SAME_TOL", "MAX_ROUNDS"]
 
 SAME_TOL = 1e-10  # k (relative to the larger |k| of two probes) within which two models agree
@@ -74,6 +79,7 @@ class StiffnessCurve(NamedTuple):
     psi_lo: jnp.ndarray  # the amplitude range the curve was built for, mrad
     psi_hi: jnp.ndarray
     cycles: jnp.ndarray  # exact cycles (probes) run to build it (int32)
+    pairs: jnp.ndarray = None  # (P,) pairs of halves the piece's probe ran (int32)
 
     def at(self, psi_a) -> CurvePoint:
         """k at amplitude(s) psi_a (mrad) of a single curve (vmap it over a batch: `curve_at`)."""
@@ -157,15 +163,20 @@ def probe_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
     def run(p):
         ac = amplitude_kernel(shape, mu, contacts, load, p, N_init, T_init, initial=initial,
                               max_tracts=max_tracts, max_pairs=max_pairs, loop=loop)
-        return (_rows(ac), ac.history_dv), (ac.k_re, ac.k_im, ac.status, ac.cycles)
+        return ((_rows(ac), ac.history_dv, ac.history_slack),
+                (ac.k_re, ac.k_im, ac.status, ac.cycles))
 
     psi = jnp.asarray(psi_a, float)
-    (rows, hist), (d_rows, d_hist), (k_re, k_im, status, cycles) = jax.jvp(
+    (rows, hist, slack), (d_rows, d_hist, d_slack), (k_re, k_im, status, cycles) = jax.jvp(
         run, (psi,), (jnp.ones_like(psi),), has_aux=True)
     valid = RESULTS.valid(status)
     d_rows = jnp.where(valid, d_rows, 0.0)
     rows = jnp.where(valid, rows, 0.0)
-    lo, hi = _sequence_bounds(psi, hist.reshape(-1), d_hist.reshape(-1))
+    # a tract leaving (its length reaches zero) or a new event entering (a slack reaches zero);
+    # slacks measured from NO_EVENT are no events (their slope is zero)
+    slack = jnp.where((hist > 0.0) & (slack < 0.5 * NO_EVENT), slack, 0.0)
+    lo, hi = _sequence_bounds(psi, jnp.concatenate([hist.reshape(-1), slack.reshape(-1)]),
+                              jnp.concatenate([d_hist.reshape(-1), d_slack.reshape(-1)]))
     return Probe(rows, d_rows, k_re, k_im, status, cycles, lo, hi)
 
 
@@ -192,18 +203,27 @@ def _pad(index: np.ndarray) -> np.ndarray:
     return np.concatenate([index, np.full(size - index.size, first, dtype=index.dtype)])
 
 
-def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=None, T_init=None,
-                    n_probes: int = 5, max_rounds: int = MAX_ROUNDS,
+def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gross_slip",
+                    N_init=None, T_init=None, n_probes: int = 5, max_rounds: int = MAX_ROUNDS,
+                    max_probes: int = 64,
                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurve:
     """The piecewise closed-form k(psi_a) of a batch of designs on [psi_lo, psi_hi] (mrad).
 
     designs: (shapes, mu, contacts, load), every leaf with a leading design axis of the same size
     (concrete arrays; `amplitude._broadcast_designs` form). psi_lo, psi_hi: (designs,) or scalars.
     initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init: (designs, 3)).
-    Host-driven rounds of batched probes (one jit call per round for all designs). Returns a batch
-    of StiffnessCurve (leading design axis; pieces padded to a common count)."""
+    grid: (designs, amplitudes), ascending, instead of psi_lo / psi_hi: the curve is wanted on
+    these amplitudes only, so probes are taken on grid points and a gap with no grid point inside
+    needs no resolving (every grid point is then covered, and no curve costs more cycles than its
+    grid has points). Host-driven rounds of batched probes (one jit call per round for all
+    designs). Returns a batch of StiffnessCurve (leading design axis; pieces padded to a common
+    count)."""
     shapes, mu, contacts, load = designs
     n = int(np.shape(np.asarray(mu))[0])
+    if grid is not None:
+        grid = np.asarray(grid, float)
+        grid = np.broadcast_to(grid, (n, grid.shape[-1]))
+        psi_lo, psi_hi = grid[:, 0], grid[:, -1]
     lo = np.broadcast_to(np.asarray(psi_lo, float), (n,)).copy()
     hi = np.broadcast_to(np.asarray(psi_hi, float), (n,)).copy()
     q_star = np.broadcast_to(np.asarray(load.q_star, float), (n,))
@@ -238,6 +258,10 @@ def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=Non
     # All probes in flat arrays (append per round); per design a sorted list of probe indices.
     frac = np.geomspace(1.0, 2.0, n_probes) - 1.0 if n_probes > 1 else np.zeros(1)
     psi0 = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
+    if grid is not None:
+        m = grid.shape[1]
+        cols = np.unique(np.clip(np.round(frac * (m - 1)).astype(int), 0, m - 1))
+        psi0 = grid[:, cols]
     d0 = np.repeat(np.arange(n), psi0.shape[1])
     recs = run_probes(d0, psi0.reshape(-1))
     recs["psi"] = psi0.reshape(-1)
@@ -265,7 +289,7 @@ def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=Non
         ra, ia = model_k(recs, ga, pb, gi)
         rb, ib = model_k(recs, gb, pa, gi)
         seq_ok = (recs["seq_hi"][ga] >= pb * (1 - 1e-12)) & (recs["seq_lo"][gb] <= pa * (1 + 1e-12))
-        same = (st_a == st_b) & seq_ok & (
+        same = (st_a == st_b) & seq_ok & valid_a & (
             ~valid_a | ((np.abs(ra - recs["k_re"][gb]) <= tol) & (np.abs(ia - recs["k_im"][gb]) <= tol)
                         & (np.abs(rb - recs["k_re"][ga]) <= tol) & (np.abs(ib - recs["k_im"][ga]) <= tol)))
         # 2. a break where a tract's affine length reaches zero
@@ -292,8 +316,15 @@ def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=Non
                 resolved[i][a] = ("same",)
             elif np.isfinite(cand[g]):
                 resolved[i][a] = ("break", float(cand[g]))
-            elif last or not (pb[g] - pa[g] > 1e-13 * pb[g]):
+            elif last or not (pb[g] - pa[g] > 1e-13 * pb[g]) or len(order[i]) >= max_probes:
                 resolved[i][a] = ("open",)
+            elif grid is not None:
+                inner = np.nonzero((grid[i] > pa[g]) & (grid[i] < pb[g]))[0]
+                if inner.size == 0:
+                    resolved[i][a] = ("open",)
+                else:
+                    new_d.append(i)
+                    new_p.append(grid[i, inner[inner.size // 2]])
             else:
                 new_d.append(i)
                 new_p.append(0.5 * (pa[g] + pb[g]))
@@ -336,7 +367,8 @@ def stiffness_curve(designs, psi_lo, psi_hi, *, initial="gross_slip", N_init=Non
     return StiffnessCurve(jnp.asarray(start), jnp.asarray(recs["psi"][ref_idx]),
                           jnp.asarray(recs["corners"][ref_idx]), jnp.asarray(recs["slopes"][ref_idx]),
                           jnp.asarray(recs["status"][ref_idx].astype(np.int32)), jnp.asarray(covered),
-                          jnp.asarray(q_star), jnp.asarray(lo), jnp.asarray(hi), jnp.asarray(cycles))
+                          jnp.asarray(q_star), jnp.asarray(lo), jnp.asarray(hi), jnp.asarray(cycles),
+                          jnp.asarray(recs["cycles"][ref_idx].astype(np.int32)))
 
 
 def refit_kernel(curve: StiffnessCurve, shape, mu, contacts, load, N_init=None, T_init=None, *,
@@ -353,3 +385,67 @@ def refit_kernel(curve: StiffnessCurve, shape, mu, contacts, load, N_init=None, 
 
     pr = jax.vmap(one)(curve.psi_ref)
     return curve._replace(corners=pr.corners, slopes=pr.slopes)
+
+
+def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                    load: LoadCase = LoadCase(), *, initial="gross_slip",
+                    max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
+                    n_probes: int = 5) -> StiffnessCurves:
+    """`amplitude.amplitude_curves` (same arguments, same StiffnessCurves) by the piecewise closed
+    form: per design one `stiffness_curve` on its amplitude grid (a few exact cycles), then k at
+    every amplitude from the pieces; amplitudes no verified piece covers run as plain cycles, and
+    from a gross-slip history the amplitudes above psi_BC take the stretched Base-Cycle exactly as
+    `amplitude_curves` does. Equal to it to ~1e-12 of the k scale (benchmarks/sequence_check.py,
+    tests/test_sequence.py). Concrete inputs only (host-driven); inside jit use `curves_kernel` or
+    `refit_kernel` + `StiffnessCurve.at`. `cycles` is the pairs run by the probe of each point's
+    piece."""
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    psi = np.asarray(psi_a_mrad, float)
+    if psi.ndim not in (1, 2):
+        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
+                         "(0, 10000] mrad")
+    args = (shapes, mu, contacts, load)
+    sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
+    size = max(sizes + [psi.shape[0] if psi.ndim == 2 else 1])
+    designs = broadcast_designs(args, size, np)
+    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
+    n_amp = psi.shape[1]
+    order = np.argsort(psi, axis=1, kind="stable")
+    grid = np.take_along_axis(psi, order, axis=1)
+    cur = stiffness_curve(designs, grid=grid, initial=initial, n_probes=n_probes,
+                          max_tracts=max_tracts, max_pairs=max_pairs)
+    pt = curve_at(cur, jnp.asarray(grid))
+    j = jax.vmap(lambda c, p: jnp.clip(jnp.sum(c.start[None, :] <= p[:, None], axis=1) - 1, 0,
+                                       c.start.shape[0] - 1))(cur, jnp.asarray(grid))
+    pairs = np.take_along_axis(np.asarray(cur.pairs), np.asarray(j), axis=1)
+    out = {f: np.empty((size, n_amp), dt) for f, dt in (("k_re", float), ("k_im", float),
+                                                         ("status", np.int32), ("cycles", np.int32))}
+    covered = np.empty((size, n_amp), bool)
+    for f, v in (("k_re", pt.k_re), ("k_im", pt.k_im), ("status", pt.status), ("cycles", pairs)):
+        np.put_along_axis(out[f], order, np.asarray(v), axis=1)
+    np.put_along_axis(covered, order, np.asarray(pt.covered), axis=1)
+    if initial == "gross_slip":
+        k_re, k_im, use, bc_pairs = (np.asarray(x) for x in stretched_curves(*designs,
+                                                                             jnp.asarray(psi)))
+        out["k_re"] = np.where(use, k_re, out["k_re"])
+        out["k_im"] = np.where(use, k_im, out["k_im"])
+        out["status"] = np.where(use, RESULTS.ok, out["status"]).astype(np.int32)
+        out["cycles"] = np.where(use, bc_pairs, out["cycles"]).astype(np.int32)
+        covered |= use
+    todo = np.nonzero(~covered.reshape(-1))[0]
+    if todo.size:
+        idx = _pad(todo)
+        design_of = idx // n_amp
+        flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
+        rerun = flat_cycles(*flat, psi.reshape(-1)[idx], initial, max_tracts, max_pairs)
+        for f in out:
+            v = out[f].reshape(-1)
+            v[todo] = np.asarray(getattr(rerun, f))[: todo.size]
+    return StiffnessCurves(jnp.asarray(psi), *(jnp.asarray(out[f]) for f in
+                                                ("k_re", "k_im", "status", "cycles")))
