@@ -257,16 +257,19 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
 
     # All probes in flat arrays (append per round); per design a sorted list of probe indices.
     frac = np.geomspace(1.0, 2.0, n_probes) - 1.0 if n_probes > 1 else np.zeros(1)
-    psi0 = lo[:, None] + (hi - lo)[:, None] * frac[None, :]
-    if grid is not None:
-        m = grid.shape[1]
-        cols = np.unique(np.clip(np.round(frac * (m - 1)).astype(int), 0, m - 1))
-        psi0 = grid[:, cols]
-    d0 = np.repeat(np.arange(n), psi0.shape[1])
-    recs = run_probes(d0, psi0.reshape(-1))
-    recs["psi"] = psi0.reshape(-1)
+    if grid is None:
+        per = [lo[i] + (hi[i] - lo[i]) * frac for i in range(n)]
+    else:
+        # on the distinct amplitudes (a grid may repeat its last value: no probe is wasted there)
+        m_eff = np.sum(grid < grid[:, -1:], axis=1) + 1
+        per = [grid[i, np.unique(np.round(frac * (m_eff[i] - 1)).astype(int))] for i in range(n)]
+    d0 = np.concatenate([np.full(len(p), i) for i, p in enumerate(per)])
+    p0 = np.concatenate(per)
+    recs = run_probes(d0, p0)
+    recs["psi"] = p0
     recs["design"] = d0
-    order = [list(range(i * psi0.shape[1], (i + 1) * psi0.shape[1])) for i in range(n)]
+    ends = np.cumsum([len(p) for p in per])
+    order = [list(range(e - len(p), e)) for e, p in zip(ends, per)]
     # gap state per design: dict (left probe index) -> ("same" | ("break", b) | "open")
     resolved = [dict() for _ in range(n)]
 
@@ -387,10 +390,18 @@ def refit_kernel(curve: StiffnessCurve, shape, mu, contacts, load, N_init=None, 
     return curve._replace(corners=pr.corners, slopes=pr.slopes)
 
 
+@jax.jit
+def _evaluate(cur: StiffnessCurve, grid):
+    """(CurvePoint, piece index) of a batch of curves on a (designs, amplitudes) grid."""
+    j = jax.vmap(lambda c, p: jnp.clip(jnp.sum(c.start[None, :] <= p[:, None], axis=1) - 1, 0,
+                                       c.start.shape[0] - 1))(cur, grid)
+    return curve_at(cur, grid), j
+
+
 def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip",
                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
-                    n_probes: int = 5) -> StiffnessCurves:
+                    n_probes: int = 5, return_curve: bool = False):
     """`amplitude.amplitude_curves` (same arguments, same StiffnessCurves) by the piecewise closed
     form: per design one `stiffness_curve` on its amplitude grid (a few exact cycles), then k at
     every amplitude from the pieces; amplitudes no verified piece covers run as plain cycles, and
@@ -398,7 +409,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     `amplitude_curves` does. Equal to it to ~1e-12 of the k scale (benchmarks/sequence_check.py,
     tests/test_sequence.py). Concrete inputs only (host-driven); inside jit use `curves_kernel` or
     `refit_kernel` + `StiffnessCurve.at`. `cycles` is the pairs run by the probe of each point's
-    piece."""
+    piece. return_curve=True: (StiffnessCurves, the StiffnessCurve batch it was built from)."""
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
     validate_shape(shapes)
@@ -418,11 +429,20 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     n_amp = psi.shape[1]
     order = np.argsort(psi, axis=1, kind="stable")
     grid = np.take_along_axis(psi, order, axis=1)
+    use = None
+    if initial == "gross_slip":
+        # above psi_BC the stretched Base-Cycle is the steady cycle (as in amplitude_curves): the
+        # curve is built on the amplitudes below only (those above repeat the last one below,
+        # a gap with no amplitude inside costs nothing)
+        k_st, kim_st, use, bc_pairs = (np.asarray(x) for x in stretched_curves(*designs,
+                                                                               jnp.asarray(psi)))
+        use_s = np.take_along_axis(use, order, axis=1)
+        last = np.maximum(np.sum(~use_s, axis=1) - 1, 0)
+        cap = np.take_along_axis(grid, last[:, None], axis=1)
+        grid = np.where(use_s, cap, grid)
     cur = stiffness_curve(designs, grid=grid, initial=initial, n_probes=n_probes,
                           max_tracts=max_tracts, max_pairs=max_pairs)
-    pt = curve_at(cur, jnp.asarray(grid))
-    j = jax.vmap(lambda c, p: jnp.clip(jnp.sum(c.start[None, :] <= p[:, None], axis=1) - 1, 0,
-                                       c.start.shape[0] - 1))(cur, jnp.asarray(grid))
+    pt, j = _evaluate(cur, jnp.asarray(grid))
     pairs = np.take_along_axis(np.asarray(cur.pairs), np.asarray(j), axis=1)
     out = {f: np.empty((size, n_amp), dt) for f, dt in (("k_re", float), ("k_im", float),
                                                          ("status", np.int32), ("cycles", np.int32))}
@@ -430,11 +450,9 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     for f, v in (("k_re", pt.k_re), ("k_im", pt.k_im), ("status", pt.status), ("cycles", pairs)):
         np.put_along_axis(out[f], order, np.asarray(v), axis=1)
     np.put_along_axis(covered, order, np.asarray(pt.covered), axis=1)
-    if initial == "gross_slip":
-        k_re, k_im, use, bc_pairs = (np.asarray(x) for x in stretched_curves(*designs,
-                                                                             jnp.asarray(psi)))
-        out["k_re"] = np.where(use, k_re, out["k_re"])
-        out["k_im"] = np.where(use, k_im, out["k_im"])
+    if use is not None:
+        out["k_re"] = np.where(use, k_st, out["k_re"])
+        out["k_im"] = np.where(use, kim_st, out["k_im"])
         out["status"] = np.where(use, RESULTS.ok, out["status"]).astype(np.int32)
         out["cycles"] = np.where(use, bc_pairs, out["cycles"]).astype(np.int32)
         covered |= use
@@ -447,5 +465,6 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
         for f in out:
             v = out[f].reshape(-1)
             v[todo] = np.asarray(getattr(rerun, f))[: todo.size]
-    return StiffnessCurves(jnp.asarray(psi), *(jnp.asarray(out[f]) for f in
-                                                ("k_re", "k_im", "status", "cycles")))
+    res = StiffnessCurves(jnp.asarray(psi), *(jnp.asarray(out[f]) for f in
+                                               ("k_re", "k_im", "status", "cycles")))
+    return (res, cur) if return_curve else res
