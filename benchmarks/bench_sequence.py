@@ -29,7 +29,8 @@ use_measured_xla_flags()
 
 import jaxdamp as jd  # noqa: E402
 import jobs_layered as jl  # noqa: E402
-from jaxdamp.amplitude import broadcast_designs  # noqa: E402
+from jaxdamp.amplitude import broadcast_designs, flat_cycles  # noqa: E402
+from jaxdamp import sequence as sq  # noqa: E402
 from jaxdamp.sequence import sequence_curves, stiffness_curve  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -84,6 +85,22 @@ def run(n, hbm_128):
             "loadavg": loadavg()[0]}
 
 
+def probe_cost(n=1000, m=5):
+    """Probes (cycle + forward-mode derivative in psi_a) against plain cycles per second, on the
+    same n x m (design, amplitude) pairs below psi_BC."""
+    shapes, mu = jl.designs(n)
+    pbc = np.asarray(jax.jit(jl.psi_bc_kernel)(shapes, mu))
+    designs = broadcast_designs((shapes, mu, jl.CONTACTS, jl.LOAD), n, np)
+    d = np.repeat(np.arange(n), m)
+    psi = jnp.asarray((pbc[:, None] * np.linspace(0.05, 1.0, m)[None]).reshape(-1))
+    sub = jax.tree_util.tree_map(lambda x: np.asarray(x)[d], designs)
+    z = jnp.zeros((d.size, 3))
+    t_probe, _ = timed(lambda: sq._probes(*sub, psi, z, z, "gross_slip", 8, 12).corners)
+    t_cycle, _ = timed(lambda: flat_cycles(*sub, psi, "gross_slip", 8, 12).k_re)
+    return {"evaluations": int(d.size), "probes_per_s": d.size / t_probe,
+            "cycles_per_s": d.size / t_cycle, "probe_over_cycle": t_probe / t_cycle}
+
+
 def main():
     prev = json.loads((OUT / "jobs_layered.json").read_text())["curve"]
     hbm = prev["hbm_time_at_target_s"]
@@ -94,6 +111,8 @@ def main():
         r = run(n, hbm)
         print(r, flush=True)
         res["runs"].append(r)
+    res["probe_cost"] = probe_cost()
+    print(res["probe_cost"], flush=True)
     res["target_1000x_met"] = any(r["ratio_vs_hbm_sequence"] >= 1000 for r in res["runs"])
     (OUT / "sequence_curves.json").write_text(json.dumps(res, indent=1) + "\n")
 
