@@ -14,7 +14,8 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Statics: `full_slip_statics`, `design_br` (the paper's b_R rule).
 - The Base-Cycle: `base_cycle`, `five_numbers`, `cycle_numbers`, `complex_stiffness`,
   `contact_energies`, `work_shape_factors`, `transitions_chart`.
-- Any amplitude: `amplitude_cycle`, `amplitude_curves`, `amplitude_band`.
+- Any amplitude: `amplitude_cycle`, `amplitude_curves`, `amplitude_band`; `stiffness_curve`
+  (k(psi_a) as pieces whose loop corners are affine in psi_a, from a few exact cycles).
 - Many designs: `stack_designs`, `evaluate_designs`, `base_cycles`, `sweep`, `map_batched`.
 - Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
@@ -39,6 +40,7 @@ from .geometry import family_shape as family_shape
 from .geometry import FAMILY as FAMILY
 from .geometry import CONTACT_NAMES as CONTACT_NAMES
 from .geometry import paper_tables as paper_tables
+from .geometry import platform_moment as platform_moment
 from .params import Contacts as Contacts
 from .params import LoadCase as LoadCase
 from .params import REFERENCE_KN as REFERENCE_KN
@@ -94,6 +96,11 @@ from .amplitude import curves_kernel as curves_kernel
 from .band import Band as Band
 from .band import amplitude_band as amplitude_band
 from .band import admissible_polytope as admissible_polytope
+from .band import polytope_vertices as polytope_vertices
+from .sequence import StiffnessCurve as StiffnessCurve
+from .sequence import curve_at as curve_at
+from .sequence import sequence_curves as sequence_curves
+from .sequence import stiffness_curve as stiffness_curve
 
 # Many designs: the one batching path
 from .batch import stack_designs as stack_designs
@@ -168,7 +175,7 @@ def enable_x64() -> None:
 
 
 __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometry",
-           "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables",
+           "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables", "platform_moment",
            "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT", "validate_mu",
            "validate_contacts", "validate_load", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
            "VALIDATED_KT_OVER_KN", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
@@ -180,7 +187,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
-           "admissible_polytope", "stack_designs", "map_batched", "default_chunk", "base_cycles",
+           "admissible_polytope", "polytope_vertices", "StiffnessCurve", "curve_at",
+           "sequence_curves", "stiffness_curve", "stack_designs", "map_batched", "default_chunk", "base_cycles",
            "evaluate_designs", "DesignSummary", "sweep", "SweepResult", "centred_br",
            "FiveNumbersJacobian", "five_numbers_jacobian", "KImGradient", "k_im_gradient_at",
            "batch_jacobian", "BladeMode", "validate_mode", "DamperStiffness", "damper_stiffness",

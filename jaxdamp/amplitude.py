@@ -83,11 +83,16 @@ class TravelHalf(NamedTuple):
     gross_slip: jnp.ndarray  # reached gross slip before the end of the travel
     liftoff: jnp.ndarray
     failed: jnp.ndarray  # no consistent state set, or the tracts ran out before the travel
+    # (nt,) mm of travel by which the tract's end beat the nearest competing end (the next contact
+    # event after the one taken, or the nearest event when the travel ended it); NO_EVENT-based
+    # when there is none. Within one sequence it is affine in psi_a; where it reaches zero a new
+    # event enters and the sequence changes (`jaxdamp.sequence`).
+    slack: jnp.ndarray = None
 
 
 def _travel_rows() -> dict:
     """One recorded tract of a travel-limited half (dtypes resolved when traced: float64 if x64)."""
-    return tract_rows(stretch=jax.ShapeDtypeStruct((), bool))
+    return tract_rows(stretch=jax.ShapeDtypeStruct((), bool), slack=jax.ShapeDtypeStruct((), float))
 
 
 def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS,
@@ -132,8 +137,9 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
         back = jnp.where(advance, line, carry["line"] & choice.slipping)
         state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
         state = jnp.where(N <= LIMIT_TOL, OPEN, state)
+        slack = jnp.where(by_travel, ev.length, ev.runner_up) - lam
         out = dict(dv=lam, N0=N, T0=T, dN=dN, dT=dT, dslip=r.dslip, state=state, active=advance,
-                   stretch=advance & gross)
+                   stretch=advance & gross, slack=jnp.where(advance, slack, 0.0))
         new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
                    rem=jnp.where(advance, jnp.where(by_travel, 0.0, rem - lam), rem),
                    done=carry["done"] | spent | (live & failed_now) | lifted | (advance & by_travel),
@@ -146,7 +152,7 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
     end, tr = bounded_loop(step, init, max_tracts, loop, _travel_rows())
     return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                       tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
-                      end["liftoff"], end["failed"] | ~end["done"])
+                      end["liftoff"], end["failed"] | ~end["done"], tr["slack"])
 
 
 class AmplitudeCycle(NamedTuple):
@@ -172,6 +178,11 @@ class AmplitudeCycle(NamedTuple):
     closure: jnp.ndarray  # max force change over the last pair (units of F_D)
     cycles: jnp.ndarray  # pairs of halves run until the forces repeated (int32)
     status: jnp.ndarray  # RESULTS code (int32): ok, shakedown, not_converged, liftoff, singular
+    # (halves, MAX_TRACTS) tract lengths (mm) of every half run, preliminary and transient halves
+    # included, in order (zeros after the last): within one sequence they are affine in psi_a, and
+    # where one reaches zero the sequence changes (`jaxdamp.sequence`)
+    history_dv: jnp.ndarray = None
+    history_slack: jnp.ndarray = None  # the same halves' tract slacks (`TravelHalf.slack`)
 
     def __repr__(self) -> str:
         return (f"AmplitudeCycle(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
@@ -370,13 +381,15 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                     gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
                     stop=closed | bad, bad=c["bad"] | bad,
                     liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
-                    pairs=c["pairs"] + is_bwd.astype(jnp.int32))
+                    pairs=c["pairs"] + is_bwd.astype(jnp.int32),
+                    hist=c["hist"].at[j].set(half.dv), slack=c["slack"].at[j].set(half.slack))
 
     empty = _empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
-                pairs=jnp.array(0, jnp.int32))
+                pairs=jnp.array(0, jnp.int32), hist=jnp.zeros((n_halves, max_tracts)),
+                slack=jnp.zeros((n_halves, max_tracts)))
     end = repeat_until(run_half, init, n_halves, loop, lambda c: c["stop"])
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
@@ -397,7 +410,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
                           start[3:], fwd, bwd, zero(k_re), zero(k_im), zero(energy), zero(work),
-                          gap, npairs.astype(jnp.int32), status)
+                          gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"])
 
 
 _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))
@@ -654,3 +667,10 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
         for f, v in cyc.items():
             getattr(out, f)[todo] = v
     return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)
+
+
+# Public names of the pieces of `amplitude_curves` that `jaxdamp.sequence.sequence_curves` reuses.
+broadcast_designs = _broadcast_designs
+stretched_curves = _stretched_curves  # (k_re, k_im, use, pairs) of the stretched Base-Cycle
+flat_cycles = _flat_cycles  # per-amplitude cycles of flattened (design, amplitude) pairs
+padded = _padded

@@ -217,6 +217,7 @@ class TractEvent(NamedTuple):
     contact: jnp.ndarray  # index of the contact that triggers it
     side: jnp.ndarray  # +-1: which limit line (cone events)
     liftoff: jnp.ndarray  # True when the event is a normal force reaching zero
+    runner_up: jnp.ndarray = None  # mm of travel to the second-nearest event (NO_EVENT if none)
 
 
 def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
@@ -244,8 +245,9 @@ def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
     flat = jnp.argmin(cand.reshape(-1))
     kind, contact = flat // 3, flat % 3
     length = cand.reshape(-1)[flat]
+    runner_up = jnp.min(jnp.where(jnp.arange(9) == flat, NO_EVENT, cand.reshape(-1)))
     # A cone event at N -> 0 is also a liftoff; a later liftoff check catches it.
-    return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2)
+    return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2, runner_up)
 
 
 __all__ = ["STATE_NAMES", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
