@@ -60,7 +60,7 @@ TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
-__all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
+__all__ = ["check_curves_inputs", "TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
            "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "travel_half",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
@@ -597,6 +597,24 @@ def _padded(index: np.ndarray) -> np.ndarray:
     return np.concatenate([index, np.full(size - index.size, index[0])])
 
 
+def check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stacklevel=4):
+    """The checks of a batch of curves (ValueError naming the parameter and its range), and the
+    small-rotation warning; returns the amplitudes as a float array (1-D shared or 2-D per design)."""
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=stacklevel)
+    psi = np.asarray(psi_a_mrad, float)
+    if psi.ndim not in (1, 2):
+        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
+                         "(0, 10000] mrad")
+    return psi
+
+
 def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                      load: LoadCase = LoadCase(), *, initial="gross_slip",
                      max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
@@ -618,19 +636,7 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     if not all(is_concrete(x) for x in leaves):
         return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
                              max_tracts=max_tracts, max_pairs=max_pairs)
-    if initial not in INITIAL_STATES:
-        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
-
-    validate_shape(shapes)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=3)
-    psi = np.asarray(psi_a_mrad, float)
-    if psi.ndim not in (1, 2):
-        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
-                         "(0, 10000] mrad")
+    psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
     args = (shapes, mu, contacts, load)
     size = max(_batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
     designs = _broadcast_designs(args, size, np)

@@ -35,11 +35,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_range
-from .amplitude import (INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, StiffnessCurves, amplitude_kernel,
-                        broadcast_designs, flat_cycles, stretched_curves)
-from .geometry import validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .amplitude import (MAX_PAIRS, MAX_TRACTS, StiffnessCurves, amplitude_kernel, broadcast_designs,
+                        check_curves_inputs, flat_cycles, stretched_curves)
+from .params import Contacts, LoadCase
 from .conventions import travel_mm
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -410,17 +408,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     tests/test_sequence.py). Concrete inputs only (host-driven); inside jit use `curves_kernel` or
     `refit_kernel` + `StiffnessCurve.at`. `cycles` is the pairs run by the probe of each point's
     piece. return_curve=True: (StiffnessCurves, the StiffnessCurve batch it was built from)."""
-    if initial not in INITIAL_STATES:
-        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
-    validate_shape(shapes)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    psi = np.asarray(psi_a_mrad, float)
-    if psi.ndim not in (1, 2):
-        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
-                         "(0, 10000] mrad")
+    psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
     args = (shapes, mu, contacts, load)
     sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
     size = max(sizes + [psi.shape[0] if psi.ndim == 2 else 1])
