@@ -6,8 +6,8 @@ platform rotation psi in mrad, rotational stiffness k in N mm/mrad, energy in N 
 
 Exit codes: 0 with a result (whose "status" says whether it is a working damper), 2 for bad input
 (one line on stderr naming the parameter and its valid range, before any computing).
-Compiled programs are cached in $JAXDAMP_CACHE_DIR (default $XDG_CACHE_HOME/jaxdamp/xla or
-~/.cache/jaxdamp/xla; JAXDAMP_CACHE_DIR=off disables the cache, deleting the folder clears it).
+Compiled programs are cached in $JAXDAMP_CACHE_DIR (default $XDG_CACHE_HOME/jaxdamp/jax or
+~/.cache/jaxdamp/jax; JAXDAMP_CACHE_DIR=off disables the cache, deleting the folder clears it).
 """
 
 from __future__ import annotations
@@ -33,7 +33,6 @@ CACHE_ENV = "JAXDAMP_CACHE_DIR"
 # Programs compiling faster than this are not cached (the solver's take seconds; tiny eager ops
 # would only fill the cache folder).
 CACHE_MIN_COMPILE_S = 0.1
-CACHE_MAX_BYTES = 4 * 1024**3  # the persistent cache's size limit (bytes); LRU eviction beyond it
 
 
 def cache_dir() -> str | None:
@@ -44,9 +43,7 @@ def cache_dir() -> str | None:
     if env:
         return os.path.expanduser(env)
     base = os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache")
-    # "xla", not the earlier "jax": the cache now runs with JAX's file lock and LRU bookkeeping,
-    # which stumbles (a warning per write) over entries written without it.
-    return os.path.join(base, "jaxdamp", "xla")
+    return os.path.join(base, "jaxdamp", "jax")
 
 
 def configure_runtime() -> None:
@@ -69,10 +66,6 @@ def configure_runtime() -> None:
             return  # an unusable cache folder only costs compile time
         jax.config.update("jax_compilation_cache_dir", path)
         jax.config.update("jax_persistent_cache_min_compile_time_secs", CACHE_MIN_COMPILE_S)
-        # A size limit turns on JAX's file lock around every cache read and write. Without it a
-        # process can read an entry another is still writing, and deserialising the truncated
-        # executable crashed the process (a segfault, seen twice with parallel test workers).
-        jax.config.update("jax_compilation_cache_max_size", CACHE_MAX_BYTES)
 
 
 # Commands made of a few single-design calls run them on the calling thread: JAX's CPU client hands
