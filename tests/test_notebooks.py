@@ -9,14 +9,12 @@ kernelspec install`. New notebooks are picked up automatically.
 
 import json
 import sys
-import time
 from pathlib import Path
 
 import pytest
 
 NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
 NOTEBOOKS = sorted(NOTEBOOK_DIR.glob("*.ipynb"))
-TIME_LIMIT_S = 120.0
 
 
 @pytest.fixture(scope="module")
@@ -40,12 +38,10 @@ def test_notebook_runs(path, kernel_path, monkeypatch):
     nbclient = pytest.importorskip("nbclient")
     monkeypatch.setenv("JUPYTER_PATH", kernel_path)
     nb = nbformat.read(path, as_version=4)
+    # Tests never time anything (benchmarks do): the cell timeout only stops a hang.
     client = nbclient.NotebookClient(nb, kernel_name="python3", timeout=600,
                                      resources={"metadata": {"path": str(NOTEBOOK_DIR)}})
-    t0 = time.perf_counter()
     client.execute()  # raises CellExecutionError on the first failing cell
-    elapsed = time.perf_counter() - t0
-    assert elapsed < TIME_LIMIT_S, f"{path.name} took {elapsed:.0f} s"
     errors = [o for c in nb.cells if c.cell_type == "code" for o in c.get("outputs", [])
               if o.get("output_type") == "error"]
     assert not errors
