@@ -14,7 +14,7 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Statics: `full_slip_statics`, `design_br` (the paper's b_R rule).
 - The Base-Cycle: `base_cycle`, `five_numbers`, `cycle_numbers`, `complex_stiffness`,
   `contact_energies`, `work_shape_factors`, `transitions_chart`.
-- Any amplitude: `amplitude_cycle`, `amplitude_curves`, `amplitude_band`; `stiffness_curve`
+- Any amplitude: `amplitude_cycle`, `amplitude_curves`, `amplitude_band` (`amplitude_bands`: a grid); `stiffness_curve`
   (k(psi_a) as pieces whose loop corners are affine in psi_a, from a few exact cycles).
 - Many designs: `stack_designs`, `evaluate_designs`, `base_cycles`, `sweep`, `map_batched`.
 - Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
@@ -95,6 +95,7 @@ from .amplitude import amplitude_curves as amplitude_curves
 from .amplitude import curves_kernel as curves_kernel
 from .band import Band as Band
 from .band import amplitude_band as amplitude_band
+from .band import amplitude_bands as amplitude_bands
 from .band import admissible_polytope as admissible_polytope
 from .band import polytope_vertices as polytope_vertices
 from .sequence import StiffnessCurve as StiffnessCurve
@@ -186,7 +187,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
-           "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
+           "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band", "amplitude_bands",
            "admissible_polytope", "polytope_vertices", "StiffnessCurve", "curve_at",
            "sequence_curves", "stiffness_curve", "stack_designs", "map_batched", "default_chunk", "base_cycles",
            "evaluate_designs", "DesignSummary", "sweep", "SweepResult", "centred_br",

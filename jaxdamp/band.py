@@ -8,17 +8,24 @@ tangential forces T (3,) (units of F_D); the normal forces follow from the dampe
 
     N >= 0,   mu N - T >= 0,   mu N + T >= 0          (9 linear inequalities G T + h >= 0)
 
-is a polytope in R^3. Its vertices are found exactly (every triple of active constraints), the
-polytope is sampled by random convex combinations of them (vmap over the samples), and the four
-extremes are refined by gradient-based constrained optimisation: optax's Adam on the PHR augmented
-Lagrangian (`jaxdamp.augmented`) of +-k with the 9 linear constraints. The band is the min / max
-over the valid cycles (status ok or shakedown) among the samples and the refined, admissible states.
+is a polyhedron in R^3: a polytope, plus a recession cone where the wedge self-locks (admissible
+states with arbitrarily large forces; `recession_rays`). Its vertices are found exactly (every
+triple of active constraints), the set is sampled uniformly, far out along the cone and by sparse convex combinations of them (vmap over the samples), and the four
+extremes are refined by the tract-sequence structure (issue 24): for a fixed sequence of tracts
+the steady cycle's corners are affine in the initial state, so the dissipated energy, and k_Im, is
+a quadratic of T there. Trust-region steps take the exact minimum of the second-order model of k
+(forward-mode gradient and Hessian through the cycle) over the polytope (`jaxdamp.qp3`: a small
+quadratic program solved by enumerating its active sets) and run the exact cycle at the step; inside
+one sequence the step is that sequence's own optimum, across sequences the exact cycle decides.
+Every bound's state is re-run as a plain cycle (`Band.confirmed`). The band is the min / max over
+the valid cycles (status ok or shakedown). `amplitude_bands` runs a grid of amplitudes in one
+batched program (the response's band, `peak_band`).
 """
 
 from __future__ import annotations
 
 import itertools
-from functools import partial
+from functools import lru_cache
 from typing import NamedTuple
 
 import jax
@@ -30,10 +37,14 @@ from .amplitude import amplitude_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .statics import contact_columns
+from .tract import NO_EVENT
 from .status import RESULTS, number_repr, status_repr
 
 BOUNDS = ("k_re_min", "k_re_max", "k_im_min", "k_im_max")
 _TRIPLES = np.array(list(itertools.combinations(range(9), 3)))
+_PAIRS = np.array(list(itertools.combinations(range(9), 2)))
+VERTEX_SLOTS = 24  # of the 84 triples, the feasible ones first (a polytope in R^3 cut by 9 planes
+# has at most 14 vertices; the rest of the slots repeat degenerate ones)
 ADMISSIBLE_TOL = 1e-10  # units of F_D: a refined state must satisfy the constraints to this
 
 
@@ -47,6 +58,7 @@ class Band(NamedTuple):
     refined: np.ndarray  # (4,) bool: the bound was improved by the optimiser beyond the samples
     n_valid: int  # valid cycles among the samples
     status: int  # RESULTS.ok if any admissible state gives a valid cycle, else the first problem
+    confirmed: np.ndarray = None  # (4,) bool: each state re-run as a plain cycle gives its bound
 
     def as_dict(self) -> dict:
         """The bounds by name; None where no admissible state gives a valid cycle (status)."""
@@ -85,120 +97,308 @@ def polytope_vertices(G, h, tol=1e-12):
     return jax.vmap(one)(jnp.asarray(_TRIPLES))
 
 
+def recession_rays(G, tol=1e-12):
+    """Unit extreme rays (72, 3) of the recession cone {r: G r >= 0} (in R^3 each is where two
+    constraint planes meet, either sign) and a mask of the admissible ones. Where any is, the
+    admissible set is unbounded: a self-locking wedge holds states with arbitrarily large forces
+    (at mu >= 0.5 for 90L and 90R, at 0.7 for most paper shapes), and far along a ray every contact
+    sticks (the cycle is the stuck elastic line: k_Re = k_Re,fs, k_Im = 0)."""
+    G = jnp.asarray(G, float)
+    a, b = G[_PAIRS[:, 0]], G[_PAIRS[:, 1]]
+    r = jnp.cross(a, b)
+    n = jnp.linalg.norm(r, axis=1)
+    ok = n > 1e-9 * jnp.linalg.norm(a, axis=1) * jnp.linalg.norm(b, axis=1)
+    r = r / jnp.where(ok, n, 1.0)[:, None]
+    R = jnp.concatenate([r, -r])
+    ok = jnp.concatenate([ok, ok]) & jnp.all(R @ G.T >= -tol * jnp.linalg.norm(G, axis=1)[None, :], axis=1)
+    return jnp.where(ok[:, None], R, 0.0), ok
+
+
 def _k_of_state(shape, mu, contacts, load, psi, T, P, n0):
     N = P @ T + n0
     ac = amplitude_kernel(shape, mu, contacts, load, psi, N, T, initial="explicit")
     return ac.k_re, ac.k_im, ac.status
 
 
-@partial(jax.jit, static_argnames=("n_samples",))
+def _uniform_states(key, V, ok, G, h, n):
+    """n states uniform in the polytope: rejection from the vertices' bounding box in their
+    principal axes (the polytope is thin and oblique: about 15 % of that box is admissible, under
+    2 % of the axis-aligned one), 16 n draws; where fewer are admissible the rest are the centroid
+    of the vertices."""
+    centre = jnp.sum(jnp.where(ok[:, None], V, 0.0), axis=0) / jnp.maximum(jnp.sum(ok, dtype=float), 1.0)
+    D = jnp.where(ok[:, None], V - centre[None, :], 0.0)
+    _, _, axes = jnp.linalg.svd(D, full_matrices=False)  # rows: principal directions
+    Y = D @ axes.T
+    lo = jnp.min(jnp.where(ok[:, None], Y, jnp.inf), axis=0)
+    hi = jnp.max(jnp.where(ok[:, None], Y, -jnp.inf), axis=0)
+    lo, hi = jnp.where(jnp.any(ok), lo, 0.0), jnp.where(jnp.any(ok), hi, 0.0)
+    X = centre[None, :] + (lo[None, :] + (hi - lo)[None, :] * jax.random.uniform(key, (16 * n, 3))) @ axes
+    inside = jnp.all(X @ G.T + h[None, :] >= 0.0, axis=1)
+    first = jnp.argsort(~inside, stable=True)[:n]
+    return jnp.where(inside[first][:, None], X[first], centre[None, :])
+
+
 def _sample(shape, mu, contacts, load, psi, key, n_samples):
     P, n0, G, h = admissible_polytope(shape, mu)
     V, ok = polytope_vertices(G, h)
+    order = jnp.argsort(~ok, stable=True)[:VERTEX_SLOTS]
+    V, ok = V[order], ok[order]
     nv = V.shape[0]
-    k1, k2 = jax.random.split(key)
-    # Dense (alpha 1) and sparse (alpha 0.15: near faces, edges and vertices) convex combinations.
-    half = n_samples // 2
-    w = jnp.concatenate([jax.random.dirichlet(k1, jnp.ones(nv), (half,)),
-                         jax.random.dirichlet(k2, jnp.full(nv, 0.15), (n_samples - half,))])
-    w = jnp.where(ok[None, :], w, 0.0)
-    w = w / jnp.maximum(jnp.sum(w, axis=1, keepdims=True), 1e-300)
-    T = jnp.concatenate([jnp.where(ok[:, None], V, 0.0), w @ jnp.where(ok[:, None], V, 0.0)])
+    k1, k2, k3, k4, k5 = jax.random.split(key, 5)
+    # Half uniform in the polytope (its interior, where the extremes of k_Im often sit), a quarter
+    # sparse convex combinations of the vertices (alpha 0.15: near faces, edges and vertices), a
+    # quarter far out along the recession cone where the set is unbounded (else more sparse ones).
+    half, quarter = n_samples // 2, n_samples // 4
+    rest = n_samples - half - quarter
+    Vm = jnp.where(ok[:, None], V, 0.0)
+
+    def sparse(k, n):
+        w = jnp.where(ok[None, :], jax.random.dirichlet(k, jnp.full(nv, 0.15), (n,)), 0.0)
+        return (w / jnp.maximum(jnp.sum(w, axis=1, keepdims=True), 1e-300)) @ Vm
+
+    uniform = _uniform_states(k1, V, ok, G, h, half)
+    R, ray_ok = recession_rays(G)
+    w = jnp.where(ray_ok[None, :], jax.random.dirichlet(k3, jnp.full(R.shape[0], 0.5), (rest,)), 0.0)
+    ray = w @ R
+    ray = ray / jnp.maximum(jnp.linalg.norm(ray, axis=1, keepdims=True), 1e-300)
+    lo = jnp.min(jnp.where(ok[:, None], V, jnp.inf), axis=0)
+    hi = jnp.max(jnp.where(ok[:, None], V, -jnp.inf), axis=0)
+    spread = jnp.where(jnp.any(ok), jnp.max(hi - lo), 1.0)
+    # distances from a quarter of the polytope's size to 64 times it (log-uniform)
+    dist = spread * 2.0 ** jax.random.uniform(k4, (rest, 1), minval=-2.0, maxval=6.0)
+    far = jnp.where(jnp.any(ray_ok), uniform[jnp.arange(rest) % half] + dist * ray, sparse(k5, rest))
+    T = jnp.concatenate([Vm, uniform, sparse(k2, quarter), far])
     valid_point = jnp.concatenate([ok, jnp.full(n_samples, jnp.any(ok))])
     k_re, k_im, status = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0))(T)
     status = jnp.where(valid_point, status, jnp.int32(RESULTS.singular))
-    return T, P @ T.T + n0[:, None], k_re, k_im, status
+    return T, P @ T.T + n0[:, None], k_re, k_im, status, valid_point
 
 
-@partial(jax.jit, static_argnames=("steps",))
-def _refine(shape, mu, contacts, load, psi, T0, sign, which, lam, rho, lr, scale, steps):
-    """`steps` Adam steps on the augmented Lagrangian of sign * k_which / scale, batched over starts."""
-    import optax
+class _Model(NamedTuple):
+    k: jnp.ndarray
+    g: jnp.ndarray  # (3,) dk/dT
+    H: jnp.ndarray  # (3, 3)
+    status: jnp.ndarray
+    A_reg: jnp.ndarray  # (R, 3) the sequence's region A_reg dT + b_reg >= 0 (mm per unit T)
+    b_reg: jnp.ndarray  # (R,) mm; huge where a row is not live (no tract, no event)
 
-    from .augmented import ALState, al_value_and_grad
+
+def _k_model(shape, mu, contacts, load, psi, T, P, n0, which) -> _Model:
+    """k (which: 0 k_Re, 1 k_Im), its gradient and Hessian in T, the cycle's status and its tract
+    sequence's region (every tract length and event slack of every half run is affine in T within
+    the sequence, which changes where one reaches zero), in one forward-mode pass (jacfwd of
+    jacfwd: the cycle's while loops pass forward mode)."""
+
+    def k_of(t):
+        ac = amplitude_kernel(shape, mu, contacts, load, psi, P @ t + n0, t, initial="explicit",
+                              loop="while")
+        k = jnp.where(which == 0, ac.k_re, ac.k_im)
+        dv, slack = ac.history_dv.reshape(-1), ac.history_slack.reshape(-1)
+        return (k, dv, slack), (k, dv, slack, ac.status)
+
+    def grad_of(t):
+        (g, J_dv, J_slack), aux = jax.jacfwd(k_of, has_aux=True)(t)
+        return g, (g, J_dv, J_slack) + aux
+
+    H, (g, J_dv, J_slack, k, dv, slack, status) = jax.jacfwd(grad_of, has_aux=True)(T)
+    # live rows: a tract that ran, and the slack of its nearest other event (NO_EVENT: none)
+    live = jnp.concatenate([dv > 0.0, (dv > 0.0) & (slack < 0.5 * NO_EVENT)])
+    A_reg = jnp.where(live[:, None], jnp.concatenate([J_dv, J_slack]), 0.0)
+    b_reg = jnp.where(live, jnp.concatenate([dv, slack]), 1e300)
+    return _Model(k, g, 0.5 * (H + H.T), status, A_reg, b_reg)
+
+
+def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius, steps):
+    """`steps` trust-region steps from T0 (B, 3) minimising sign * k_which / scale over the
+    admissible polytope, batched over starts. Each step takes the exact minimum (`qp3`) of the
+    second-order model at the accepted state over the polytope and an inf-norm box of the trust
+    radius, then runs the exact cycle there: accepted if not worse, else the radius shrinks. Within
+    one tract sequence k_Im is quadratic in T, so there the model is exact and the step lands on the
+    sequence's own optimum; the exact cycle at every step keeps a model that crossed into another
+    sequence from being believed. Returns (T, sign * k / scale, status) of the best state."""
+    from .qp3 import minimise_quadratic
 
     P, n0, G, h = admissible_polytope(shape, mu)
+    eye = jnp.eye(3)
+    A = jnp.concatenate([G, -eye, eye])
 
-    def objective(T, s, wh):
-        k_re, k_im, _ = _k_of_state(shape, mu, contacts, load, psi, T, P, n0)
-        return s * jnp.where(wh == 0, k_re, k_im) / scale
+    def one(T_start, s, wh):
+        def step(c, _):
+            T_acc, v_acc, m_acc, r, T_try = c
+            m = _k_model(shape, mu, contacts, load, psi, T_try, P, n0, wh)
+            m = m._replace(k=s * m.k / scale, g=s * m.g / scale, H=s * m.H / scale)
+            inside = jnp.all(G @ T_try + h >= -ADMISSIBLE_TOL)
+            accept = RESULTS.valid(m.status) & inside & (m.k <= v_acc)
+            moved = jnp.max(jnp.abs(T_try - T_acc))
+            r = jnp.where(accept, jnp.maximum(r, 2.0 * moved), jnp.minimum(r, 0.25 * moved))
+            T_acc = jnp.where(accept, T_try, T_acc)
+            v_acc = jnp.where(accept, m.k, v_acc)
+            m_acc = jax.tree_util.tree_map(lambda x, y: jnp.where(accept, x, y), m, m_acc)
+            b = jnp.concatenate([G @ T_acc + h, jnp.full(6, r)])
+            d, _, ok = minimise_quadratic(m_acc.g, m_acc.H, A, b)
+            d = jnp.where(ok & jnp.isfinite(v_acc), d, 0.0)
+            # Within the accepted state's sequence the model is exact: go to where the step leaves
+            # that sequence (a tract's length or an event's slack reaching zero), just across it,
+            # so that the next model is the neighbouring sequence's.
+            rate = m_acc.A_reg @ d
+            t_out = jnp.where((rate < 0.0) & (m_acc.b_reg > 0.0), m_acc.b_reg / jnp.where(
+                rate < 0.0, -rate, 1.0), jnp.inf)
+            t = jnp.minimum(1.0, jnp.min(t_out) * (1.0 + 1e-6) + 1e-12)
+            return (T_acc, v_acc, m_acc, r, T_acc + t * d), None
 
-    opt = optax.adam(lr)
-    state = ALState(lam, rho, jnp.full(rho.shape, jnp.inf))
+        m0 = jax.eval_shape(lambda: _k_model(shape, mu, contacts, load, psi, T_start, P, n0, wh))
+        m0 = jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), m0)
+        m0 = m0._replace(status=jnp.int32(RESULTS.not_converged))
+        init = (T_start, jnp.inf, m0, radius, T_start)
+        (T_acc, v_acc, m_acc, _, T_try), _ = jax.lax.scan(step, init, None, length=steps)
+        st_acc = m_acc.status
+        # the last proposal, by a plain cycle
+        ac = amplitude_kernel(shape, mu, contacts, load, psi, P @ T_try + n0, T_try,
+                              initial="explicit", loop="while")
+        v = s * jnp.where(wh == 0, ac.k_re, ac.k_im) / scale
+        accept = RESULTS.valid(ac.status) & jnp.all(G @ T_try + h >= -ADMISSIBLE_TOL) & (v <= v_acc)
+        return (jnp.where(accept, T_try, T_acc), jnp.where(accept, v, v_acc),
+                jnp.where(accept, ac.status, st_acc))
 
-    def step(carry, _):
-        T, ost = carry
-        f, df = jax.vmap(jax.value_and_grad(objective))(T, sign, which)
-        g = T @ G.T + h[None]
-        dg = jnp.broadcast_to(G, (T.shape[0],) + G.shape)
-        _, grad = al_value_and_grad(f, df, g, dg, state)
-        upd, ost = opt.update(grad, ost, T)
-        return (T + upd, ost), None
+    return jax.vmap(one)(T0, sign, which)
 
-    (T, _), _ = jax.lax.scan(step, (T0, opt.init(T0)), None, length=steps)
-    return T, T @ G.T + h[None]
+
+SIGNS = np.array([1.0, -1.0, 1.0, -1.0])  # each bound minimises sign * k (BOUNDS' order)
+WHICH = np.array([0, 0, 1, 1])  # 0: k_Re, 1: k_Im
+CONFIRM_TOL = 1e-9  # a bound's state re-run as a plain cycle gives the bound to this (of the k scale)
+
+
+class BandKernel(NamedTuple):
+    """`band_kernel`'s arrays (a pytree; a batch of amplitudes has a leading axis)."""
+
+    bounds: jnp.ndarray  # (4,) BOUNDS, N mm/mrad (zero where status is not ok)
+    N: jnp.ndarray  # (4, 3) the attaining initial states, units of F_D
+    T: jnp.ndarray  # (4, 3)
+    refined: jnp.ndarray  # (4,) bool: the trust region improved the best sample
+    confirmed: jnp.ndarray  # (4,) bool: the state re-run as a plain cycle gives the bound
+    n_valid: jnp.ndarray  # valid cycles among the samples (int32)
+    status: jnp.ndarray  # RESULTS code (int32)
+
+
+def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
+                steps: int = 6, starts: int = 2) -> BandKernel:
+    """The band at psi (mrad), pure JAX (jit / vmap over amplitudes or designs; values only).
+
+    The polytope's vertices and n_samples random admissible states are run as cycles; the best of
+    each bound (the `starts` best) then start `steps` trust-region steps (`_trust_region`, 0: none); each bound's final
+    state is re-run by the plain cycle (`amplitude_kernel`, loop "auto") to confirm it."""
+    T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples)
+    valid = RESULTS.valid(status)
+    values = jnp.stack([k_re, k_re, k_im, k_im])  # (4, samples)
+    signs, which = jnp.asarray(SIGNS), jnp.asarray(WHICH)
+    score = jnp.where(valid[None, :], signs[:, None] * values, jnp.inf)
+    best = jnp.argmin(score, axis=1)
+    T_best = T[best]
+    any_valid = jnp.any(valid)
+    scale = jnp.maximum(jnp.max(jnp.where(valid[None, :], jnp.abs(values), 0.0)), 1e-300)
+    lo = jnp.min(jnp.where(valid[:, None], T, jnp.inf), axis=0)
+    hi = jnp.max(jnp.where(valid[:, None], T, -jnp.inf), axis=0)
+    spread = jnp.where(any_valid, jnp.max(hi - lo), 1.0)
+    sampled = signs * score[jnp.arange(4), best]
+    if steps > 0:
+        # the `starts` best samples of distinct k per bound: where the transient forgets the
+        # initial state k is flat in T (a plateau of equal samples, no gradient to follow), and
+        # the extremes can sit in different sequences' optima
+        srt = jnp.sort(score, axis=1)
+        order = jnp.argsort(score, axis=1)
+        repeat = jnp.concatenate([jnp.zeros((4, 1), bool), jnp.abs(jnp.diff(srt, axis=1)) <= 1e-9 * (
+            jnp.abs(srt[:, 1:]) + scale)], axis=1)
+        distinct = jnp.where(repeat, jnp.inf, srt)
+        _, pos = jax.lax.top_k(-distinct, starts)  # (4, starts)
+        top = jnp.take_along_axis(order, pos, axis=1)
+        T0 = T[top].reshape(4 * starts, 3)
+        T_opt, v_opt, _ = _trust_region(shape, mu, contacts, load, psi, T0, jnp.repeat(signs, starts),
+                                        jnp.repeat(which, starts), scale, jnp.maximum(spread, 1e-6),
+                                        steps)
+        v_opt = jnp.where(jnp.isfinite(v_opt), v_opt, jnp.inf).reshape(4, starts)
+        pick = jnp.argmin(v_opt, axis=1)
+        bound = signs * v_opt[jnp.arange(4), pick] * scale
+        T_opt = T_opt.reshape(4, starts, 3)[jnp.arange(4), pick]
+        # the refined state only where it beats the sample beyond rounding
+        refined = any_valid & (signs * bound < signs * sampled - 1e-12 * scale)
+        T_at = jnp.where(refined[:, None], T_opt, T_best)
+    else:
+        refined = jnp.zeros(4, bool)
+        T_at = T_best
+    P, n0, _, _ = admissible_polytope(shape, mu)
+    k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0))(
+        T_at)
+    bounds = jnp.where(which == 0, k_re_c, k_im_c)
+    claimed = jnp.where(refined, bound, sampled) if steps > 0 else sampled
+    confirmed = RESULTS.valid(st_c) & (jnp.abs(bounds - claimed) <= CONFIRM_TOL * scale)
+    # no valid cycle: the problem of the first real state (not a degenerate vertex slot); the
+    # polytope has no vertex at all where the statics are singular
+    first_bad = status[jnp.argmax(real)]
+    band_status = jnp.where(any_valid, RESULTS.ok, jnp.where(jnp.any(real), first_bad,
+                                                             RESULTS.singular))
+    zero = lambda v: jnp.where(any_valid, v, jnp.zeros_like(v))  # noqa: E731
+    return BandKernel(zero(bounds), zero(T_at @ P.T + n0[None, :]), zero(T_at), refined & any_valid,
+                      confirmed & any_valid, jnp.sum(valid).astype(jnp.int32),
+                      band_status.astype(jnp.int32))
+
+
+@lru_cache(maxsize=None)
+def bands_program(n_samples: int, steps: int, starts: int):
+    """The jitted band of a grid of amplitudes, f(shape, mu, contacts, load, psi (n,), key) ->
+    BandKernel with a leading amplitude axis (one program per option set; the CLI saves it)."""
+    def program(shape, mu, contacts, load, psi, key):
+        return jax.vmap(lambda p: band_kernel(shape, mu, contacts, load, p, key, n_samples=n_samples,
+                                              steps=steps, starts=starts))(psi)
+    return jax.jit(program)
+
+
+def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                    load: LoadCase = LoadCase(), *, n_samples: int = 64, refine: bool = True,
+                    steps: int = 6, starts: int = 2, seed: int = 0, runner=None) -> list:
+    """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) in one batched program
+    (`bands_program`); runner(program, args) -> outputs runs it instead of a plain call (the CLI
+    passes its saved-program cache)."""
+    from ._validate import check_int
+    from .runtime import padded_size
+
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
+    if psi.ndim != 1 or psi.size == 0 or not np.all(np.isfinite(psi)) or np.any(psi <= 0.0) \
+            or np.any(psi > 1e4):
+        raise ValueError("psi_a_mrad must be amplitudes in (0, 10000] mrad")
+    check_int("n_samples", n_samples, 2)
+    check_int("steps", steps, 0)
+    check_int("starts", starts, 1)
+    if starts > n_samples:
+        raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
+    n = psi.size
+    padded = np.concatenate([psi, np.full(padded_size(n, 1, 8) - n, psi[-1])])
+    program = bands_program(n_samples, steps if refine else 0, starts)
+    args = (shape, mu, contacts, load, jnp.asarray(padded), jax.random.PRNGKey(seed))
+    out = jax.device_get(program(*args) if runner is None else runner(program, args))
+    return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
+                 int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
 
 
 def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
-                   load: LoadCase = LoadCase(), *, n_samples: int = 512, refine: bool = True,
-                   outer: int = 4, inner: int = 40, seed: int = 0) -> Band:
+                   load: LoadCase = LoadCase(), *, n_samples: int = 64, refine: bool = True,
+                   steps: int = 6, starts: int = 2, seed: int = 0) -> Band:
     """min / max of k_Re and k_Im (N mm/mrad) at psi_a (mrad) over the statically admissible
     initial states at the forward extreme, with the states that attain them.
 
-    n_samples random admissible states (plus the polytope's vertices) are run with vmap; the best
-    sample of each bound then starts `outer` augmented-Lagrangian rounds of `inner` Adam steps
-    (refine=False skips this). States giving liftoff or no periodic cycle are left out.
+    The polytope's vertices and n_samples random admissible states (Dirichlet combinations of the
+    vertices) are run as cycles (vmap); the best sample of each bound then starts `steps`
+    trust-region steps on the exact second-order model of k in T (within one tract sequence k_Im
+    is quadratic in T: a step solves that sequence's quadratic program exactly, `qp3`). Every bound's
+    state is re-run as a plain cycle (`Band.confirmed`). refine=False: the samples only. States
+    giving liftoff or no periodic cycle are left out; if none is valid the status says why.
     """
-    from ._validate import check_int, check_range
-    from .augmented import ALConfig, ALState, al_update
+    from ._validate import check_range
 
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    check_int("n_samples", n_samples, 2)
-    psi = jnp.asarray(float(psi_a_mrad))
-    T, N, k_re, k_im, status = jax.device_get(
-        _sample(shape, mu, contacts, load, psi, jax.random.PRNGKey(seed), n_samples))
-    N = N.T
-    valid = np.asarray(RESULTS.valid(status))
-    if not valid.any():
-        first = int(status[np.argmax(status != RESULTS.ok)]) if np.any(status) else int(RESULTS.singular)
-        # No valid cycle: the bounds do not exist, which the status says (zeros, never NaN).
-        return Band(float(psi_a_mrad), np.zeros(4), np.zeros((4, 3)), np.zeros((4, 3)),
-                    np.zeros(4, bool), 0, first)
-    values = np.stack([k_re, k_re, k_im, k_im])  # (4, samples)
-    signs = np.array([1.0, -1.0, 1.0, -1.0])  # minimise sign * k
-    score = np.where(valid[None, :], signs[:, None] * values, np.inf)
-    best = np.argmin(score, axis=1)
-    bounds = values[np.arange(4), best]
-    T_at, N_at = T[best], N[best]
-    improved = np.zeros(4, bool)
-    if refine:
-        scale = max(float(np.max(np.abs(values[:, valid]))), 1e-300)
-        spread = float(np.max(np.ptp(T[valid], axis=0))) if valid.sum() > 1 else 1e-3
-        lr = 0.02 * max(spread, 1e-6)
-        cfg = ALConfig(rho0=10.0, rho_growth=4.0, rho_max=1e6)
-        al = ALState(jnp.zeros((4, 9)), jnp.full(4, cfg.rho0), jnp.full(4, jnp.inf))
-        Tr = jnp.asarray(T_at)
-        which = jnp.array([0, 0, 1, 1])
-        for _ in range(outer):
-            Tr, g = _refine(shape, mu, contacts, load, psi, Tr, jnp.asarray(signs), which, al.lam,
-                            al.rho, lr, scale, inner)
-            al = al_update(al, g, cfg)
-        Tr = np.asarray(Tr)
-        P, n0, G, h = (np.asarray(v) for v in admissible_polytope(shape, mu))
-        ok_state = np.all(Tr @ G.T + h[None] >= -ADMISSIBLE_TOL, axis=1)
-        kr, ki, st = jax.device_get(jax.vmap(lambda t: _k_of_state(
-            shape, mu, contacts, load, psi, t, jnp.asarray(P), jnp.asarray(n0)))(jnp.asarray(Tr)))
-        got = np.where(which == 0, kr, ki)
-        # Improvements at the rounding level (the optimiser returning to the sampled state) are
-        # not counted: the bound keeps the sampled state.
-        margin = 1e-9 * scale
-        better = ok_state & np.asarray(RESULTS.valid(st)) & (signs * got < signs * bounds - margin)
-        bounds = np.where(better, got, bounds)
-        T_at = np.where(better[:, None], Tr, T_at)
-        N_at = np.where(better[:, None], Tr @ P.T + n0, N_at)
-        improved = better
-    return Band(float(psi_a_mrad), bounds, N_at, T_at, improved, int(valid.sum()), int(RESULTS.ok))
+    return amplitude_bands(shape, mu, [float(psi_a_mrad)], contacts, load, n_samples=n_samples,
+                           refine=refine, steps=steps, starts=starts, seed=seed)[0]
 
 
-__all__ = ["Band", "BOUNDS", "amplitude_band", "admissible_polytope", "polytope_vertices"]
+__all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "band_kernel", "bands_program",
+           "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

@@ -32,7 +32,7 @@ import numpy as np
 
 from ._validate import check_positive, check_range
 from .amplitude import amplitude_kernel
-from .band import amplitude_band
+from .band import amplitude_bands
 from .cycle import base_cycle_kernel
 from .harmonics import complex_stiffness, five_numbers_kernel
 from .params import Contacts, LoadCase, prepare_inputs, validate_mu
@@ -198,14 +198,15 @@ def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
 
 
 def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
-              psi_grid_mrad=None, n_samples: int = 128):
+              psi_grid_mrad=None, n_samples: int = 64, steps: int = 6, runner=None):
     """Bounds of the peak amplitude A* (mm) over every admissible contact history.
 
     At each amplitude every history's steady cycle has k_Im inside the band
     (`jaxdamp.band.amplitude_band`), and the peak equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F
     gives a smaller A for a larger k_Im: the peaks of the band's lower and upper k_Im curves bracket
-    the peak of every history. The band is tabulated on psi_grid_mrad (default: 16 amplitudes from
-    0.2 psi_fs to 3 psi_BC) and interpolated linearly between them. Returns (Peaks with the band's
+    the peak of every history. The band is tabulated on psi_grid_mrad (default: 24 amplitudes from
+    0.05 psi_BC to 3 psi_BC, one batched program: `band.amplitude_bands`; runner as there) and
+    interpolated linearly between them. Returns (Peaks with the band's
     lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
     bound curves)."""
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
@@ -214,8 +215,9 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
         psi_ref = float(base.psi_ref_mrad)
         psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
     grid = np.asarray(psi_grid_mrad, float)
-    bands = [amplitude_band(shape, mu, float(a), contacts, load, n_samples=n_samples, refine=False)
-             for a in grid]
+    # every amplitude's band in one batched program (sampling plus the trust-region refinement)
+    bands = amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples, steps=steps,
+                            runner=runner)
     # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
     k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).

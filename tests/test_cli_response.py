@@ -134,3 +134,21 @@ def test_frf_json_strict_and_free_peaks_shown(capsys):
                                                     / p["peak_amplitude_mm"], rel=1e-12)
         assert e["peak_reduction"] > 1.0
     assert max(entries[2]["free"]["high"]["amplitude_mm"]) == pytest.approx(40.0, rel=1e-6)
+
+
+def test_band_is_reported_in_json_and_text(capsys):
+    """`--band`: the peak's bounds over every admissible history, in JSON and in the text table;
+    the history run (gross slip) lies inside them."""
+    code, out, _ = run(capsys, "response", "--shape", "74L", "--mu", "0.3", "--force-n", "5,20",
+                       "--band", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["inputs"]["band"] is True
+    for p in d["peaks"]:
+        b = p["band"]
+        assert b["peak_amplitude_min_mm"] <= p["peak_amplitude_mm"] * (1 + 1e-9)
+        assert p["peak_amplitude_mm"] <= b["peak_amplitude_max_mm"] * (1 + 1e-9)
+    code, text, _ = run(capsys, "response", "--shape", "74L", "--mu", "0.3", "--force-n", "5,20",
+                        "--band")
+    assert code == 0 and "band over every admissible contact history" in text
+    assert f"{d['peaks'][0]['band']['peak_amplitude_min_mm']:.5g}" in text

@@ -17,6 +17,7 @@ from .._validate import check_positive
 from ..response import (FRF, BladeMode, Peaks, ResponseCurves, curves_program, designer_diagram,
                         peak_band, prepare_scene, validate_mode)
 from ..status import RESULTS
+from ..band import BandKernel
 from . import common as C
 from . import exported
 from .uncertainty_report import add_uncertainty_args
@@ -27,6 +28,7 @@ _FRF = FRF(*[0] * len(FRF._fields))
 exported.register_out_tree("response_curves", ResponseCurves(
     Peaks(*[0] * len(Peaks._fields)), _FRF, _FRF, _FRF, 0, 0))
 exported.register_out_tree("designer_diagram", (0, 0, 0, 0))
+exported.register_out_tree("band_grid", BandKernel(*[0] * len(BandKernel._fields)))
 
 STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
                   "amplitude from the --initial history; with --stiffness interpolated the paper's "
@@ -162,8 +164,9 @@ def run(args) -> int:
 
     if args.band:
         bar.set_description("band over histories")
-        highest, lowest, _, _ = peak_band(shape, args.mu, contacts, load, mode,
-                                          jnp.asarray(forces))
+        highest, lowest, _, _ = peak_band(
+            shape, args.mu, contacts, load, mode, jnp.asarray(forces),
+            runner=lambda prog, a: exported.call("band_grid", prog, a))
         for i, p in enumerate(peaks):
             ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
             p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
@@ -222,6 +225,13 @@ def run(args) -> int:
                      f"{p['status']}" + ("  (isola: roots " + ", ".join(
                          f"{r['amplitude_mm']:.4g}" for r in p["roots"]) + " mm)"
                          if p["isola"] else ""))
+    if args.band:
+        lines.append("  band over every admissible contact history (peak amplitude, mm):")
+        for p in peaks:
+            b = p.get("band") or {}
+            lo, hi = b.get("peak_amplitude_min_mm"), b.get("peak_amplitude_max_mm")
+            lines.append(f"  {p['force_n']:8g}  " + (f"{lo:.5g} .. {hi:.5g}" if lo is not None
+                                                     and hi is not None else "- (no valid band)"))
     if args.plot:
         lines.append(f"  figures written to {args.plot}")
     C.emit(args, doc, "\n".join(lines))

@@ -205,7 +205,7 @@ def write_tables(out: Path, summary: dict) -> list[str]:
 
 # ---------------------------------------------------------------- k(psi_a): exact, band, interpolation
 BAND_AMPLITUDES = 9  # band amplitudes per design, from BAND_LO_FS psi_fs to BAND_HI_BC psi_BC
-BAND_SAMPLES = 128  # admissible initial states sampled per amplitude (no refinement: the cost)
+BAND_SAMPLES = 64  # admissible initial states sampled per amplitude, before the refinement
 BAND_LO_FS = 0.2
 BAND_HI_BC = 1.5
 CURVE_PER_BAND = 4  # exact curves: this many intervals per band interval (band points included)
@@ -283,10 +283,11 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
     `amplitude_grids` grid (`curves`: this design's row of `exact_curves`, computed here if None),
     the paper's interpolation on it, the band over the admissible initial states at every
     CURVE_PER_BAND-th amplitude, and the interpolation's largest gap to the band. The band is
-    sampled (n_samples states plus the polytope's vertices, not refined) and then widened to hold
-    the two named states' values (they are admissible states); `named_outside_samples` counts the
-    bounds that needed it. Figures and report read this entry."""
-    from ..band import amplitude_band
+    `amplitude_bands` over the grid in one program (n_samples states plus the vertices, refined
+    sequence by sequence) and then widened to hold the two named states' values (they are
+    admissible states); `named_outside_samples` counts the bounds that needed it. Figures and
+    report read this entry."""
+    from ..band import amplitude_bands
     from ..harmonics import complex_stiffness
     from ..status import RESULTS
 
@@ -299,8 +300,7 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
     at_band = slice(None, None, CURVE_PER_BAND)
     k_re_i, k_im_i = (np.asarray(x) for x in complex_stiffness(bc, psi, method="interpolated"))
     bounds, n_valid, status = [], [], []
-    for p in grid:
-        b = amplitude_band(shape, mu, float(p), contacts, load, n_samples=n_samples, refine=False)
+    for b in amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples):
         bounds.append(b.bounds)
         n_valid.append(b.n_valid)
         status.append(RESULTS(b.status).name)
@@ -327,7 +327,7 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
                                "status": [RESULTS(int(s)).name for s in curves[initial][2]]}
                      for initial in NAMED_STATES},
                   "interpolated": {"k_re": _nums(k_re_i), "k_im": _nums(k_im_i)}},
-        "band": {"psi_a_mrad": _nums(grid), "n_samples": int(n_samples), "refined": False,
+        "band": {"psi_a_mrad": _nums(grid), "n_samples": int(n_samples), "refined": True,
                  **{name: _nums(bounds[:, j]) for j, name in
                     enumerate(("k_re_min", "k_re_max", "k_im_min", "k_im_max"))},
                  "n_valid": n_valid, "status": status, "named_outside_samples": missed},
