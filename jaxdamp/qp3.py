@@ -13,7 +13,7 @@ candidate from the KKT system
 
 and the minimum is the smallest q among the candidates that satisfy every constraint (a singular
 system, a face where q has no stationary point, gives none: its minimum is on a lower face, which
-is enumerated too). m rows give sum_{k<=3} C(m, k) solves of a 6 x 6 system (m = 15: 576).
+is enumerated too). m rows give sum_{k<=3} C(m, k) candidates (m = 15: 576), each in closed form.
 The polytope must be bounded (a box row set does it); an empty polytope returns ok = False.
 """
 
@@ -22,9 +22,10 @@ from __future__ import annotations
 import itertools
 from functools import lru_cache
 
-import jax
 import jax.numpy as jnp
 import numpy as np
+
+from .linalg import solve3
 
 __all__ = ["minimise_quadratic", "FEASIBLE_TOL"]
 
@@ -32,44 +33,88 @@ FEASIBLE_TOL = 1e-12  # a candidate may violate a row by this (relative to the r
 
 
 @lru_cache(maxsize=None)
-def _subsets(m: int) -> np.ndarray:
-    """(n, 3) active sets of at most 3 of m rows, padded with -1."""
-    rows = [(-1, -1, -1)]
-    for k in (1, 2, 3):
-        rows += [tuple(c) + (-1,) * (3 - k) for c in itertools.combinations(range(m), k)]
-    return np.array(rows, np.int32)
+def _subsets(m: int, k: int) -> np.ndarray:
+    """(n, k) active sets of exactly k of m rows."""
+    return np.array(list(itertools.combinations(range(m), k)), np.int32).reshape(-1, k)
+
+
+def _unit(v):
+    n = jnp.linalg.norm(v, axis=-1, keepdims=True)
+    return v / jnp.where(n > 0.0, n, 1.0)
 
 
 def minimise_quadratic(g, H, A, b):
     """(d, q(d), ok): the global minimiser of g.d + d^T H d / 2 subject to A d + b >= 0.
 
     g (3,), H (3, 3) symmetric, A (m, 3), b (m,). ok is False where no candidate is feasible (then
-    d = 0, q = 0). Values only (the band's refinement needs no derivative through it)."""
+    d = 0, q = 0). Values only (the band's refinement needs no derivative through it).
+
+    Each face's stationary point in closed form (XLA on CPU runs a batch of small LU solves as a
+    loop; these are elementwise): on a face of one active row a, d = d0 + Z y with Z an orthonormal
+    basis of a's null space and a 2 x 2 solve for y; on an edge (rows a1, a2), d = d0 + y z along
+    z = a1 x a2; at a vertex, the 3 x 3 solve of the three rows (Cramer's rule, `linalg.solve3`)."""
     g, H, A, b = (jnp.asarray(v, float) for v in (g, H, A, b))
     m = A.shape[0]
-    sets = jnp.asarray(_subsets(m))
     scale = jnp.maximum(jnp.linalg.norm(A, axis=1), 1e-300)
+    hscale = jnp.maximum(jnp.max(jnp.abs(H)), 1e-300)
+    cands, oks = [], []
 
-    def candidate(s):
-        used = s >= 0
-        rows = jnp.where(used[:, None], A[jnp.maximum(s, 0)], 0.0)  # (3, 3) A_S, zero rows unused
-        rhs_b = jnp.where(used, -b[jnp.maximum(s, 0)], 0.0)
-        top = jnp.concatenate([H, -rows.T], axis=1)
-        bottom = jnp.concatenate([rows, jnp.diag(jnp.where(used, 0.0, 1.0))], axis=1)
-        K = jnp.concatenate([top, bottom])
-        x = jnp.linalg.solve(K, jnp.concatenate([-g, rhs_b]))
-        d = x[:3]
-        finite = jnp.all(jnp.isfinite(x))
-        # a (near-)singular system solves to garbage: check the residual, not just finiteness
-        resid = jnp.max(jnp.abs(K @ jnp.where(finite, x, 0.0) - jnp.concatenate([-g, rhs_b])))
-        regular = finite & (resid <= 1e-9 * (1.0 + jnp.max(jnp.abs(K)) * jnp.max(jnp.abs(
-            jnp.where(finite, x, 0.0)))))
-        d = jnp.where(regular, d, 0.0)
-        feasible = regular & jnp.all(A @ d + b >= -FEASIBLE_TOL * scale * (1.0 + jnp.max(jnp.abs(d))))
-        q = g @ d + 0.5 * d @ H @ d
-        return d, jnp.where(feasible, q, jnp.inf)
+    # interior: H d = -g
+    d, ok = solve3(H, -g)
+    cands.append(d[None, :])
+    oks.append(ok[None])
 
-    d, q = jax.vmap(candidate)(sets)
+    # faces: a.d + beta = 0
+    a, beta = A, b
+    aa = jnp.sum(a * a, axis=1)
+    d0 = -(beta / jnp.maximum(aa, 1e-300))[:, None] * a
+    axis = jnp.eye(3)[jnp.argmin(jnp.abs(a), axis=1)]  # the axis least aligned with a
+    u = _unit(jnp.cross(a, axis))
+    v = _unit(jnp.cross(a, u))
+    Hu, Hv = u @ H, v @ H  # H symmetric: rows of Z^T H
+    m00, m01, m11 = jnp.sum(Hu * u, 1), jnp.sum(Hu * v, 1), jnp.sum(Hv * v, 1)
+    r = g[None, :] + d0 @ H
+    r0, r1 = -jnp.sum(u * r, 1), -jnp.sum(v * r, 1)
+    det = m00 * m11 - m01 * m01
+    ok = jnp.abs(det) > 1e-12 * hscale * hscale
+    sdet = jnp.where(ok, det, 1.0)
+    y0, y1 = (m11 * r0 - m01 * r1) / sdet, (m00 * r1 - m01 * r0) / sdet
+    cands.append(d0 + y0[:, None] * u + y1[:, None] * v)
+    oks.append(ok & (aa > 0.0))
+
+    # edges: a1.d + b1 = 0 = a2.d + b2, free along z = a1 x a2
+    if m >= 2:
+        ij = _subsets(m, 2)
+        a1, a2, b1, b2 = A[ij[:, 0]], A[ij[:, 1]], b[ij[:, 0]], b[ij[:, 1]]
+        z = jnp.cross(a1, a2)
+        zn = jnp.linalg.norm(z, axis=1)
+        g11, g12, g22 = jnp.sum(a1 * a1, 1), jnp.sum(a1 * a2, 1), jnp.sum(a2 * a2, 1)
+        gdet = g11 * g22 - g12 * g12
+        ok = zn > 1e-12 * scale[ij[:, 0]] * scale[ij[:, 1]]
+        sg = jnp.where(ok, gdet, 1.0)
+        l1, l2 = (-b1 * g22 + b2 * g12) / sg, (-b2 * g11 + b1 * g12) / sg
+        d0 = l1[:, None] * a1 + l2[:, None] * a2
+        z = _unit(z)
+        zHz = jnp.sum((z @ H) * z, 1)
+        curved = jnp.abs(zHz) > 1e-12 * hscale
+        y = -jnp.sum(z * (g[None, :] + d0 @ H), 1) / jnp.where(curved, zHz, 1.0)
+        cands.append(d0 + y[:, None] * z)
+        oks.append(ok & curved)
+
+    # vertices: three active rows
+    if m >= 3:
+        ijk = _subsets(m, 3)
+        d, ok = solve3(A[ijk], -b[ijk])
+        cands.append(d)
+        oks.append(ok)
+
+    d = jnp.concatenate(cands)
+    ok = jnp.concatenate(oks)
+    d = jnp.where(ok[:, None], d, 0.0)
+    feasible = ok & jnp.all(d @ A.T + b[None, :] >= -FEASIBLE_TOL * scale[None, :] * (
+        1.0 + jnp.max(jnp.abs(d), axis=1, keepdims=True)), axis=1)
+    q = d @ g + 0.5 * jnp.sum((d @ H) * d, axis=1)
+    q = jnp.where(feasible, q, jnp.inf)
     best = jnp.argmin(q)
-    ok = jnp.isfinite(q[best])
-    return jnp.where(ok, d[best], 0.0), jnp.where(ok, q[best], 0.0), ok
+    found = jnp.isfinite(q[best])
+    return jnp.where(found, d[best], 0.0), jnp.where(found, q[best], 0.0), found

@@ -46,6 +46,7 @@ from .status import RESULTS
 from .tract import NO_EVENT
 
 __all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "sequence_curves", "curve_at", "loop_stiffness",
+           "corner_rows",
            "probe_kernel", "refit_kernel", "SAME_TOL", "MAX_ROUNDS"]
 
 SAME_TOL = 1e-10  # k (relative to the larger |k| of two probes) within which two models agree
@@ -124,7 +125,9 @@ def loop_stiffness(rows, psi_a, q_star):
     return k_re.reshape(lead), k_im.reshape(lead)
 
 
-def _rows(ac):
+def corner_rows(ac):
+    """The loop's corner rows (6, MAX_TRACTS) of a steady cycle: dv, M0, dM of the forward half,
+    then of the backward half (what `loop_stiffness` takes)."""
     f, b = ac.forward, ac.backward
     mom = lambda N, T: platform_moment(ac.shape, ac.load, N, T)  # noqa: E731
     return jnp.stack([f.dv, mom(f.N0, f.T0), mom(f.dN, f.dT),
@@ -161,7 +164,7 @@ def probe_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
     def run(p):
         ac = amplitude_kernel(shape, mu, contacts, load, p, N_init, T_init, initial=initial,
                               max_tracts=max_tracts, max_pairs=max_pairs, loop=loop)
-        return ((_rows(ac), ac.history_dv, ac.history_slack),
+        return ((corner_rows(ac), ac.history_dv, ac.history_slack),
                 (ac.k_re, ac.k_im, ac.status, ac.cycles))
 
     psi = jnp.asarray(psi_a, float)

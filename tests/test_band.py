@@ -127,12 +127,16 @@ def test_band_is_never_narrower_than_ten_thousand_random_states(name, mu, psi, e
 
 
 def test_band_grid_is_the_bands_one_by_one():
+    """One program for a grid gives each amplitude's band. To 1e-9 (the band's stated precision,
+    band.CONFIRM_TOL), not to rounding: k_Re is not quadratic within a sequence, so the six
+    trust-region steps end within ~1e-10 of its optimum, by paths that batching's different
+    rounding can move."""
     shape, mu, grid = jd.family_shape("60sym"), 0.5, [0.8, 1.2, 1.6]
     bands = jd.amplitude_bands(shape, mu, grid, CONTACTS)
     for psi, b in zip(grid, bands):
         one = amplitude_band(shape, mu, psi, CONTACTS)
         assert b.psi_a == psi and b.status == one.status
-        np.testing.assert_allclose(b.bounds, one.bounds, rtol=1e-12, atol=1e-9)
+        np.testing.assert_allclose(b.bounds, one.bounds, rtol=1e-9, atol=1e-9)
 
 
 def test_k_im_is_quadratic_in_the_initial_state_within_one_sequence():
