@@ -36,6 +36,7 @@ from .linalg import solve3
 from .amplitude import amplitude_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
+from .qp3 import minimise_quadratic
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
 from .tract import NO_EVENT
@@ -231,8 +232,6 @@ def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius
     one tract sequence k_Im is quadratic in T, so there the model is exact and the step lands on the
     sequence's own optimum; the exact cycle at every step keeps a model that crossed into another
     sequence from being believed. Returns (T, sign * k / scale, status) of the best state."""
-    from .qp3 import minimise_quadratic
-
     P, n0, G, h = admissible_polytope(shape, mu)
     eye = jnp.eye(3)
     A = jnp.concatenate([G, -eye, eye])
