@@ -5,9 +5,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
 # Two workers: one per core (the suite is mostly XLA compilation, one thread each). A test whose
-# worker process crashes runs once more in a fresh worker; an ordinary failure is never rerun.
-# (The crashes seen, in JAX's compilation-cache reads of entries another worker was writing, are
-# gone since each worker has its own cache: tests/conftest.py.)
+# worker process crashes (XLA segfaulted inside compilation three times on 2026-11-24, each time in
+# a different test) runs once more in a fresh worker; an ordinary failure is never rerun.
 .venv/bin/python -m pytest -n 2 --reruns 1 --only-rerun "crashed while running" "$@"
 # Quiet: a passing build prints nothing, so pytest's summary stays the last line of the output.
 NO_MKDOCS_2_WARNING=1 .venv/bin/mkdocs build --strict --quiet
