@@ -8,8 +8,8 @@ bash scripts/setup.sh
 # worker process crashes runs once more in a fresh worker; an ordinary failure is never rerun.
 # Crashes seen on 2026-11-24 (1-2 per run, each in a different test): segfaults inside jaxlib, in
 # reading a persistent-cache entry, in compiling, and in serialising an executable for the cache.
-# A cache folder per worker (no shared entries) still crashed twice and made the suite ~50 %
-# slower, so the workers share one cache.
+# A cache folder per worker (no shared entries) still crashed twice, and its fresh-clone run had
+# not finished after 24 min (13 min shared), so the workers share one cache.
 .venv/bin/python -m pytest -n 2 --reruns 1 --only-rerun "crashed while running" "$@"
 # Quiet: a passing build prints nothing, so pytest's summary stays the last line of the output.
 NO_MKDOCS_2_WARNING=1 .venv/bin/mkdocs build --strict --quiet
