@@ -10,11 +10,12 @@ tangential forces T (3,) (units of F_D); the normal forces follow from the dampe
 
 is a polyhedron in R^3: a polytope, plus a recession cone where the wedge self-locks (admissible
 states with arbitrarily large forces; `recession_rays`). Its vertices are found exactly (every
-triple of active constraints), the set is sampled uniformly, far out along the cone and by sparse convex combinations of them (vmap over the samples), and the four
-extremes are refined by the tract-sequence structure (issue 24): for a fixed sequence of tracts
+triple of active constraints), the set is sampled uniformly, far out along the cone and by sparse
+convex combinations of the vertices (vmap over the samples), and the four extremes are refined by
+the tract-sequence structure (issue 24): for a fixed sequence of tracts
 the steady cycle's corners are affine in the initial state, so the dissipated energy, and k_Im, is
 a quadratic of T there. Trust-region steps take the exact minimum of the second-order model of k
-(forward-mode gradient and Hessian through the cycle) over the polytope (`jaxdamp.qp3`: a small
+(its gradient and Hessian from the corners' forward-mode Jacobian) over the polytope (`jaxdamp.qp3`: a small
 quadratic program solved by enumerating its active sets) and run the exact cycle at the step; inside
 one sequence the step is that sequence's own optimum, across sequences the exact cycle decides.
 Every bound's state is re-run as a plain cycle (`Band.confirmed`). The band is the min / max over
@@ -122,6 +123,13 @@ def _k_of_state(shape, mu, contacts, load, psi, T, P, n0):
     return ac.k_re, ac.k_im, ac.status
 
 
+def _extent(X, mask):
+    """The largest side of the bounding box of the rows of X (n, 3) where mask (1 where none)."""
+    lo = jnp.min(jnp.where(mask[:, None], X, jnp.inf), axis=0)
+    hi = jnp.max(jnp.where(mask[:, None], X, -jnp.inf), axis=0)
+    return jnp.where(jnp.any(mask), jnp.max(hi - lo), 1.0)
+
+
 def _uniform_states(key, V, ok, G, h, n):
     """n states uniform in the polytope: rejection from the vertices' bounding box in their
     principal axes (the polytope is thin and oblique: about 15 % of that box is admissible, under
@@ -163,9 +171,7 @@ def _sample(shape, mu, contacts, load, psi, key, n_samples):
     w = jnp.where(ray_ok[None, :], jax.random.dirichlet(k3, jnp.full(R.shape[0], 0.5), (rest,)), 0.0)
     ray = w @ R
     ray = ray / jnp.maximum(jnp.linalg.norm(ray, axis=1, keepdims=True), 1e-300)
-    lo = jnp.min(jnp.where(ok[:, None], V, jnp.inf), axis=0)
-    hi = jnp.max(jnp.where(ok[:, None], V, -jnp.inf), axis=0)
-    spread = jnp.where(jnp.any(ok), jnp.max(hi - lo), 1.0)
+    spread = _extent(V, ok)
     # distances from a quarter of the polytope's size to 64 times it (log-uniform)
     dist = spread * 2.0 ** jax.random.uniform(k4, (rest, 1), minval=-2.0, maxval=6.0)
     far = jnp.where(jnp.any(ray_ok), uniform[jnp.arange(rest) % half] + dist * ray, sparse(k5, rest))
@@ -267,12 +273,11 @@ def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius
         (T_acc, v_acc, m_acc, _, T_try), _ = jax.lax.scan(step, init, None, length=steps)
         st_acc = m_acc.status
         # the last proposal, by a plain cycle
-        ac = amplitude_kernel(shape, mu, contacts, load, psi, P @ T_try + n0, T_try,
-                              initial="explicit", loop="while")
-        v = s * jnp.where(wh == 0, ac.k_re, ac.k_im) / scale
-        accept = RESULTS.valid(ac.status) & jnp.all(G @ T_try + h >= -ADMISSIBLE_TOL) & (v <= v_acc)
+        k_re, k_im, st = _k_of_state(shape, mu, contacts, load, psi, T_try, P, n0)
+        v = s * jnp.where(wh == 0, k_re, k_im) / scale
+        accept = RESULTS.valid(st) & jnp.all(G @ T_try + h >= -ADMISSIBLE_TOL) & (v <= v_acc)
         return (jnp.where(accept, T_try, T_acc), jnp.where(accept, v, v_acc),
-                jnp.where(accept, ac.status, st_acc))
+                jnp.where(accept, st, st_acc))
 
     return jax.vmap(one)(T0, sign, which)
 
@@ -298,9 +303,10 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
                 steps: int = 6, starts: int = 2) -> BandKernel:
     """The band at psi (mrad), pure JAX (jit / vmap over amplitudes or designs; values only).
 
-    The polytope's vertices and n_samples random admissible states are run as cycles; the best of
-    each bound (the `starts` best) then start `steps` trust-region steps (`_trust_region`, 0: none); each bound's final
-    state is re-run by the plain cycle (`amplitude_kernel`, loop "auto") to confirm it."""
+    The polytope's vertices and n_samples random admissible states are run as cycles; the `starts`
+    best samples of each bound then start `steps` trust-region steps (`_trust_region`, 0: none);
+    each bound's final state is re-run by the plain cycle (`amplitude_kernel`, loop "auto") to
+    confirm it."""
     T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples)
     valid = RESULTS.valid(status)
     values = jnp.stack([k_re, k_re, k_im, k_im])  # (4, samples)
@@ -310,9 +316,7 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
     T_best = T[best]
     any_valid = jnp.any(valid)
     scale = jnp.maximum(jnp.max(jnp.where(valid[None, :], jnp.abs(values), 0.0)), 1e-300)
-    lo = jnp.min(jnp.where(valid[:, None], T, jnp.inf), axis=0)
-    hi = jnp.max(jnp.where(valid[:, None], T, -jnp.inf), axis=0)
-    spread = jnp.where(any_valid, jnp.max(hi - lo), 1.0)
+    spread = _extent(T, valid)
     sampled = signs * score[jnp.arange(4), best]
     if steps > 0:
         # the `starts` best samples of distinct k per bound: where the transient forgets the
@@ -372,14 +376,14 @@ def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) in one batched program
     (`bands_program`); runner(program, args) -> outputs runs it instead of a plain call (the CLI
     passes its saved-program cache)."""
-    from ._validate import check_int
+    from ._validate import check_int, check_range
     from .runtime import padded_size
 
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
-    if psi.ndim != 1 or psi.size == 0 or not np.all(np.isfinite(psi)) or np.any(psi <= 0.0) \
-            or np.any(psi > 1e4):
-        raise ValueError("psi_a_mrad must be amplitudes in (0, 10000] mrad")
+    if psi.ndim != 1 or psi.size == 0:
+        raise ValueError(f"psi_a_mrad must be one amplitude or a 1-D grid of them; got shape {psi.shape}")
     check_int("n_samples", n_samples, 2)
     check_int("steps", steps, 0)
     check_int("starts", starts, 1)
@@ -407,10 +411,10 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
     state is re-run as a plain cycle (`Band.confirmed`). refine=False: the samples only. States
     giving liftoff or no periodic cycle are left out; if none is valid the status says why.
     """
-    from ._validate import check_range
-
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    return amplitude_bands(shape, mu, [float(psi_a_mrad)], contacts, load, n_samples=n_samples,
+    if np.ndim(psi_a_mrad) != 0:
+        raise ValueError("psi_a_mrad must be one amplitude (amplitude_bands takes a grid); got shape "
+                         f"{np.shape(psi_a_mrad)}")
+    return amplitude_bands(shape, mu, [psi_a_mrad], contacts, load, n_samples=n_samples,
                            refine=refine, steps=steps, starts=starts, seed=seed)[0]
 
 
