@@ -25,7 +25,6 @@ batched program (the response's band, `peak_band`).
 
 from __future__ import annotations
 
-import itertools
 from functools import lru_cache
 from typing import NamedTuple
 
@@ -37,15 +36,15 @@ from .linalg import solve3
 from .amplitude import amplitude_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
-from .qp3 import minimise_quadratic
+from .qp3 import minimise_quadratic, row_subsets
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
 from .tract import NO_EVENT
 from .status import RESULTS, number_repr, status_repr
 
 BOUNDS = ("k_re_min", "k_re_max", "k_im_min", "k_im_max")
-_TRIPLES = np.array(list(itertools.combinations(range(9), 3)))
-_PAIRS = np.array(list(itertools.combinations(range(9), 2)))
+_TRIPLES = row_subsets(9, 3)  # of the 9 constraints: a vertex is where 3 meet
+_PAIRS = row_subsets(9, 2)  # an edge direction (a recession ray) where 2 meet
 VERTEX_SLOTS = 24  # of the 84 triples, the feasible ones first (a polytope in R^3 cut by 9 planes
 # has at most 14 vertices; the rest of the slots repeat degenerate ones)
 ADMISSIBLE_TOL = 1e-10  # units of F_D: a refined state must satisfy the constraints to this

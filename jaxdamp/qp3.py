@@ -27,14 +27,14 @@ import numpy as np
 
 from .linalg import solve3
 
-__all__ = ["minimise_quadratic", "FEASIBLE_TOL"]
+__all__ = ["minimise_quadratic", "row_subsets", "FEASIBLE_TOL"]
 
 FEASIBLE_TOL = 1e-12  # a candidate may violate a row by this (relative to the row's scale)
 
 
 @lru_cache(maxsize=None)
-def _subsets(m: int, k: int) -> np.ndarray:
-    """(n, k) active sets of exactly k of m rows."""
+def row_subsets(m: int, k: int) -> np.ndarray:
+    """(n, k) subsets of exactly k of m rows, in itertools.combinations order."""
     return np.array(list(itertools.combinations(range(m), k)), np.int32).reshape(-1, k)
 
 
@@ -84,7 +84,7 @@ def minimise_quadratic(g, H, A, b):
 
     # edges: a1.d + b1 = 0 = a2.d + b2, free along z = a1 x a2
     if m >= 2:
-        ij = _subsets(m, 2)
+        ij = row_subsets(m, 2)
         a1, a2, b1, b2 = A[ij[:, 0]], A[ij[:, 1]], b[ij[:, 0]], b[ij[:, 1]]
         z = jnp.cross(a1, a2)
         zn = jnp.linalg.norm(z, axis=1)
@@ -103,7 +103,7 @@ def minimise_quadratic(g, H, A, b):
 
     # vertices: three active rows
     if m >= 3:
-        ijk = _subsets(m, 3)
+        ijk = row_subsets(m, 3)
         d, ok = solve3(A[ijk], -b[ijk])
         cands.append(d)
         oks.append(ok)
