@@ -1,5 +1,7 @@
 """The band of responses over the statically admissible initial states (jaxdamp.band)."""
 
+import jax
+import jax.numpy as jnp
 import numpy as np
 import pytest
 
@@ -58,8 +60,6 @@ def test_self_locked_state_keeps_the_band_open_above_psi_bc():
     with contact forces of ~24 F_D. From it the cycle at 3.5 mrad (> psi_BC = 3.29) settles, after
     a transient, on an elastic cycle, so the band's k_Im reaches 0 above psi_BC. The time marcher
     confirms it (200 pairs without acceleration; the direct method needs 3 with Aitken's)."""
-    import jax.numpy as jnp
-
     from jaxdamp.status import RESULTS
     from jaxdamp.baselines.timemarch import march_amplitude
 
@@ -94,16 +94,20 @@ def _uniform_admissible_states(shape, mu, n, seed=1, enlarge=0.0):
     return P, n0, out[:n]
 
 
-def _k_of_states(shape, mu, psi, P, n0, T):
-    import jax
-    import jax.numpy as jnp
-
+@jax.jit
+def _k_of_states_kernel(shape, mu, psi, P, n0, T):
+    """k of every initial state T (n, 3) by the plain cycle: one program for every case (shape,
+    mu and psi are arguments, not constants of a new closure per case)."""
     def one(t):
-        ac = jd.amplitude_kernel(shape, mu, CONTACTS, jd.LoadCase(), jnp.asarray(psi), P @ t + n0, t,
+        ac = jd.amplitude_kernel(shape, mu, CONTACTS, jd.LoadCase(), psi, P @ t + n0, t,
                                  initial="explicit")
         return ac.k_re, ac.k_im, ac.status
-    P, n0 = jnp.asarray(P), jnp.asarray(n0)
-    return (np.asarray(v) for v in jax.jit(jax.vmap(one))(jnp.asarray(T)))
+    return jax.vmap(one)(T)
+
+
+def _k_of_states(shape, mu, psi, P, n0, T):
+    args = (jnp.asarray(v, float) for v in (mu, psi, P, n0, T))
+    return (np.asarray(v) for v in _k_of_states_kernel(shape, *args))
 
 
 @pytest.mark.parametrize("name,mu,psi,enlarge", [("74L", 0.5, 1.2, 0.0), ("74L", 0.3, 1.0, 0.0),
@@ -144,8 +148,6 @@ def test_k_im_is_quadratic_in_the_initial_state_within_one_sequence():
     half runs the same tract sequence, the steady cycle's start state is affine and the dissipated
     energy (k_Im) quadratic. Third differences of k_Im and second differences of the steady start
     state vanish to rounding."""
-    import jax.numpy as jnp
-
     shape, mu, psi = jd.family_shape("74L"), 0.3, 1.0
     P, n0, G, h = (np.asarray(v) for v in admissible_polytope(shape, mu))
     V, ok = (np.asarray(v) for v in polytope_vertices(G, h))
