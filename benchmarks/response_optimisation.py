@@ -15,8 +15,8 @@ import jax
 
 jax.config.update("jax_enable_x64", True)
 
-import optimize as opt  # noqa: E402
-from optimize.response_objective import optimize_response  # noqa: E402
+import jaxdamp_optimize as opt  # noqa: E402
+from jaxdamp_optimize.response_objective import optimize_response  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 

@@ -27,9 +27,9 @@ from bench_common import loadavg, machine  # noqa: E402
 
 from jaxdamp import Contacts, LoadCase, family_shape  # noqa: E402
 from jaxdamp import BladeMode, Uncertainty, peak_distribution, sample_scenarios  # noqa: E402
-from optimize import VARIABLES, design_space, make_problem  # noqa: E402
-from optimize.robust_objective import ROBUST_MU_SET, RobustSpec, optimize_robust  # noqa: E402
-from optimize.robust_plot import plot_robust  # noqa: E402
+from jaxdamp_optimize import VARIABLES, design_space, make_problem  # noqa: E402
+from jaxdamp_optimize.robust_objective import ROBUST_MU_SET, RobustSpec, optimize_robust  # noqa: E402
+from jaxdamp_optimize.robust_plot import plot_robust  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 

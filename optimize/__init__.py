@@ -1,6 +1,6 @@
 """Shape optimisation of underplatform dampers with optax, under the no-liftoff constraint.
 
-    import jaxdamp as jd, optimize as opt
+    import jaxdamp as jd, jaxdamp_optimize as opt
     jd.enable_x64()
     res = opt.optimize()                        # robust (worst over mu = 0.3, 0.5, 0.7) k_Im,BC
     res.feasible, res.shape, res.objective, res.active, res.evaluations

@@ -1,7 +1,7 @@
 """`jaxdamp optimize`: shape optimisation under the no-liftoff constraint.
 
 A command of jaxdamp's CLI registered through the entry-point group `jaxdamp.commands`
-(pyproject.toml: `optimize = "optimize.cli:register"`), so jaxdamp itself never names it."""
+(pyproject.toml: `optimize = "jaxdamp_optimize.cli:register"`), so jaxdamp itself never names it."""
 
 from __future__ import annotations
 

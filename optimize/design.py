@@ -3,7 +3,7 @@
 The optimiser works on z in the unit box [0, 1]^d, z = (x - lower) / (upper - lower), so that an
 Adam step of the same size moves every variable by the same fraction of its range. The bounds are
 handled by Euclidean projection onto the box (clipping z); the no-liftoff constraints are not
-bounds and are handled by the augmented Lagrangian in `optimize.solver`.
+bounds and are handled by the augmented Lagrangian in `jaxdamp_optimize.solver`.
 """
 
 from __future__ import annotations

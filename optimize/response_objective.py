@@ -10,7 +10,7 @@ with A* the peak of the branch connected to small amplitudes. The F_D variants c
 `scaled_stiffness` rescales one damper curve per mu. Gradients of A* come by the implicit function
 theorem through the root; the max picks the worst case (a subgradient at ties).
 
-Search: a coarse grid over the design space (the constraint is checked by `optimize.problem`, the
+Search: a coarse grid over the design space (the constraint is checked by `jaxdamp_optimize.problem`, the
 same margins as the k_Im,BC optimiser), then projected gradient descent from the best feasible grid
 points on the unit box, with backtracking that rejects infeasible or non-improving steps (the
 no-liftoff constraint is kept strictly, never penalised).

@@ -1,5 +1,5 @@
 """`jaxdamp optimize --objective peak:worst|peak:q95`: the robust response design on the command
-line (see `optimize.robust_objective`). Flags are added by `optimize.cli.register`."""
+line (see `jaxdamp_optimize.robust_objective`). Flags are added by `jaxdamp_optimize.cli.register`."""
 
 from __future__ import annotations
 

@@ -3,8 +3,8 @@
 Problem:  maximise S(z)  subject to  g_j(z) >= 0  and  z in [0, 1]^d  (the unit box of the bounds)
 
 with S the objective's score divided by the 60sym baseline's (so O(1) whatever the units: k_Im is
-thousands of N mm/mrad) and g the no-liftoff margins of `optimize.constraints` in % of F_D. The
-constraints go into the PHR augmented Lagrangian (`optimize.augmented`); the bounds are enforced by
+thousands of N mm/mrad) and g the no-liftoff margins of `jaxdamp_optimize.constraints` in % of F_D. The
+constraints go into the PHR augmented Lagrangian (`jaxdamp_optimize.augmented`); the bounds are enforced by
 projection onto the box (clipping z, the exact Euclidean projection). Inner methods (optax):
 
 - ``lbfgs`` (default): `optax.scale_by_lbfgs` directions (vmapped over starts), projected onto the
@@ -16,7 +16,7 @@ projection onto the box (clipping z, the exact Euclidean projection). Inner meth
 Every evaluation (one design over the whole mu set, values and forward-mode Jacobian) is counted.
 A design is accepted only if it passes the strict check (every g >= 0, no liftoff, cycles
 converged); the optimum is the best accepted design over all starts, re-checked by the public
-statics and Base-Cycle (`optimize.check`). If no start produced a feasible design the result is
+statics and Base-Cycle (`jaxdamp_optimize.check`). If no start produced a feasible design the result is
 infeasible, with the reason, and its design is the least-violating one found (not an optimum).
 """
 
@@ -194,7 +194,7 @@ def optimize(objective: str | Objective = DEFAULT_OBJECTIVE, problem: Problem | 
              progress=None) -> OptimizationResult:
     """Optimise the damper shape under the no-liftoff constraint over the problem's mu set.
 
-    objective: NAME[:AGG] (see optimize.objectives), default robust worst-case k_Im,BC.
+    objective: NAME[:AGG] (see jaxdamp_optimize.objectives), default robust worst-case k_Im,BC.
     starts: names of family shapes and/or (name, x0) pairs; default the paper's family.
     progress: None or progress(round) called at the start of each of the config.rounds rounds.
     """

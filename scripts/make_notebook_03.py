@@ -35,7 +35,7 @@ import time
 import numpy as np
 import matplotlib.pyplot as plt
 import jaxdamp as jd
-import optimize as opt
+import jaxdamp_optimize as opt
 
 jd.enable_x64()
 plt.rcParams["figure.dpi"] = 56       # modest PNGs in the committed, executed notebook
@@ -48,7 +48,7 @@ The 60sym design rule (§3, Table 1) leaves the resultant 6.6 % / 6.5 % from the
 45sym with b_R/h_R = −0.20 (§4) is 2.94 % from L1 at cycle start and far beyond L2 at mid-cycle.
 `check_design` re-checks a design by the public statics and Base-Cycle at every μ."""),
     new_code_cell("""\
-from optimize.constraints import LOCATIONS
+from jaxdamp_optimize.constraints import LOCATIONS
 for name in ("60sym", "74L"):
     c = opt.check_design(problem, opt.design.vector_of(problem.space, jd.family_shape(name)))
     print(f"{name}: feasible={c.feasible}, smallest resultant distance from a pad "

@@ -32,7 +32,7 @@ The response optimiser of notebook 5 designs against the paper's interpolated k(
 force, for the nominal contacts and one contact history. A blade meets a range of excitation
 levels, F_D changes with speed, μ moves between 0.3 and 0.7, kn and kt come from one rig's
 calibration, and in microslip the response depends on the contact history. This notebook shows
-what changes when the optimiser (`optimize.robust_objective`) sees
+what changes when the optimiser (`jaxdamp_optimize.robust_objective`) sees
 
 1. the **exact** curve (the steady cycle at each amplitude),
 2. a **force range** (the dynamic magnification A*/F, mm/N, over 2–20 N),
@@ -49,7 +49,7 @@ import matplotlib.pyplot as plt
 import jaxdamp as jd
 from jaxdamp.response import design_peaks
 from jaxdamp.uncertainty import Uncertainty, sample_scenarios, peak_distribution
-from optimize.robust_objective import reference_shapes, ROBUST_MU_SET
+from jaxdamp_optimize.robust_objective import reference_shapes, ROBUST_MU_SET
 jd.enable_x64()
 t_start = time.perf_counter()
 shapes = {k: jd.DamperShape(*v, None) for k, v in reference_shapes().items()}

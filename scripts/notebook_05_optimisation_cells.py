@@ -6,15 +6,15 @@ CELLS = [
     new_markdown_cell("""\
 ## 7. Response-based shape optimisation
 
-Objective (`optimize.response_objective`): minimise the worst case over μ = 0.3 … 0.7 (and,
+Objective (`jaxdamp_optimize.response_objective`): minimise the worst case over μ = 0.3 … 0.7 (and,
 optionally, F_D ± 20 %) of the peak A* at F = 20 N, under the optimiser's no-liftoff margins.
 Search: a 7×7×7 grid over θL, θR, b_R/h_R, then projected descent with the implicit-function
 gradient, accepting only feasible improvements. Results from `benchmarks/response_optimisation.py`
-(a few minutes); `optimize.response_objective.worst_peak(V, opt.make_problem(mus=...), force_n=20.0)`
+(a few minutes); `jaxdamp_optimize.response_objective.worst_peak(V, opt.make_problem(mus=...), force_n=20.0)`
 re-evaluates any design (about 20 s of compilation, so not run here).
 
 This objective still uses the paper's **interpolated** k(ψ_a) (`method="interpolated"` inside
-`optimize.response_objective`): a grid of 343 designs × 5 μ with the exact amplitude cycles
+`jaxdamp_optimize.response_objective`): a grid of 343 designs × 5 μ with the exact amplitude cycles
 would take far longer. At F = 20 N the reference 60sym's peak sits at ψ_a ≥ ψ_BC for every μ,
 where the two curves are the same (section 6); other shapes can differ by a few % there (the
 study report's peak-response table), and in microslip (small F) by tens of %, so an optimum

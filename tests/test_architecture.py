@@ -1,7 +1,8 @@
 """The layers of docs/architecture.md, checked on the source (ast): no module imports another
 module's underscore name, nothing outside jaxdamp/cli imports argparse, the library never imports
-upward (core -> baselines/paper -> plotting -> cli -> optimize), and the import graph has no cycle.
-Also: importing jaxdamp changes no JAX configuration and imports no matplotlib."""
+upward (core -> baselines/paper -> plotting -> cli -> jaxdamp_optimize), and the import graph has no
+cycle. Also: importing jaxdamp changes no JAX configuration and imports no matplotlib, and nothing
+imports the optimiser by its folder's name (`optimize/` installs as `jaxdamp_optimize`)."""
 
 import ast
 import json
@@ -10,16 +11,19 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-PACKAGES = ("jaxdamp", "optimize")
+# Package name -> its folder: the optimiser's folder optimize/ installs as jaxdamp_optimize
+# (pyproject.toml's package-dir), so its modules are named jaxdamp_optimize.* here.
+FOLDERS = {"jaxdamp": "jaxdamp", "jaxdamp_optimize": "optimize"}
+PACKAGES = tuple(FOLDERS)
 # Layer of each part; an import may only point to the same or a lower layer.
-LAYERS = {"core": 0, "baselines": 1, "paper": 1, "plotting": 2, "cli": 3, "optimize": 4}
+LAYERS = {"core": 0, "baselines": 1, "paper": 1, "plotting": 2, "cli": 3, "jaxdamp_optimize": 4}
 
 
 def modules():
-    for pkg in PACKAGES:
-        for path in sorted((ROOT / pkg).rglob("*.py")):
-            rel = path.relative_to(ROOT).with_suffix("")
-            parts = list(rel.parts)
+    for pkg, folder in FOLDERS.items():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            rel = path.relative_to(ROOT / folder).with_suffix("")
+            parts = [pkg, *rel.parts]
             if parts[-1] == "__init__":
                 parts = parts[:-1]
             yield ".".join(parts), path
@@ -27,8 +31,8 @@ def modules():
 
 def layer(module: str) -> int:
     parts = module.split(".")
-    if parts[0] == "optimize":
-        return LAYERS["optimize"]
+    if parts[0] == "jaxdamp_optimize":
+        return LAYERS["jaxdamp_optimize"]
     if len(parts) > 1 and parts[1] in LAYERS:
         return LAYERS[parts[1]]
     return LAYERS["core"]
@@ -76,7 +80,7 @@ def test_no_module_imports_another_modules_underscore_name():
 
 def test_argparse_only_in_cli():
     bad = [module for module, path in modules()
-           if not module.startswith(("jaxdamp.cli", "optimize.cli"))
+           if not module.startswith(("jaxdamp.cli", "jaxdamp_optimize.cli"))
            and any(t == "argparse" for t, _ in imports(module, path))]
     assert not bad, bad
 
@@ -182,7 +186,7 @@ def _scripts(folder):
 
 def test_optimize_and_benchmarks_use_the_public_api_only():
     bad = []
-    for module, path in [*((m, p) for m, p in modules() if m.startswith("optimize")),
+    for module, path in [*((m, p) for m, p in modules() if m.startswith("jaxdamp_optimize")),
                          *_scripts("benchmarks")]:
         for target, _ in imports(module, path):
             internal = module.startswith("benchmarks") and target in MEASURED_INTERNALS
@@ -217,3 +221,43 @@ def test_every_module_says_what_it_exports():
     bad += [f"jaxdamp.__all__ lacks {n}, which optimize/ or benchmarks/ import" for n in
             sorted(used - set(jaxdamp.__all__))]
     assert not bad, "\n".join(bad)
+
+
+def _imports_of_source(text: str):
+    """The top-level names imported by a piece of Python source (empty when it does not parse,
+    e.g. a notebook cell with shell magics)."""
+    try:
+        tree = ast.parse(text)
+    except SyntaxError:
+        return set()
+    names = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names |= {a.name.split(".")[0] for a in node.names}
+        elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+            names.add(node.module.split(".")[0])
+    return names
+
+
+def test_nothing_imports_the_optimiser_by_its_folder_name():
+    """The wheel installs the optimiser as `jaxdamp_optimize` and no top-level `optimize`: from the
+    repository root a plain `import optimize` would still work, so tests, scripts, benchmarks, the
+    notebooks' code cells and the docs' Python blocks are checked here."""
+    import re
+
+    sources = []
+    for folder in ("tests", "scripts", "benchmarks", "optimize", "jaxdamp"):
+        sources += [(str(p.relative_to(ROOT)), p.read_text()) for p in sorted((ROOT / folder).rglob("*.py"))]
+    for nb in sorted((ROOT / "notebooks").glob("*.ipynb")):
+        for k, cell in enumerate(json.loads(nb.read_text())["cells"]):
+            if cell["cell_type"] == "code":
+                src = cell["source"]
+                sources.append((f"{nb.name} cell {k}", "".join(src) if isinstance(src, list) else src))
+    fence = re.compile(r"^```python[^\n]*\n(.*?)^```", re.S | re.M)
+    for md in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
+        sources += [(str(md.relative_to(ROOT)), m.group(1)) for m in fence.finditer(md.read_text())]
+    assert len(sources) > 100
+    bad = [where for where, text in sources if "optimize" in _imports_of_source(text)]
+    assert bad == []
+    # the positive case: the optimiser's users do import it under its package name
+    assert any("jaxdamp_optimize" in _imports_of_source(text) for _, text in sources)

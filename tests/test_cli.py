@@ -52,23 +52,24 @@ def test_pyproject_declares_the_console_script_and_the_optimize_entry_point():
     meta = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]
     assert meta["scripts"]["jaxdamp"] == "jaxdamp.cli:console"
     group = meta["entry-points"][cli.ENTRY_POINT_GROUP]
-    assert group == {"optimize": "optimize.cli:register"}
+    assert group == {"optimize": "jaxdamp_optimize.cli:register"}
     # the declared object loads and registers the command
     import importlib
     from importlib.metadata import EntryPoint
 
     ep = EntryPoint("optimize", group["optimize"], cli.ENTRY_POINT_GROUP)
     register = ep.load()
-    assert register is importlib.import_module("optimize.cli").register
+    assert register is importlib.import_module("jaxdamp_optimize.cli").register
     parser = cli.build_parser((register,))
     args = parser.parse_args(["optimize", "--mu-set", "0.5"])
-    assert args.func.__module__ == "optimize.cli" and args.mu_set == "0.5"
+    assert args.func.__module__ == "jaxdamp_optimize.cli" and args.mu_set == "0.5"
 
 
 def test_jaxdamp_never_names_optimize():
     for path in (ROOT / "jaxdamp").rglob("*.py"):
         text = path.read_text()
-        assert "import optimize" not in text and "from optimize" not in text, path
+        for name in ("optimize", "jaxdamp_optimize"):
+            assert f"import {name}" not in text and f"from {name}" not in text, path
 
 
 def test_no_library_module_parses_arguments_or_prints():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from optimize.amplitude_objective import k_im_at_amplitude
+from jaxdamp_optimize.amplitude_objective import k_im_at_amplitude
 
 CONTACTS = jd.Contacts(17900.0, 3580.0)
 
@@ -27,7 +27,7 @@ def test_worst_over_mu_and_gradient():
 
 
 def test_robust_k_im_is_the_band_lower_bound():
-    from optimize.amplitude_objective import robust_k_im
+    from jaxdamp_optimize.amplitude_objective import robust_k_im
 
     shape = jd.family_shape("60sym")
     low, bands = robust_k_im(shape, [0.5], 1.6, CONTACTS, n_samples=64, refine=False)

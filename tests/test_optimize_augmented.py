@@ -4,7 +4,7 @@ import jax.numpy as jnp
 import numpy as np
 import pytest
 
-from optimize.augmented import ALConfig, al_init, al_update, al_value_and_grad
+from jaxdamp_optimize.augmented import ALConfig, al_init, al_update, al_value_and_grad
 
 
 def _problem(x):

@@ -6,7 +6,7 @@ import pytest
 
 import jaxdamp as jd
 from jaxdamp.cli import main
-from optimize.cli import register
+from jaxdamp_optimize.cli import register
 
 from helpers import one_error_line
 

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from optimize.constraints import (KINDS, LOCATIONS, cycle_points, margins, point_constraints,
+from jaxdamp_optimize.constraints import (KINDS, LOCATIONS, cycle_points, margins, point_constraints,
                                   resultant_distances_pct, select_min)
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from optimize.design import (DEFAULT_BOUNDS, VARIABLES, design_space, embed, family_start,
+from jaxdamp_optimize.design import (DEFAULT_BOUNDS, VARIABLES, design_space, embed, family_start,
                              from_unit, in_bounds, project, shape_dict, shape_of, to_unit)
 
 

@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from optimize.objectives import (aggregate, combined_refs, mu_index, parse_objective,
+from jaxdamp_optimize.objectives import (aggregate, combined_refs, mu_index, parse_objective,
                                  per_mu_scores, reported_value, score)
 
 MUS = (0.3, 0.5, 0.7)

@@ -2,10 +2,10 @@
 
 import numpy as np
 
-import optimize as opt
+import jaxdamp_optimize as opt
 from jaxdamp import LoadCase, family_shape
 from jaxdamp.response import BladeMode, design_peaks
-from optimize.response_objective import worst_peak
+from jaxdamp_optimize.response_objective import worst_peak
 
 
 def test_worst_peak_is_the_max_over_mu_and_directly_recomputed_fd():

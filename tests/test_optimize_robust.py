@@ -9,8 +9,8 @@ import pytest
 
 from jaxdamp import LoadCase
 from jaxdamp.uncertainty import Scenarios, peak_distribution
-from optimize.problem import make_problem
-from optimize.robust_objective import (RobustSpec, _programs, dense_scenarios, descent_forces,
+from jaxdamp_optimize.problem import make_problem
+from jaxdamp_optimize.robust_objective import (RobustSpec, _programs, dense_scenarios, descent_forces,
                                        objective_args, reference_shapes, robust_values,
                                        validate_spec)
 
@@ -59,7 +59,7 @@ def test_smooth_maximum_bounds_the_true_maximum_and_its_gradient_matches_differe
 
 
 def _smooth(v, spec, args):
-    from optimize.robust_objective import _objective
+    from jaxdamp_optimize.robust_objective import _objective
 
     return float(jax.jit(_objective, static_argnums=(1, 2))(
         jnp.asarray(v), spec.objective, spec.history, spec.temperature, *args)[0])
@@ -90,7 +90,7 @@ def test_bad_spec_is_refused_naming_the_flag(change, flag):
 def test_a_design_that_is_not_certified_says_why_in_status_names():
     """The reason names the statuses the scenarios gave: a non-converged cycle is not a liftoff."""
     from jaxdamp import RESULTS
-    from optimize.robust_objective import infeasibility_reason
+    from jaxdamp_optimize.robust_objective import infeasibility_reason
 
     status = [RESULTS.ok, RESULTS.not_converged, RESULTS.ok, RESULTS.liftoff, RESULTS.liftoff]
     reason = infeasibility_reason(True, status)

@@ -4,8 +4,8 @@ its range, exit 2, before any work (the full run is the benchmark's, minutes lon
 import pytest
 
 from jaxdamp.cli import main
-from optimize.cli import register
-from optimize.robust_cli import robust_text
+from jaxdamp_optimize.cli import register
+from jaxdamp_optimize.robust_cli import robust_text
 
 from helpers import one_error_line
 

@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from optimize import (SolverConfig, design_space, grid_search, make_problem, optimize,
+from jaxdamp_optimize import (SolverConfig, design_space, grid_search, make_problem, optimize,
                       plot_paths)
-from optimize.design import to_unit
-from optimize.problem import evaluate, evaluate_with_jacobian, is_feasible
+from jaxdamp_optimize.design import to_unit
+from jaxdamp_optimize.problem import evaluate, evaluate_with_jacobian, is_feasible
 
 MUS = (0.3, 0.5, 0.7)
 MARGIN = 5.0

@@ -27,7 +27,7 @@ UNITS = __doc__.split("\n\n", 1)[1]
 COMMANDS = ("statics", "design_br", "cycle", "amplitude", "response", "grad", "sweep", "calibrate",
             "fit_loops", "study", "section")
 # Third-party commands: entry points of this group load a register(sub) function
-# (pyproject.toml declares `optimize = "optimize.cli:register"`).
+# (pyproject.toml declares `optimize = "jaxdamp_optimize.cli:register"`).
 ENTRY_POINT_GROUP = "jaxdamp.commands"
 CACHE_ENV = "JAXDAMP_CACHE_DIR"
 # Programs compiling faster than this are not cached (the solver's take seconds; tiny eager ops
