@@ -57,7 +57,8 @@ from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shap
 from .params import Contacts, LoadCase, validate_load
 from .status import RESULTS
 
-__all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "contact_path", "contact_loop_force",
+__all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "loop_work", "loop_direction_error",
+           "MIN_LOOP_AREA", "contact_path", "contact_loop_force",
            "sample_contact_loop", "COMPONENTS", "LoopFit", "FitSpec", "LoopError", "analyse_loop", "fit_loops",
            "loop_model_moment", "sample_loop", "identify", "FitProblem", "fit_problem",
            "fit_residuals", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
@@ -243,6 +244,53 @@ def analyse_loop(psi, moment, name: str = "loop", *, columns=("psi_mrad", "momen
                         "sample the loop more finely")
     periods = (len(keep) - 1) // 2
     return MomentLoop(psi, moment, psi_a, psi_c, forward.astype(bool), u, periods)
+
+
+MIN_LOOP_AREA = 0.01  # a loop is checked for its direction where |its area| > 1 % of its box
+
+
+def loop_work(x, y) -> float:
+    """The signed area per period, the integral of y dx around a sampled loop (numpy): the polygon
+    through the samples, closed by the chord from the last back to the first (so constant offsets
+    in either channel drop out and a partial last period counts with its own orientation), divided
+    by the periods travelled, sum |dx| / (2 range(x)): exact (to the trapezoids) over whole
+    periods, approximate where the series ends part-way through one. For a moment loop (psi mrad, M N mm) this
+    is the energy dissipated per cycle in N mm mrad (times 1e-3: N mm), positive under the
+    conventions (`conventions.py`: the integral of M dpsi is the energy dissipated); for a
+    tangential contact loop (disp mm, T N) the friction energy dissipated at that contact, N mm,
+    positive too (the integral of T dd_t is minus that of T dslip, and T never pushes its slip)."""
+    x = np.asarray(x, float).reshape(-1)
+    y = np.asarray(y, float).reshape(-1)
+    if x.size < 2 or x.shape != y.shape or not (np.all(np.isfinite(x)) and np.all(np.isfinite(y))):
+        return 0.0
+    xc, yc = np.append(x, x[0]), np.append(y, y[0])
+    area = float(np.sum(0.5 * (yc[1:] + yc[:-1]) * np.diff(xc)))
+    span = float(np.ptp(x))
+    periods = float(np.sum(np.abs(np.diff(x)))) / (2.0 * span) if span > 0 else 0.0
+    return area / periods if periods > 0 else 0.0
+
+
+def loop_direction_error(loop, name: str = "loop") -> str | None:
+    """None where an analysed loop (MomentLoop or ContactLoop) runs the way the conventions say,
+    else one line saying that it encloses negative energy. Checked: moment loops and tangential
+    contact loops, where the enclosed area is the energy dissipated and so positive; not normal
+    contact loops (elastic: they enclose no energy, the sign of their area is noise), nor a loop
+    whose area is within MIN_LOOP_AREA of its bounding box (nearly elastic: the sign is not
+    measurable). Numpy only, no JAX: callers check before any fitting."""
+    if isinstance(loop, ContactLoop) and loop.component != "tangential":
+        return None
+    w = loop_work(loop.x, loop.y)
+    box = float(np.ptp(loop.x)) * float(np.ptp(loop.y))
+    if not (box > 0 and w < -MIN_LOOP_AREA * box):
+        return None
+    if isinstance(loop, ContactLoop):
+        return (f"{name}: the loop encloses negative energy under the convention (the integral of "
+                f"T d(disp) = {w:.4g} N mm per cycle; it is the friction energy dissipated at "
+                f"{CONTACT_NAMES[loop.contact]}, positive): the force or the displacement has the "
+                "opposite sign; negate the force")
+    return (f"{name}: the loop encloses negative energy under the convention (the integral of "
+            f"M dpsi = {w * 1e-3:.4g} N mm per cycle; it is the energy dissipated, positive): the "
+            "moment or psi has the opposite sign; negate the moment")
 
 
 # ---------------------------------------------------------------- the model side (pure JAX)

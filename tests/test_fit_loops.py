@@ -498,3 +498,106 @@ def test_contact_loop_api_errors_one_line():
         with pytest.raises(LoopError) as e:
             analyse_contact_loop(*args)
         assert says in str(e.value) and "\n" not in str(e.value), (says, str(e.value))
+
+
+# ---------------------------------------------------------------- the loop's direction
+def test_loop_work_is_the_energy_of_the_first_harmonic():
+    """The loop M = psi_a (k_Re cos tau - k_Im sin tau) at psi = psi_a cos tau encloses
+    pi psi_a^2 k_Im per cycle (the closed form of the harmonic's energy, README's convention:
+    k_Im > 0 and the integral of M dpsi is the energy dissipated); offsets in either channel, the
+    start phase and the sampling do not change it; the mirrored loops enclose minus that."""
+    from jaxdamp.fit import loop_work
+
+    psi_a, k_re, k_im = 1.3, 800.0, 150.0
+    rng = np.random.default_rng(5)
+    tau = 0.7 + np.sort(rng.uniform(0.0, 3 * 2 * np.pi, 3000))
+    tau = np.concatenate([[0.7], tau, [0.7 + 6 * np.pi]])  # whole periods: three
+    psi = 0.4 + psi_a * np.cos(tau)
+    m = -25.0 + psi_a * (k_re * np.cos(tau) - k_im * np.sin(tau))
+    energy = np.pi * psi_a ** 2 * k_im  # N mm mrad per cycle
+    assert loop_work(psi, m) == pytest.approx(energy, rel=1e-4)
+    assert loop_work(psi, -m) == pytest.approx(-energy, rel=1e-4)
+    assert loop_work(-psi, m) == pytest.approx(-energy, rel=1e-4)
+    # part of a period more: the sign and the size stay
+    cut = tau < 0.7 + 2.4 * 2 * np.pi
+    assert 0.7 * energy < loop_work(psi[cut], m[cut]) < 1.3 * energy
+    assert loop_work(psi, np.full_like(psi, 3.0)) == pytest.approx(0.0, abs=1e-9 * energy)
+
+
+@pytest.mark.parametrize("mirror", ["moment", "psi"])
+def test_cli_refuses_a_loop_that_runs_the_wrong_way(capsys, tmp_path, monkeypatch, mirror):
+    """A moment loop enclosing negative energy (the model's loop with M or psi negated) stops the
+    command before any fitting: one line saying so and naming --flip-moment, exit code 2."""
+    import jaxdamp.fit
+
+    def no_fit(*a, **k):
+        raise AssertionError("the fit started")
+
+    monkeypatch.setattr(jaxdamp.fit, "fit_loops", no_fit)
+    monkeypatch.setattr(jaxdamp.fit, "fit_problem", no_fit)
+    good = _noisy_loops(n=300)
+    psi, m = good[1]
+    files = [_write_csv(tmp_path / "good.csv", *good[0]),
+             _write_csv(tmp_path / "mirrored.csv", *((psi, -m) if mirror == "moment" else (-psi, m)))]
+    code, _, err = run_cli(capsys, "fit-loops", *files, "--shape", "60sym")
+    line = one_error_line(err)
+    assert code == 2 and "mirrored.csv" in line and "good.csv" not in line
+    assert "encloses negative energy under the convention" in line and "rerun with --flip-moment" in line
+
+
+def test_cli_flip_moment_fits_the_negated_loop(capsys, tmp_path, monkeypatch):
+    """--flip-moment negates the moment column: loops recorded with the opposite moment sign go to
+    the fit as the convention has them (stopped at the fit's entry: the loops it receives are
+    checked, no fit is run); on loops that were right, the flag makes them wrong and says so."""
+    import jaxdamp.fit
+
+    class Reached(Exception):
+        pass
+
+    seen = {}
+
+    def capture(loops, shape, **kw):
+        seen["loops"] = loops
+        raise Reached
+
+    monkeypatch.setattr(jaxdamp.fit, "fit_loops", capture)
+    good = _noisy_loops(n=300)
+    files = [_write_csv(tmp_path / f"{i}.csv", psi, -m) for i, (psi, m) in enumerate(good)]
+    with pytest.raises(Reached):
+        run_cli(capsys, "fit-loops", *files, "--shape", "60sym", "--flip-moment")
+    assert len(seen["loops"]) == 3
+    for lp, (psi, m) in zip(seen["loops"], good):
+        assert np.array_equal(lp.psi, psi) and np.array_equal(lp.moment, m)
+        assert jaxdamp.fit.loop_work(lp.psi, lp.moment) > 0
+    files = [_write_csv(tmp_path / f"g{i}.csv", psi, m) for i, (psi, m) in enumerate(good)]
+    code, _, err = run_cli(capsys, "fit-loops", *files, "--shape", "60sym", "--flip-moment")
+    assert code == 2 and "--flip-moment was given: drop it" in one_error_line(err)
+
+
+def test_cli_tangential_loops_checked_normal_loops_not(capsys, tmp_path, monkeypatch):
+    """A tangential contact loop encloses the friction energy dissipated at its contact (positive):
+    negated, it is refused in one line naming --flip-force, and --flip-force fixes it. A normal
+    loop is elastic (no enclosed energy, its sign is noise): not checked."""
+    import jaxdamp.fit
+
+    class Reached(Exception):
+        pass
+
+    def stop(*a, **k):
+        raise Reached
+
+    monkeypatch.setattr(jaxdamp.fit, "fit_loops", stop)
+    (d, f), = _contact_loops(n=300, cases=CONTACT_CASES[1:2])
+    a, c, _ = CONTACT_CASES[1]
+    flags = ("--shape", "60sym", "--contact", "L1", "--psi-a", str(a))
+    neg = _write_csv(tmp_path / "t.csv", d, -f, header="disp_mm,force_n")
+    code, _, err = run_cli(capsys, "fit-loops", neg, *flags, "--component", "tangential")
+    line = one_error_line(err)
+    assert code == 2 and "encloses negative energy" in line and "rerun with --flip-force" in line
+    with pytest.raises(Reached):
+        run_cli(capsys, "fit-loops", neg, *flags, "--component", "tangential", "--flip-force")
+    (dn, fn), = _contact_loops(n=300, component="normal", cases=CONTACT_CASES[1:2])
+    for sign in (1.0, -1.0):
+        nf = _write_csv(tmp_path / "n.csv", dn, sign * fn, header="disp_mm,force_n")
+        with pytest.raises(Reached):
+            run_cli(capsys, "fit-loops", nf, *flags, "--component", "normal")

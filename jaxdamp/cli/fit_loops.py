@@ -40,6 +40,15 @@ def register(sub) -> None:
                    help="per-contact loops: the platform rotation amplitude (mrad) the loop was recorded "
                         "at (needed: a contact's own displacement range depends on the unknown "
                         "stiffnesses); one, or a comma list with one per such file")
+    p.add_argument("--flip-moment", action="store_true",
+                   help="negate the moment column of every moment loop before anything else: for a "
+                        "rig whose moment sign is opposite to the convention (the integral of M dpsi "
+                        "is the energy dissipated, positive); a loop that encloses negative energy "
+                        "is refused and says to use this flag")
+    p.add_argument("--flip-force", action="store_true",
+                   help="negate the force column of every per-contact loop (as --flip-moment for "
+                        "moment loops): a tangential loop must enclose positive energy, the integral "
+                        "of T d(disp)")
     p.add_argument("--history", choices=("gross_slip", "assembly"), default="gross_slip",
                    help="the history of the model's steady cycle (default gross_slip)")
     p.add_argument("--per-contact", default="",
@@ -172,6 +181,19 @@ def _fmt(v, digits=5) -> str:
     return "-" if v is None or not np.isfinite(v) else f"{v:.{digits}g}"
 
 
+def _check_direction(loop, name: str, args, kind: str) -> None:
+    """One line and exit 2 for a loop that encloses negative energy (numpy; before any fitting)."""
+    from ..fit import loop_direction_error
+
+    why = loop_direction_error(loop, name)
+    if why is None:
+        return
+    flag = "--flip-moment" if kind == "moment" else "--flip-force"
+    given = args.flip_moment if kind == "moment" else args.flip_force
+    how = f" ({flag} was given: drop it)" if given else f" (rerun with {flag})"
+    raise C.CliError(why + how)
+
+
 def run(args) -> int:
     from ..fit import DEFAULT_START, ContactLoop, LoopError, analyse_contact_loop, analyse_loop, fit_loops
 
@@ -188,6 +210,8 @@ def run(args) -> int:
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     out = None if args.out is None else C.check_output_file("--out", args.out, suffixes=(".json",))
     read = [read_loop(f) for f in args.files]
+    flip = {"moment": args.flip_moment, "contact": args.flip_force}
+    read = [(kind, x, -y if flip[kind] else y) for kind, x, y in read]
     n_c = sum(kind == "contact" for kind, _, _ in read)
     if n_c == 0:
         given = [fl for fl, v in (("--contact", args.contact), ("--component", args.component),
@@ -217,6 +241,7 @@ def run(args) -> int:
                 k += 1
         except LoopError as exc:
             raise C.CliError(str(exc)) from None
+        _check_direction(loops[-1], repr(str(f)), args, kind)
 
     progress = not args.no_progress
 
@@ -284,7 +309,8 @@ def run(args) -> int:
     doc = C.document(status, payload, files=[str(f) for f in args.files], shape=C.shape_echo(shape),
                      load=C.load_echo(load), history=args.history, groups=groups,
                      start={"mu": start["mu"], "kn_n_per_mm": start["kn"], "kt_n_per_mm": start["kt"]},
-                     robust=not args.no_robust, max_steps=args.max_steps)
+                     robust=not args.no_robust, max_steps=args.max_steps,
+                     flip_moment=bool(args.flip_moment), flip_force=bool(args.flip_force))
     lines = [f"Contact parameters from {len(loops)} loop{'s' if len(loops) != 1 else ''} "
              f"({args.history} history; mu {groups['mu']}, kn {groups['kn']}, kt {groups['kt']})",
              f"  {'parameter':12} {'value':>12} {'std err':>10}   95 % interval"]
