@@ -50,6 +50,7 @@ from .params import validate_contacts as validate_contacts
 from .params import validate_load as validate_load
 from .params import VALIDATED_STIFFNESS_OVER_FD_PER_MM as VALIDATED_STIFFNESS_OVER_FD_PER_MM
 from .params import VALIDATED_KT_OVER_KN as VALIDATED_KT_OVER_KN
+from .params import validated_range_violations as validated_range_violations
 
 # Status and float64
 from .status import RESULTS as RESULTS
@@ -179,7 +180,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables", "platform_moment",
            "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT", "validate_mu",
            "validate_contacts", "validate_load", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
-           "VALIDATED_KT_OVER_KN", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
+           "VALIDATED_KT_OVER_KN", "validated_range_violations", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
            "SmallRotationWarning", "FullSlipStatics", "FullSlipState", "full_slip_statics",
            "full_slip_state", "statics_kernel", "DesignResult", "design_br",
            "full_slip_work_shape_factors", "BaseCycle", "HalfCycle", "base_cycle",

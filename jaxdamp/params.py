@@ -36,6 +36,52 @@ def above_validated_range(kn_over_fd, kt_over_fd):
     return jnp.any((kn_over_fd > hi) | (kt_over_fd > hi) | (ratio < lo_ratio) | (ratio > hi_ratio))
 
 
+def _limit(v: float) -> str:
+    """A validated-range limit as the docs write it: a power of ten as 1e-4, 1e6; else %g."""
+    e = math.log10(v)
+    return f"1e{round(e)}" if abs(e - round(e)) < 1e-12 else f"{v:g}"
+
+
+def _where(values: list[tuple[str, str]], unit: str = "") -> str:
+    """'5e-05' when all three contacts share the (formatted) value, '5e-05 at R1, L1' when those
+    contacts share it, else '5e-05 at R1, 6e-05 at L2' (unit after each value)."""
+    if len({v for _, v in values}) == 1:
+        names = [n for n, _ in values]
+        return values[0][1] + unit + ("" if len(names) == 3 else " at " + ", ".join(names))
+    return ", ".join(f"{v}{unit} at {n}" for n, v in values)
+
+
+def validated_range_violations(contacts: "Contacts", load: "LoadCase") -> list[str]:
+    """The limits of the validated stiffness range that the contacts leave for this load, one line
+    of text each (host-side, numpy; for checked, concrete inputs): kn/F_D or kt/F_D above
+    VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] per mm, kt/kn outside VALIDATED_KT_OVER_KN. These are
+    exactly the conditions of `above_validated_range` (same slack), the ones that make every cycle
+    `ill_conditioned`; an empty list where the inputs are inside (then an ill_conditioned status
+    comes from the solves' residuals). Below the range nothing is listed: the numbers stay exact
+    there (the small-rotation limit warns instead). Contacts named R1, L1, L2 where they differ."""
+    names = ("R1", "L1", "L2")
+    fd = float(np.asarray(load.F_D, float))
+    kn = np.broadcast_to(np.asarray(contacts.kn, float), (3,)) / fd
+    kt = np.broadcast_to(np.asarray(contacts.kt, float), (3,)) / fd
+    hi = VALIDATED_STIFFNESS_OVER_FD_PER_MM[1]
+    lo_r, hi_r = VALIDATED_KT_OVER_KN
+    slack = 1e-9
+    out = []
+    for label, k in (("kn/F_D", kn), ("kt/F_D", kt)):
+        bad = [(n, f"{v:.3g}") for n, v in zip(names, k) if v > hi * (1.0 + slack)]
+        if bad:
+            out.append(f"{label} = {_where(bad, ' per mm')} above the validated range (at most "
+                       f"{_limit(hi)} per mm)")
+    ratio = kt / kn
+    rng = f"[{_limit(lo_r)}, {_limit(hi_r)}]"
+    for side, test in (("below", lambda r: r < lo_r * (1.0 - slack)),
+                       ("above", lambda r: r > hi_r * (1.0 + slack))):
+        bad = [(n, f"{v:.3g}") for n, v in zip(names, ratio) if test(v)]
+        if bad:
+            out.append(f"kt/kn = {_where(bad)} {side} the validated range {rng}")
+    return out
+
+
 class Contacts(NamedTuple):
     """Jenkins contact stiffness in N/mm: scalars (shared) or arrays ordered (R1, L1, L2)."""
 
@@ -142,5 +188,5 @@ def _per_contact(k):
 
 
 __all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
-           "VALIDATED_KT_OVER_KN", "above_validated_range", "Contacts", "LoadCase", "validate_mu",
-           "validate_contacts", "validate_load", "fast_ok", "prepare_inputs"]
+           "VALIDATED_KT_OVER_KN", "above_validated_range", "validated_range_violations", "Contacts",
+           "LoadCase", "validate_mu", "validate_contacts", "validate_load", "fast_ok", "prepare_inputs"]

@@ -165,6 +165,43 @@ def test_numbers_that_do_not_exist_are_null():
     assert doc["schema_version"] == 3 and doc["inputs"]["mu"] == 0.5
 
 
+def test_every_non_ok_status_says_its_cause():
+    """document() gives every status its cause under "status_reason" (null for ok) and as the last
+    of "warnings"; emit() puts it on the status line. For ill_conditioned with contacts and load,
+    the cause names the limit, the value and the validated range (docs/model.md: kn/F_D, kt/F_D
+    at most 1e6 per mm, kt/kn in [1e-4, 1e4]); inside the range it says the solves lost digits."""
+    import numpy as np
+
+    from jaxdamp import Contacts, LoadCase
+    from jaxdamp.status import RESULTS
+
+    ok = C.document("ok", {"warnings": []})
+    assert ok["status_reason"] is None and ok["warnings"] == []
+    assert list(ok)[:4] == ["status", "schema_version", "jaxdamp_version", "status_reason"]
+    for name in ("liftoff", "singular", "not_converged", "no_root"):
+        doc = C.document(name, {})
+        assert doc["status_reason"] == RESULTS.message(RESULTS[name]) and doc["warnings"] == [doc["status_reason"]]
+    # kt = 1 N/mm with the reference kn: kt/kn = 1/20246.3 = 4.94e-5, below 1e-4
+    why = C.status_reason("ill_conditioned", Contacts(20246.3, 1.0), LoadCase())
+    assert why.startswith("kt/kn = 4.94e-05 below the validated range [1e-4, 1e4]") and "kn/F_D" not in why
+    # kn = 1e12 N/mm at F_D = 1000 N: kn/F_D = 1e9 per mm, above 1e6 (and kt/kn = 3.5e-9 too)
+    why = C.status_reason("ill_conditioned", Contacts(1e12, 3500.0), LoadCase())
+    assert "kn/F_D = 1e+09 per mm above the validated range (at most 1e6 per mm)" in why
+    assert "kt/kn = 3.5e-09 below" in why
+    # per contact: only the contacts outside are named; kt/F_D above at L2 only (2e9 / 1000 N)
+    why = C.status_reason("ill_conditioned", Contacts(np.array([2e4, 2e4, 4e9]),
+                                                      np.array([5e3, 5e3, 2e9])), LoadCase())
+    assert why.startswith("kn/F_D = 4e+06 per mm at L2 above") and "kt/F_D = 2e+06 per mm at L2 above" in why
+    assert "kt/kn" not in why
+    # the same contacts under a heavier load are inside: the cause is then the solves' digits
+    why = C.status_reason("ill_conditioned", Contacts(np.array([2e4, 2e4, 4e9]),
+                                                      np.array([5e3, 5e3, 2e9])), LoadCase(F_D=1e4))
+    assert "lost their digits" in why and "inside the validated range" in why
+    doc = C.document("ill_conditioned", {"warnings": ["psi_BC above the small-rotation limit"]},
+                     reason="kt/kn = 4.94e-05 below the validated range [1e-4, 1e4]")
+    assert doc["warnings"] == ["psi_BC above the small-rotation limit", doc["status_reason"]]
+
+
 def test_status_from_result_fields_or_flags():
     from types import SimpleNamespace
 

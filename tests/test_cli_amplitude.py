@@ -21,7 +21,7 @@ def test_json_contract(capsys):
     assert code == 0
     d = json.loads(out)
     assert set(d) == {"inputs", "status", "amplitudes", "warnings", "schema_version",
-                      "jaxdamp_version"}
+                      "jaxdamp_version", "status_reason"}
     assert d["status"] == "ok" and d["warnings"] == []
     assert d["inputs"]["psi_a_mrad"] == [0.3, 1.2] and d["inputs"]["initial"] == "assembly"
     assert d["inputs"]["mu"] == 0.5 and d["inputs"]["kn"] == 17900 and d["inputs"]["shape"] == "60sym"

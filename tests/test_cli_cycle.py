@@ -48,6 +48,32 @@ def test_cycle_liftoff_numbers_are_null(capsys):
     assert code == 0 and "[status: liftoff]" in out.splitlines()[0] and "liftoff" in out
 
 
+@pytest.mark.parametrize("argv,says", [
+    # kt/kn = 1 / 20246.3 (the reference kn) = 4.94e-5 < 1e-4
+    (["--kt", "1"], "kt/kn = 4.94e-05 below the validated range [1e-4, 1e4]"),
+    # kn/F_D = 1e12 N/mm / 1000 N = 1e9 per mm > 1e6
+    (["--kn", "1e12"], "kn/F_D = 1e+09 per mm above the validated range (at most 1e6 per mm)"),
+])
+def test_ill_conditioned_names_its_cause(capsys, argv, says):
+    """Outside the validated stiffness range the cycle is ill_conditioned, and the text's status
+    line, the JSON's status_reason and its warnings name the limit, the value and the range."""
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv)
+    first = out.splitlines()[0]
+    assert code == 0 and "[status: ill_conditioned] " in first and says in first
+    assert "above the validated range (docs/model.md) or" not in out  # not the generic message
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv, "--json")
+    d = strict_json(out)
+    assert d["status"] == "ill_conditioned" and says in d["status_reason"]
+    assert d["warnings"][-1] == d["status_reason"] and d["psi_bc_mrad"] is None
+
+
+def test_ok_has_no_cause(capsys):
+    code, out, _ = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", "--json")
+    d = strict_json(out)
+    assert code == 0 and d["status"] == "ok" and d["status_reason"] is None
+    assert all("validated range" not in w for w in d["warnings"])
+
+
 @pytest.mark.parametrize("argv,needle", [
     (["--kn", "-1"], "--kn"),
     (["--kt", "inf"], "--kt"),

@@ -10,7 +10,7 @@ def test_statics_json_contract(capsys):
     assert code == 0
     d = strict_json(out)
     assert {"start", "mid", "liftoff", "min_normal_over_fd", "status", "schema_version",
-            "jaxdamp_version", "inputs"} == set(d)
+            "jaxdamp_version", "status_reason", "inputs"} == set(d)
     assert d["status"] == "ok" and d["schema_version"] == 3 and d["inputs"]["mu"] == 0.7
     assert d["inputs"]["shape"] == {"theta_l_deg": 60.0, "theta_r_deg": 60.0, "br_over_hr": 0.14, "bl2_over_hl": 0.8}
     for end in ("start", "mid"):

@@ -73,8 +73,9 @@ def run(args) -> int:
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
               "band": bool(args.band)}
-    doc = C.document(bad[0] if bad else "ok", {"inputs": inputs, "amplitudes": rows,
-                                               "warnings": warned})
+    status = bad[0] if bad else "ok"
+    doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
+                     reason=C.status_reason(status, contacts, load))
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "

@@ -461,14 +461,45 @@ def clean(obj):
     return str(obj)
 
 
-def document(status: str, payload: dict, **inputs) -> dict:
-    """The JSON document of a command: status and versions first, the inputs echoed under "inputs"
-    (every command's document has it: given here as keywords, or as payload["inputs"]), then the
-    payload."""
-    doc = {"status": status, "schema_version": SCHEMA_VERSION, "jaxdamp_version": version()}
+def status_reason(status: str, contacts=None, load=None) -> str | None:
+    """Why a status is not ok, in one line (None for ok). For ill_conditioned with the command's
+    contacts and load: the validated-range limits they leave, each with its value and the range
+    (jaxdamp.params.validated_range_violations), or, where they are inside the range, that the
+    solves lost their digits; for any other status (or without contacts), its RESULTS message."""
+    if status == "ok":
+        return None
+    from ..status import RESULTS
+
+    code = RESULTS.__members__.get(status)
+    if code == RESULTS.ill_conditioned and contacts is not None and load is not None:
+        from ..params import validated_range_violations
+
+        limits = validated_range_violations(contacts, load)
+        if limits:
+            return "; ".join(limits) + " (docs/model.md): the linear solves lose their digits there"
+        return ("the linear solves lost their digits (an equilibrium residual above tolerance) with "
+                "the contact stiffness inside the validated range: the numbers are not trustworthy")
+    return RESULTS.message(code) if code is not None else f"status {status}"
+
+
+def document(status: str, payload: dict, *, reason: str | None = None, **inputs) -> dict:
+    """The JSON document of a command: status, versions and the status's cause first, the inputs
+    echoed under "inputs" (every command's document has it: given here as keywords, or as
+    payload["inputs"]), then the payload. reason: why the status is not ok (`status_reason`; by
+    default the status's own message); null for ok. A non-ok status's reason is also the last
+    entry of "warnings" (the payload's list, or a new one)."""
+    reason = None if status == "ok" else (reason or status_reason(status))
+    doc = {"status": status, "schema_version": SCHEMA_VERSION, "jaxdamp_version": version(),
+           "status_reason": reason}
     if inputs:
         doc["inputs"] = inputs
     doc.update(payload)
+    if reason is not None:
+        warnings = doc.get("warnings")
+        if warnings is None:
+            doc["warnings"] = [reason]
+        elif isinstance(warnings, list) and reason not in warnings:
+            doc["warnings"] = [*warnings, reason]
     return clean(doc)
 
 
@@ -477,12 +508,14 @@ def dumps(doc: dict, indent=2) -> str:
 
 
 def emit(args, doc: dict, text: str) -> None:
-    """Print the document (--json) or the text, whose first line then shows the status."""
+    """Print the document (--json) or the text, whose first line then shows the status and, where
+    it is not ok, its cause."""
     if getattr(args, "json", False):
         print(dumps(doc))
         return
     first, _, rest = text.partition("\n")
-    print(f"{first}   [status: {doc['status']}]" + (f"\n{rest}" if rest else ""))
+    why = f" {doc['status_reason']}" if doc.get("status_reason") else ""
+    print(f"{first}   [status: {doc['status']}]{why}" + (f"\n{rest}" if rest else ""))
 
 
 # ---------------------------------------------------------------- progress
@@ -509,5 +542,5 @@ __all__ = ["SCHEMA_VERSION", "FLAG_OF", "flag_message", "CliError", "UsageError"
            "add_progress_arg", "stiffness", "read_contacts_file", "contacts_from_args",
            "resolve_mu", "k_text", "load_from_args", "float_list", "check_output_dir",
            "check_output_file", "version", "model_warnings", "status_name", "number", "named",
-           "shape_echo", "contacts_echo", "load_echo", "clean", "document", "dumps", "emit",
+           "shape_echo", "contacts_echo", "load_echo", "clean", "status_reason", "document", "dumps", "emit",
            "show_progress", "progress_bar"]

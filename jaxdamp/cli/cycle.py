@@ -77,14 +77,12 @@ def run(args) -> int:
     results = _program()(*prepare_inputs(shape, args.mu, contacts, load))
     status = C.status_name(results[0])
     p = cycle_payload(*results)
-    doc = C.document(status, p, shape=C.shape_echo(shape), mu=args.mu,
-                     contacts=C.contacts_echo(contacts), load=C.load_echo(load))
+    doc = C.document(status, p, reason=C.status_reason(status, contacts, load), shape=C.shape_echo(shape),
+                     mu=args.mu, contacts=C.contacts_echo(contacts), load=C.load_echo(load))
     head = (f"Base-Cycle, mu = {args.mu:g}, kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm, "
             f"F_D = {args.fd:g} N, q* = {args.q:g} mm")
     if p["psi_bc_mrad"] is None:
-        from ..status import RESULTS
-
-        C.emit(args, doc, head + f"\n  no cycle: {RESULTS.message(RESULTS[status])}")
+        C.emit(args, doc, head + "\n  no cycle (the status above says why)")
         return 0
     fmt = lambda v, f: "n/a" if v is None else format(v, f)  # noqa: E731
     lines = [head,

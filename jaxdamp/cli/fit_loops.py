@@ -306,7 +306,11 @@ def run(args) -> int:
                "convergence": {"converged": fit.converged, "steps": fit.steps,
                                "history": [{"stage": s + 1, "step": k, "loss": v} for s, k, v in fit.history]},
                "notes": notes}
-    doc = C.document(status, payload, files=[str(f) for f in args.files], shape=C.shape_echo(shape),
+    from ..params import Contacts
+
+    reason = C.status_reason(status, Contacts(np.asarray(fit.kn, float), np.asarray(fit.kt, float)), load)
+    doc = C.document(status, payload, reason=reason, files=[str(f) for f in args.files],
+                     shape=C.shape_echo(shape),
                      load=C.load_echo(load), history=args.history, groups=groups,
                      start={"mu": start["mu"], "kn_n_per_mm": start["kn"], "kt_n_per_mm": start["kt"]},
                      robust=not args.no_robust, max_steps=args.max_steps,

@@ -80,8 +80,9 @@ def run(args) -> int:
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     shape = C.shape_from_args(args)
     status, payload = grad_payload(shape, args.mu, contacts, load, args.mode, args.psi_a)
-    doc = C.document(status, payload, shape=C.shape_echo(shape), mu=args.mu,
-                     contacts=C.contacts_echo(contacts), load=C.load_echo(load))
+    doc = C.document(status, payload, reason=C.status_reason(status, contacts, load),
+                     shape=C.shape_echo(shape), mu=args.mu, contacts=C.contacts_echo(contacts),
+                     load=C.load_echo(load))
     rows = [key for key, _ in JSON_OUTPUTS] + (["k_im_at_psi_a"] if args.psi_a is not None else [])
     lines = [f"Sensitivities ({args.mode}-mode AD), mu = {args.mu:g}, kn = {C.k_text(args.kn)}, kt = {C.k_text(args.kt)} "
              "N/mm; per degree for angles, per N/mm for kn/kt",

@@ -194,9 +194,11 @@ def run(args) -> int:
               "diagram": bool(args.diagram),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
-    doc = C.document(RESULTS(int(worst)).name, {
+    status = RESULTS(int(worst)).name
+    doc = C.document(status, {
         "inputs": inputs, "damper_status": RESULTS.name_of(res.status), "peaks": peaks,
-        "frf": frf_json, "designer_diagram": None if dd is None else _diagram_json(dd)})
+        "frf": frf_json, "designer_diagram": None if dd is None else _diagram_json(dd)},
+        reason=C.status_reason(status, contacts, load))
 
     if args.plot:
         from ..plotting.response import designer_diagram_figure, response_figure

@@ -128,7 +128,8 @@ def run(args) -> int:
     inputs = {"theta_l_deg": tl, "theta_r_deg": tr, "mu": mus, "br_over_hr": br,
               "mu_max": res.mu_max, "bl2_over_hl": args.bl2, "contacts": C.contacts_echo(contacts),
               "load": C.load_echo(res_load())}
-    head = C.document(status, {"inputs": inputs, "summary": summary, "estimate": est})
+    head = C.document(status, {"inputs": inputs, "summary": summary, "estimate": est},
+                      reason=C.status_reason(status, contacts, res_load()))
     files = write_sweep(res, out, extra=head)
     doc = {**head, **summary, "files": [str(f) for f in files]}
     text = (f"{summary['points']} designs: {summary['valid']} valid, {summary['liftoff']} liftoff, "
