@@ -395,6 +395,14 @@ class SweepResult(NamedTuple):
     kt: float
     summary: DesignSummary
 
+    def __repr__(self) -> str:
+        """One line: the grid, the shared contact pair and its designs' statuses by name (a sweep
+        has no status of its own: each point's is in summary.status)."""
+        return (f"SweepResult(theta_l={number_repr(self.theta_l, 'deg')}, "
+                f"theta_r={number_repr(self.theta_r, 'deg')}, mu={number_repr(self.mu)}, "
+                f"kn={number_repr(self.kn, 'N/mm')}, kt={number_repr(self.kt, 'N/mm')}, "
+                f"status={status_repr(self.summary.status)})")
+
     @property
     def valid(self) -> np.ndarray:
         """Points that are a working damper: status ok (converged, no liftoff, well-conditioned),

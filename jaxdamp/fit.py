@@ -55,7 +55,7 @@ from .amplitude import INITIAL_STATES, amplitude_kernel
 from .conventions import travel_mm
 from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
 from .params import Contacts, LoadCase, validate_load
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 
 __all__ = ["MomentLoop", "ContactLoop", "analyse_contact_loop", "loop_work", "loop_direction_error",
            "MIN_LOOP_AREA", "contact_path", "contact_loop_force",
@@ -515,6 +515,27 @@ class LoopFit(NamedTuple):
     held: list  # the names not identified (their values are where the solver ended, no result)
     monotone: np.ndarray  # per loop: False for a tangential contact loop whose model displacement
     # is not monotone along a half at the optimum (its force is then not a function of it there)
+
+    def __repr__(self) -> str:
+        """One or two lines: status by name, each contact parameter with its unit and standard
+        error (or 'not identifiable'), the residual sd, the loops and whether the solve converged."""
+        try:
+            parts = []
+            for n, v, se, ok in zip(self.names, np.asarray(self.value, float), np.asarray(self.se, float),
+                                    np.asarray(self.identifiable, bool)):
+                if n.startswith("offset"):
+                    continue
+                unit = "" if n.startswith("mu") else " N/mm"
+                parts.append(f"{n}={v:.5g} ± {se:.2g}{unit}" if ok else f"{n}=not identifiable")
+            loops = list(self.loops)
+            unit = "N mm" if all(isinstance(lp, MomentLoop) for lp in loops) else "N"
+            mixed = not loops or not np.isfinite(float(self.sigma))  # moment and contact loops: no sd
+            tail = (f"sigma={number_repr(self.sigma, '' if mixed else unit)}, loops={len(loops)}, "
+                    f"converged={bool(np.asarray(self.converged))}")
+            body = ", ".join(parts + [tail])
+        except Exception:  # noqa: BLE001 - a repr must not raise (a hand-built or traced LoopFit)
+            body = "<unavailable>"
+        return f"LoopFit(status={status_repr(self.status)}, {body})"
 
     def as_dict(self) -> dict:
         """Plain-Python view (floats, lists; None where a number does not exist)."""

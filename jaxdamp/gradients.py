@@ -34,6 +34,9 @@ from .cycle import base_cycle_kernel
 from .design import Design, as_design
 from .geometry import DamperShape
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
+from .status import number_repr, status_repr
+
+_FIVE_UNITS = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
 from .params import Contacts, LoadCase
 
 # The design variables that a derivative reports, with the Design field each one lives in.
@@ -67,6 +70,16 @@ class Flags(NamedTuple):
     status: jnp.ndarray
 
 
+def _derivative_repr(d, output: str, unit: str) -> str:
+    """'d k_im_bc/d mu=12.5 N mm/mrad, d k_im_bc/d theta_l=-3.1 N mm/mrad per deg' from a Design
+    of derivatives (a repr must not raise: anything else reads '<unavailable>')."""
+    try:
+        return (f"d {output}/d mu={number_repr(d.mu, unit)}, "
+                f"d {output}/d theta_l={number_repr(d.shape.theta_l, unit + ' per deg')}")
+    except Exception:  # noqa: BLE001
+        return f"d {output}=<unavailable>"
+
+
 class FiveNumbersJacobian(NamedTuple):
     """values: the five numbers. d: FiveNumbers whose fields are Designs of derivatives,
     e.g. d.psi_bc.shape.theta_l = d psi_BC / d theta_L in mrad per degree (`by_name` flattens)."""
@@ -77,6 +90,17 @@ class FiveNumbersJacobian(NamedTuple):
     liftoff: jnp.ndarray
     failed: jnp.ndarray
     status: jnp.ndarray
+
+    def __repr__(self) -> str:
+        """Two lines at most: status by name, the five numbers with units, and two of the
+        derivatives (of k_Im,BC by mu and theta_L); `by_name(jac.d.<output>)` lists them all."""
+        try:
+            values = ", ".join(f"{f}={number_repr(v, u)}" for f, v, u in
+                               zip(FiveNumbers._fields, tuple(self.values)[:5], _FIVE_UNITS))
+            d = _derivative_repr(self.d.k_im_bc, "k_im_bc", "N mm/mrad")
+        except Exception:  # noqa: BLE001 - a repr must not raise
+            values, d = "<unavailable>", ""
+        return f"FiveNumbersJacobian(status={status_repr(self.status)}, {values}; {d})"
 
 
 class KImGradient(NamedTuple):
@@ -89,6 +113,12 @@ class KImGradient(NamedTuple):
     liftoff: jnp.ndarray
     failed: jnp.ndarray
     status: jnp.ndarray
+
+    def __repr__(self) -> str:
+        """One line: status by name, psi_a, k_Im with units and two of its derivatives."""
+        return (f"KImGradient(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
+                f"k_im={number_repr(self.k_im, 'N mm/mrad')}; "
+                f"{_derivative_repr(self.d, 'k_im', 'N mm/mrad')})")
 
 
 def outputs(design: Design, psi_a=0.0):

@@ -80,6 +80,20 @@ class StiffnessCurve(NamedTuple):
     cycles: jnp.ndarray  # exact cycles (probes) run to build it (int32)
     pairs: jnp.ndarray = None  # (P,) pairs of halves the piece's probe ran (int32)
 
+    def __repr__(self) -> str:
+        """One line: the amplitude range, the pieces in use and their statuses by name, the exact
+        cycles run (a batch: over all its curves)."""
+        from .status import number_repr, status_repr
+
+        try:
+            used = np.isfinite(np.asarray(self.start, float))
+            pieces = f"{int(used.sum())} of {used.size}"
+            status = status_repr(np.asarray(self.status)[used])
+        except Exception:  # noqa: BLE001 - a repr must not raise (traced curves)
+            pieces, status = "<traced>", status_repr(self.status)
+        return (f"StiffnessCurve(status={status}, psi_a={number_repr(self.psi_lo, 'mrad')} to "
+                f"{number_repr(self.psi_hi, 'mrad')}, pieces={pieces}, cycles={number_repr(self.cycles)})")
+
     def at(self, psi_a) -> CurvePoint:
         """k at amplitude(s) psi_a (mrad) of a single curve (vmap it over a batch: `curve_at`)."""
         psi = jnp.asarray(psi_a, float)

@@ -109,6 +109,10 @@ class WorkShapeFactors(NamedTuple):
     w_L2: jnp.ndarray
     w_M: jnp.ndarray
 
+    def __repr__(self) -> str:
+        """One line (dimensionless factors; no status of their own: they go with the cycle's)."""
+        return "WorkShapeFactors(" + ", ".join(f"{f}={number_repr(v)}" for f, v in zip(self._fields, self)) + ")"
+
 
 @jax.jit
 def full_slip_work_shape_factors(shape: DamperShape, mu) -> WorkShapeFactors:

@@ -27,7 +27,7 @@ import numpy as np
 from .batch import map_batched
 from .params import Contacts, LoadCase
 from .response import BladeMode, damper_stiffness_kernel, peak_response, prepare_scene
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 
 HISTORIES = ("gross_slip", "assembly")
 
@@ -71,6 +71,25 @@ class PeakDistribution(NamedTuple):
     worst: np.ndarray
     exceedance: np.ndarray
     n_ok: int
+
+    def __repr__(self) -> str:
+        """Two lines at most: the samples' statuses by name, the forces, the median and 95 %
+        quantile and the worst A*/F (mm/N), and the exceedance where a limit was given."""
+        def level(q):
+            try:
+                i = int(np.argmin(np.abs(np.asarray(self.levels, float) - q)))
+                return number_repr(np.asarray(self.quantiles)[i], "mm/N")
+            except Exception:  # noqa: BLE001 - a repr must not raise
+                return "<unavailable>"
+
+        try:
+            limit = bool(np.any(np.isfinite(np.asarray(self.exceedance, float))))
+        except Exception:  # noqa: BLE001
+            limit = False
+        return (f"PeakDistribution(status={status_repr(self.status)}, n_ok={number_repr(self.n_ok)}, "
+                f"force_n={number_repr(self.force_n, 'N')}, median={level(0.5)}, q95={level(0.95)}, "
+                f"worst={number_repr(self.worst, 'mm/N')}"
+                + (f", exceedance={number_repr(self.exceedance)}" if limit else "") + ")")
 
 
 def validate_uncertainty(u: Uncertainty) -> Uncertainty:

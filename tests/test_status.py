@@ -61,3 +61,114 @@ def test_reprs_do_not_force_tracers():
         return nums.k_im_bc
 
     jax.jit(f)(0.5)
+
+
+# ---------------------------------------------------------------- every result prints in a line
+# Status-free NamedTuples of jaxdamp.__all__ that are not results: inputs and settings (printed as
+# given), geometry, and parts of a result whose own repr summarises them (FullSlipState inside
+# FullSlipStatics, HalfCycle inside BaseCycle), sampled inputs (Scenarios) and an optimiser's state.
+INPUTS_AND_PARTS = {"Design", "DamperShape", "SectionGeometry", "Contacts", "LoadCase", "BladeMode",
+                    "Uncertainty", "ALConfig", "ALState", "FullSlipState", "HalfCycle", "Scenarios"}
+# Results without a status field of their own (they go with the status of what they were read
+# off: a BaseCycle's energies and work shape factors; a sweep's points carry theirs in .summary).
+STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult"}
+
+
+def _namedtuples():
+    return {n: getattr(jd, n) for n in jd.__all__ if isinstance(getattr(jd, n), type)
+            and issubclass(getattr(jd, n), tuple) and hasattr(getattr(jd, n), "_fields")}
+
+
+def test_every_exported_result_defines_its_repr():
+    """Every NamedTuple result in jaxdamp.__all__ (a `status` field, or a listed status-free result)
+    has a __repr__ of its own, not the one collections.namedtuple generates (which prints every
+    array in full); every other NamedTuple is listed above as an input or a part, so a new type
+    must be sorted into one of the two."""
+    types = _namedtuples()
+    assert {"BaseCycle", "LoopFit", "StiffnessCurve", "PeakDistribution"} <= set(types)
+    unsorted = [n for n, cls in types.items() if "status" not in cls._fields
+                and n not in INPUTS_AND_PARTS | STATUS_FREE_RESULTS]
+    assert unsorted == []
+    assert not INPUTS_AND_PARTS & STATUS_FREE_RESULTS
+    assert all("status" not in types[n]._fields for n in INPUTS_AND_PARTS | STATUS_FREE_RESULTS)
+    results = [n for n, cls in types.items() if "status" in cls._fields or n in STATUS_FREE_RESULTS]
+    default = [n for n in results if types[n].__repr__.__module__ == "collections"]
+    assert default == []
+    assert len(results) >= 20
+
+
+def _short(text):
+    assert text.count("\n") <= 1 and len(text) < 400 and "Array(" not in text and "dtype" not in text, text
+    return text
+
+
+def test_new_reprs_give_numbers_with_units_and_status_by_name():
+    """Hand-built results (no computation: numbers chosen here): the gradients, the sequence
+    curve, the peak distribution, the loop fit and the status-free results."""
+    import jax
+
+    from jaxdamp.fit import FitSpec, analyse_loop
+
+    liftoff = np.int32(RESULTS.liftoff)
+    zeros = jax.tree_util.tree_map(np.zeros_like, jd.Design(jd.family_shape("60sym"), 0.5))
+    d = zeros._replace(mu=np.float64(12.5))
+    nums = jd.FiveNumbers(*map(np.float64, (0.5, 1000.0, 2.0, 800.0, 300.0)), liftoff)
+    jac = jd.FiveNumbersJacobian(nums, jd.FiveNumbers(*[d] * 5, liftoff), np.bool_(True),
+                                 np.bool_(True), np.bool_(False), liftoff)
+    text = _short(repr(jac))
+    assert text.startswith("FiveNumbersJacobian(status=liftoff, psi_fs=0.5 mrad, k_re_fs=1000 N mm/mrad")
+    assert "d k_im_bc/d mu=12.5 N mm/mrad" in text and "d k_im_bc/d theta_l=0 N mm/mrad per deg" in text
+    g = jd.KImGradient(np.float64(1.2), np.float64(250.0), d, np.bool_(True), np.bool_(False),
+                       np.bool_(False), np.int32(RESULTS.ok))
+    assert _short(repr(g)).startswith("KImGradient(status=ok, psi_a=1.2 mrad, k_im=250 N mm/mrad; "
+                                      "d k_im/d mu=12.5 N mm/mrad")
+
+    start = np.array([0.0, 1.5, np.inf])
+    curve = jd.StiffnessCurve(start, np.array([0.5, 2.0, 0.0]), np.zeros((3, 6, 4)), np.zeros((3, 6, 4)),
+                              np.array([0, 5, 0], np.int32), np.array([True, True, False]),
+                              np.float64(100.0), np.float64(0.1), np.float64(8.0), np.int32(7))
+    assert _short(repr(curve)) == ("StiffnessCurve(status=[ok, shakedown], psi_a=0.1 mrad to 8 mrad, "
+                                   "pieces=2 of 3, cycles=7)")
+
+    dist = jd.PeakDistribution(np.array([2.0, 20.0]), np.zeros((6, 2)),
+                               np.array([0, 0, 0, 0, 0, 1], np.int32), np.array([0.05, 0.5, 0.95]),
+                               np.array([[0.1, 0.2], [0.3, 0.4], [0.5, 0.6]]), np.array([0.7, 0.8]),
+                               np.array([np.nan, np.nan]), 5)
+    text = _short(repr(dist))
+    assert text == ("PeakDistribution(status=ok: 5, liftoff: 1, n_ok=5, force_n=[2, 20] N, "
+                    "median=[0.3, 0.4] mm/N, q95=[0.5, 0.6] mm/N, worst=[0.7, 0.8] mm/N)")
+    with_limit = dist._replace(exceedance=np.array([0.0, 0.25]))
+    assert _short(repr(with_limit)).endswith("worst=[0.7, 0.8] mm/N, exceedance=[0, 0.25])")
+
+    t = np.linspace(0.0, 2.0, 200)
+    loop = analyse_loop(np.cos(2 * np.pi * t), np.sin(2 * np.pi * t))
+    fit = jd.LoopFit(["mu", "kn", "kt", "offset_0"], np.array([0.4, 25000.0, np.nan, 3.0]),
+                     np.array([0.01, 900.0, np.nan, 1.0]), None, None, None,
+                     np.array([True, True, False, True]), ["", "", "flat", ""], 0.4, None, None,
+                     None, 2.5, None, [loop], None, None, True, [5, 3], [], FitSpec(), "gross_slip",
+                     RESULTS.not_converged, ["kt"], None)
+    assert _short(repr(fit)) == ("LoopFit(status=not_converged, mu=0.4 ± 0.01, kn=25000 ± 9e+02 N/mm, "
+                                 "kt=not identifiable, sigma=2.5 N mm, loops=1, converged=True)")
+
+    w = jd.WorkShapeFactors(*map(np.float64, (0.25, 0.5, 0.25, 1.0)))
+    assert _short(repr(w)) == "WorkShapeFactors(w_R1=0.25, w_L1=0.5, w_L2=0.25, w_M=1)"
+    summary = jd.DesignSummary(*[np.zeros((1, 2, 2))] * 13, np.array([[[0, 1], [0, 0]]], np.int32))
+    sw = jd.SweepResult(np.array([40.0, 60.0]), np.array([45.0, 90.0]), np.array([0.5]),
+                        np.zeros((2, 2)), np.ones((2, 2), bool), np.ones((2, 2), bool), None, 0.8,
+                        20000.0, 3500.0, summary)
+    assert _short(repr(sw)) == ("SweepResult(theta_l=[40, 60] deg, theta_r=[45, 90] deg, mu=[0.5], "
+                                "kn=20000 N/mm, kt=3500 N/mm, status=[ok, liftoff, ok, ok])")
+
+
+def test_new_reprs_do_not_force_tracers():
+    import jax
+
+    def f(k):
+        g = jd.KImGradient(k, k, jd.Design(jd.family_shape("60sym"), k), k > 0, k < 0, k < 0,
+                           jax.numpy.int32(0))
+        assert "<traced>" in repr(g)
+        curve = jd.StiffnessCurve(*[k] * 10)
+        assert "pieces=<traced>" in repr(curve)
+        return k
+
+    jax.jit(f)(1.0)
