@@ -8,7 +8,8 @@ and imports no plotting library. Layers (docs/architecture.md): this package's c
 Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 
 - Inputs: `Design` (shape, mu, contacts, load as one pytree), `DamperShape`, `family_shape`,
-  `Contacts`, `LoadCase`, the validated stiffness range.
+  `Contacts`, `LoadCase`, the validated stiffness range (`validated_range_violations`: the limits
+  a contact pair leaves, as text).
 - Status: `RESULTS`, the one status code every result carries; `Float64Required`;
   `SmallRotationWarning`.
 - Statics: `full_slip_statics`, `design_br` (the paper's b_R rule).
@@ -180,7 +181,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables", "platform_moment",
            "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT", "validate_mu",
            "validate_contacts", "validate_load", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
-           "VALIDATED_KT_OVER_KN", "validated_range_violations", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
+           "VALIDATED_KT_OVER_KN", "validated_range_violations", "RESULTS", "Float64Required",
+           "SMALL_ROTATION_MRAD",
            "SmallRotationWarning", "FullSlipStatics", "FullSlipState", "full_slip_statics",
            "full_slip_state", "statics_kernel", "DesignResult", "design_br",
            "full_slip_work_shape_factors", "BaseCycle", "HalfCycle", "base_cycle",

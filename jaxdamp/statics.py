@@ -111,7 +111,8 @@ class WorkShapeFactors(NamedTuple):
 
     def __repr__(self) -> str:
         """One line (dimensionless factors; no status of their own: they go with the cycle's)."""
-        return "WorkShapeFactors(" + ", ".join(f"{f}={number_repr(v)}" for f, v in zip(self._fields, self)) + ")"
+        parts = ", ".join(f"{f}={number_repr(v)}" for f, v in zip(self._fields, self))
+        return f"WorkShapeFactors({parts})"
 
 
 @jax.jit

@@ -44,7 +44,16 @@ def cli(*argv):
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         code = main(list(argv))
     assert code == 0, (argv, err.getvalue())
-    return json.loads(out.getvalue())
+    doc = json.loads(out.getvalue())
+    # every non-ok status says its cause (null for ok), also as the last warning; outside the
+    # validated range (kt = 1e12 N/mm: kt/F_D = 1e9 per mm at F_D = 1000 N) it names that limit
+    reason = doc["status_reason"]
+    assert (reason is None) == (doc["status"] == "ok"), (argv, doc["status"], reason)
+    if reason is not None:
+        assert doc["warnings"][-1] == reason
+    if doc["status"] == "ill_conditioned":
+        assert "kt/F_D = 1e+09 per mm above the validated range" in reason, reason
+    return doc
 
 
 @pytest.mark.parametrize("name", sorted(DESIGNS))
