@@ -177,34 +177,38 @@ def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = L
     return _value(design, jnp.asarray(psi_a_mrad, float))
 
 
-def _jac(shape, mu, contacts, load, psi_a, mode):
+def _jac(shape, mu, contacts, load, psi_a, mode, runner=None):
     _check_mode(mode)
     given = as_design(shape, mu, contacts, load)
     design = given.prepared()
     validate_psi_a(psi_a)
-    jac, (values, flags) = _jacobian[mode](design, jnp.asarray(psi_a, float))
+    program, args = _jacobian[mode], (design, jnp.asarray(psi_a, float))
+    jac, (values, flags) = program(*args) if runner is None else runner(program, args)
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
     return values, Outputs(*(_collapse(d, *shared) for d in jac)), flags
 
 
 def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contacts = Contacts(),
-                          load: LoadCase = LoadCase(), mode: str = "fwd") -> FiveNumbersJacobian:
+                          load: LoadCase = LoadCase(), mode: str = "fwd",
+                          runner=None) -> FiveNumbersJacobian:
     """Derivatives of (psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC) with respect to every leaf of the
     Design (angles per degree, kn/kt per N/mm, F_D per N, ...), by forward ("fwd", jax.jacfwd) or
-    reverse ("rev", jax.jacrev) mode AD."""
-    values, jac, flags = _jac(shape, mu, contacts, load, 0.0, mode)
+    reverse ("rev", jax.jacrev) mode AD. runner(program, args) -> outputs runs the compiled
+    Jacobian program instead of a plain call (the CLI's saved programs)."""
+    values, jac, flags = _jac(shape, mu, contacts, load, 0.0, mode, runner)
     return FiveNumbersJacobian(FiveNumbers(*values[:5], flags.status),
                                FiveNumbers(*jac[:5], flags.status), *flags)
 
 
 def k_im_gradient_at(psi_a_mrad, shape: DamperShape | Design, mu=None,
                      contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
-                     mode: str = "fwd") -> KImGradient:
+                     mode: str = "fwd", runner=None) -> KImGradient:
     """k_Im (N mm/mrad) at platform rotation amplitude psi_a (mrad) and its derivatives.
 
     Below psi_BC this is the paper's linear microslip interpolation (zero below psi_fs), above it
-    the exact first harmonic of the stretched cycle (see `jaxdamp.complex_stiffness`)."""
-    values, jac, flags = _jac(shape, mu, contacts, load, psi_a_mrad, mode)
+    the exact first harmonic of the stretched cycle (see `jaxdamp.complex_stiffness`). runner: as
+    in `five_numbers_jacobian`."""
+    values, jac, flags = _jac(shape, mu, contacts, load, psi_a_mrad, mode, runner)
     return KImGradient(jnp.asarray(psi_a_mrad, float), values.k_im_at, jac.k_im_at, *flags)
 
 

@@ -99,6 +99,9 @@ class DamperStiffness(NamedTuple):
     # (the peak's amplitude grid and root iterations) run the curve's value program even while an
     # outer jacfwd/grad differentiates the design; only the root's IFT step uses k_of_psi.
     k_values: KOfPsi | None = None
+    # How `damper_stiffness` built this curve from concrete inputs (a `CompiledSource`), so that
+    # `peak_response` on it runs one compiled program instead of op by op; None otherwise.
+    source: "CompiledSource | None" = None
 
     def __repr__(self):
         return (f"DamperStiffness(k_Re,stuck {number_repr(self.k_re_stuck, 'N mm/mrad')}, psi_ref "
@@ -107,6 +110,21 @@ class DamperStiffness(NamedTuple):
     def values(self, psi):
         """(k_re, k_im) at psi without derivatives with respect to the design."""
         return (self.k_of_psi if self.k_values is None else self.k_values)(psi)
+
+
+class CompiledSource:
+    """The stiffness method, its options and the prepared design a `DamperStiffness` was built
+    from, tied to its curve function: a plain object (a pytree leaf), not data to differentiate."""
+
+    __slots__ = ("k_of_psi", "method", "options", "design")
+
+    def __init__(self, k_of_psi, method: str, options: tuple, design: tuple):
+        self.k_of_psi, self.method, self.options, self.design = k_of_psi, method, options, design
+
+    def matches(self, damper: "DamperStiffness") -> bool:
+        """True while the damper still is the curve it was built as (a `_replace` of k_of_psi,
+        as `tabulated_stiffness` or `scaled_stiffness` make, unties it)."""
+        return damper.k_of_psi is self.k_of_psi
 
 
 def _interpolated(shape, mu, contacts, load) -> DamperStiffness:
@@ -171,9 +189,12 @@ def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
     once outside, or call `damper_stiffness_kernel`)."""
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
-    if not _is_traced(shape, mu, contacts, load):
-        shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
-    return damper_stiffness_kernel(shape, mu, contacts, load, method, **options)
+    if _is_traced(shape, mu, contacts, load):
+        return damper_stiffness_kernel(shape, mu, contacts, load, method, **options)
+    design = prepare_inputs(shape, mu, contacts, load)
+    damper = damper_stiffness_kernel(*design, method, **options)
+    source = CompiledSource(damper.k_of_psi, method, tuple(sorted(options.items())), design)
+    return damper._replace(source=source)
 
 
 def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
@@ -222,17 +243,26 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
     k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
     k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
-    low = tabulated_stiffness(grid, k_re_mid, k[:, 2], base, envelope="lower")
-    high = tabulated_stiffness(grid, k_re_mid, k[:, 3], base, envelope="upper")
     force = jnp.asarray(force_n, float)
     forces = force.reshape(-1)
     pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
 
-    def solve(damper):  # the damper curve is a closure: jit over the forces only
-        return jax.tree_util.tree_map(
-            pick, batch_jit(jax.vmap(lambda f: peak_response(damper, mode, f)))(forces))
+    def solve(k_im, envelope):
+        peaks = _tabulated_peaks(jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k_im),
+                                 base.status, base.k_re_stuck, base.psi_ref_mrad, mode, forces,
+                                 envelope=envelope)
+        return jax.tree_util.tree_map(pick, peaks)
 
-    return solve(low), solve(high), grid, k
+    return solve(k[:, 2], "lower"), solve(k[:, 3], "upper"), grid, k
+
+
+@batch_jit(static_argnames=("envelope",))
+def _tabulated_peaks(grid, k_re, k_im, status, k_re_stuck, psi_ref, mode, forces, envelope):
+    """Peaks at each force of the curve tabulated on grid (`tabulated_stiffness`): one module-level
+    program whose curve is an argument, so that every band's peaks reuse it."""
+    base = DamperStiffness(None, status, k_re_stuck, psi_ref)
+    damper = tabulated_stiffness(grid, k_re, k_im, base, envelope=envelope)
+    return jax.vmap(lambda f: peak_response(damper, mode, f))(forces)
 
 
 def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) -> DamperStiffness:
@@ -485,6 +515,13 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     f = jnp.asarray(force_n, float)
     if f.ndim > 1:
         raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
+    if (damper.source is not None and damper.source.matches(damper) and n_grid == N_GRID
+            and max_roots == MAX_ROOTS and amplitude_cap_mm is None and not _is_traced(mode, f)):
+        # A curve that `damper_stiffness` built from concrete inputs, called from plain Python:
+        # the compiled peak program of its method (the same function, jitted), not op by op.
+        src = damper.source
+        mode = BladeMode(*(jnp.asarray(v, float) for v in validate_mode(mode)))
+        return peak_program(src.method, src.options)(*src.design, mode, f)
     forces = f.reshape(-1)
     damped = mode.eta * mode.k_b > 0
     cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None

@@ -42,3 +42,25 @@ def test_cache_off_is_a_plain_call(monkeypatch, tmp_path):
     monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
     out = exported.call("toy", _program, (jnp.arange(2.0), (jnp.asarray(1.0), jnp.asarray(5.0))))
     np.testing.assert_array_equal(out["sum"], [1.0, 2.0])
+
+
+def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path):
+    """`jaxdamp grad` runs its Jacobian program through a saved export (a repeat process neither
+    traces nor lowers it); its derivatives are the plain program's."""
+    import jaxdamp as jd
+    from jaxdamp.cli.grad import grad_payload
+
+    args = (jd.family_shape("74R"), 0.5, jd.Contacts(), jd.LoadCase())
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
+    status_plain, plain = grad_payload(*args)
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    status_saved, saved = grad_payload(*args)
+    assert [p.name.split("-")[0] for p in (tmp_path / "exported").iterdir()] == ["grad_fwd"]
+    exported._runner.cache_clear()  # as in a new process: only the file is left
+    status_again, again = grad_payload(*args)
+    assert status_plain == status_saved == status_again == "ok"
+    for key in ("psi_bc_mrad", "k_im_bc", "k_re_bc", "psi_fs_mrad", "k_re_fs"):
+        for var, value in plain[key].items():
+            np.testing.assert_allclose(saved[key][var], value, rtol=1e-12, err_msg=(key, var))
+            np.testing.assert_allclose(again[key][var], value, rtol=1e-12, err_msg=(key, var))
+    assert abs(plain["k_im_bc"]["theta_l"]) > 0  # a derivative that is not trivially zero

@@ -250,3 +250,24 @@ def test_a_second_call_with_new_values_compiles_nothing():
                         force_n=[1.0, 3.0, 7.0, 9.0], method="interpolated")
         designer_diagram(family_shape("74R"), MODE, mu=(0.45, 0.55), **kw)
     assert compiled == []
+
+
+def test_peak_response_of_a_damper_stiffness_runs_one_compiled_program():
+    """The obvious composition, peak_response(damper_stiffness(...), ...) from plain Python, runs
+    the compiled peak program (issue 32): the same numbers as the function traced as a whole under
+    jit, and a second design with new values compiles nothing."""
+    forces = np.array([2.0, 20.0])
+    d = damper_stiffness(SHAPE, 0.5, method="interpolated")
+    got = peak_response(d, MODE, forces)
+    untied = d._replace(source=None)  # the plain function, traced whole by one jit
+    ref = jax.jit(lambda f: peak_response(untied, MODE, f))(forces)
+    for name in ("roots_mm", "peak_amplitude_mm", "peak_frequency_hz", "n_roots", "status"):
+        np.testing.assert_allclose(getattr(got, name), getattr(ref, name), rtol=1e-12, err_msg=name)
+    assert np.all(np.asarray(got.peak_amplitude_mm) > 0)
+    with count_compiles() as compiled:
+        d2 = damper_stiffness(family_shape("74R"), 0.4, Contacts(kt=3000.0), method="interpolated")
+        peak_response(d2, MODE, np.array([3.0, 9.0]))
+    assert compiled == []
+    # A curve replaced by another (here scaled) is no longer the one its source describes.
+    scaled = scaled_stiffness(d, 1000.0, 1200.0)
+    assert scaled.source is None or not scaled.source.matches(scaled)

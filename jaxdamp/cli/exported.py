@@ -26,7 +26,7 @@ from ..paper.files import write_bytes
 from ..runtime import batch_compiler_options
 from . import cache_dir
 
-__all__ = ["call", "register_out_tree"]
+__all__ = ["call"]
 
 
 @functools.cache
@@ -53,62 +53,54 @@ def _key(name: str, variant: str, leaves, in_tree) -> str:
 
 @functools.cache
 def _runner(exported_bytes: bytes):
-    """The deserialized program, jitted once per process with the batch compiler options."""
-    exp = pickle.loads(exported_bytes)
+    """(the deserialized program jitted once per process with the batch compiler options, its
+    output structure)."""
+    exp, out_tree = pickle.loads(exported_bytes)
     options = batch_compiler_options()
-    return jax.jit(exp.call, **({"compiler_options": options} if options else {}))
+    return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
 
 
-def _serialized(exp) -> bytes:
-    """The Exported as bytes. jax.export's own serialize() needs the flatbuffers package, which the
-    project does not depend on; a pickle of the dataclass holds the same StableHLO module, less its
-    VJP builder (a closure, not needed to call it). The file is read back only by the JAX version
-    and jaxdamp sources that wrote it (the key holds both), from the user's own cache folder."""
-    return pickle.dumps(dataclasses.replace(exp, _get_vjp=None))
+def _serialized(exp, out_tree) -> bytes:
+    """The Exported and the program's output structure (a PyTreeDef) as bytes. jax.export's own
+    serialize() needs the flatbuffers package, which the project does not depend on, and keeps no
+    output structure; a pickle of the dataclass holds the same StableHLO module, less its VJP
+    builder (a closure, not needed to call it). The file is read back only by the JAX version and
+    jaxdamp sources that wrote it (the key holds both), from the user's own cache folder."""
+    return pickle.dumps((dataclasses.replace(exp, _get_vjp=None), out_tree))
 
 
 def call(name: str, program, args: tuple, variant: str = ""):
     """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
-    off: a plain call). program: a jitted function of array pytrees; its outputs come back in the
-    structure given by `register_out_tree` (else found by tracing the program abstractly).
-    variant: what else selects the program (its static options), part of the key."""
+    off: a plain call). program: a jitted function of array pytrees; its outputs come back in
+    their own structure, saved with the program, so that a later process neither traces nor
+    lowers it. variant: what else selects the program (its static options), part of the key."""
     folder = cache_dir()
     if folder is None:
         return program(*args)
     leaves, in_tree = jax.tree_util.tree_flatten(args)
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree)}.bin"
-    # The traced function itself: a batch_jit's compiler options belong to the top-level jit
-    # (_runner's), not to a nested one.
-    fun = getattr(program, "__wrapped__", program)
     try:
         data = path.read_bytes()
     except OSError:
         data = None
     if data is None:
+        # The traced function itself: a batch_jit's compiler options belong to the top-level
+        # jit (_runner's), not to a nested one.
+        fun = getattr(program, "__wrapped__", program)
+        out_trees = []
+
         def flat(*xs):
-            return jax.tree_util.tree_leaves(fun(*jax.tree_util.tree_unflatten(in_tree, xs)))
+            out_leaves, out_tree = jax.tree_util.tree_flatten(
+                fun(*jax.tree_util.tree_unflatten(in_tree, xs)))
+            out_trees.append(out_tree)
+            return out_leaves
 
         exp = jexport.export(jax.jit(flat))(*leaves)
-        data = _serialized(exp)
+        data = _serialized(exp, out_trees[-1])
         try:
             path.parent.mkdir(parents=True, exist_ok=True)
             write_bytes(path, data)
         except OSError:
             pass  # an unusable cache folder only costs time
-    out_tree = _out_tree(name, fun, args)
-    return jax.tree_util.tree_unflatten(out_tree, _runner(data)(*leaves))
-
-
-_OUT_TREES: dict = {}
-
-
-def register_out_tree(name: str, example) -> None:
-    """The output structure of the program saved as `name`, from an example of it (any leaves):
-    the flat results of a saved program are rebuilt into it without tracing the program."""
-    _OUT_TREES[name] = jax.tree_util.tree_structure(example)
-
-
-def _out_tree(name, fun, args):
-    if name not in _OUT_TREES:
-        _OUT_TREES[name] = jax.tree_util.tree_structure(jax.eval_shape(fun, *args))
-    return _OUT_TREES[name]
+    run, out_tree = _runner(data)
+    return jax.tree_util.tree_unflatten(out_tree, run(*leaves))

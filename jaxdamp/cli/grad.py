@@ -48,17 +48,25 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
     """(status, payload): one dict of derivatives per output keyed by variable, the values, flags.
     Derivatives and values of a design that lifts off (or whose system is singular) are None."""
     from ..gradients import five_numbers_jacobian, k_im_gradient_at, validate_psi_a
+    from . import exported
 
     if psi_a_mrad is not None:
         validate_psi_a(psi_a_mrad)  # before the first Jacobian is computed
-    jac = five_numbers_jacobian(shape, mu, contacts, load, mode)
+    # The Jacobian program is saved once (exported.call): a later process neither traces nor
+    # lowers it (a reverse-mode trace took most of a repeat call's 4.5 s).
+    name = f"grad_{mode}"
+
+    def runner(program, args):
+        return exported.call(name, program, args)
+
+    jac = five_numbers_jacobian(shape, mu, contacts, load, mode, runner=runner)
     status = C.status_name(jac)
     exists = status not in ("liftoff", "singular", "ill_conditioned")
     payload = {key: _variables(getattr(jac.d, field), exists) for key, field in JSON_OUTPUTS}
     payload["values"] = {key: C.number(getattr(jac.values, field)) if exists else None
                          for key, field in JSON_OUTPUTS}
     if psi_a_mrad is not None:
-        g = k_im_gradient_at(psi_a_mrad, shape, mu, contacts, load, mode)
+        g = k_im_gradient_at(psi_a_mrad, shape, mu, contacts, load, mode, runner=runner)
         payload["k_im_at_psi_a"] = _variables(g.d, exists)
         payload["values"]["k_im_at_psi_a"] = C.number(g.k_im) if exists else None
         payload["psi_a_mrad"] = float(psi_a_mrad)

@@ -14,21 +14,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_positive
-from ..response import (FRF, BladeMode, Peaks, ResponseCurves, curves_program, designer_diagram,
-                        peak_band, prepare_scene, validate_mode)
+from ..response import (BladeMode, curves_program, designer_diagram, peak_band, prepare_scene,
+                        validate_mode)
 from ..status import RESULTS
-from ..band import BandKernel
 from . import common as C
 from . import exported
 from .uncertainty_report import add_uncertainty_args
 from .uncertainty_report import report as uncertainty_report
-
-# The saved programs' output structures (exported.call rebuilds them without tracing).
-_FRF = FRF(*[0] * len(FRF._fields))
-exported.register_out_tree("response_curves", ResponseCurves(
-    Peaks(*[0] * len(Peaks._fields)), _FRF, _FRF, _FRF, 0, 0))
-exported.register_out_tree("designer_diagram", (0, 0, 0, 0))
-exported.register_out_tree("band_grid", BandKernel(*[0] * len(BandKernel._fields)))
 
 STIFFNESS_NOTE = ("k(psi_a): with --stiffness exact (default) the steady travel-limited cycle at each "
                   "amplitude from the --initial history; with --stiffness interpolated the paper's "
