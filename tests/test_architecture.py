@@ -261,3 +261,34 @@ def test_nothing_imports_the_optimiser_by_its_folder_name():
     assert bad == []
     # the positive case: the optimiser's users do import it under its package name
     assert any("jaxdamp_optimize" in _imports_of_source(text) for _, text in sources)
+
+
+def test_every_module_is_in_the_docs_and_has_its_tests():
+    """docs/architecture.md's promises, held: its core table lists every core module, and every
+    module has tests/test_<module>.py (test_<package>_<module>.py, test_optimize_<module>.py) or a
+    row of the coverage table naming test files that exist."""
+    import re
+
+    doc = (ROOT / "docs" / "architecture.md").read_text()
+    core_section = doc.split("## The core", 1)[1].split("\n## ", 1)[0]
+    core_table = set(re.findall(r"^\| `(\w+\.py)` \|", core_section, re.M))
+    coverage = dict(re.findall(r"^\| `((?:jaxdamp|optimize)/[\w/]+\.py)` \| (.+?) \|$", doc, re.M))
+    tests = {p.name for p in (ROOT / "tests").glob("test_*.py")}
+    bad = [f"the core table lacks jaxdamp/{p.name}" for p in sorted((ROOT / "jaxdamp").glob("*.py"))
+           if p.name != "__init__.py" and p.name not in core_table]
+    for folder in FOLDERS.values():
+        for path in sorted((ROOT / folder).rglob("*.py")):
+            if path.name in ("__init__.py", "__main__.py"):
+                continue
+            rel = path.relative_to(ROOT)
+            parts = rel.with_suffix("").parts
+            names = {f"test_{parts[-1]}.py", f"test_{'_'.join(parts[1:])}.py",
+                     f"test_{'_'.join(parts)}.py"}
+            if names & tests:
+                continue
+            named = re.findall(r"`(tests/\w+\.py)`", coverage.get(rel.as_posix(), ""))
+            if not named:
+                bad.append(f"{rel}: no {' / '.join(sorted(names))} and no coverage row")
+            bad += [f"{rel}: its coverage row names {f}, which does not exist" for f in named
+                    if not (ROOT / f).exists()]
+    assert not bad, "\n".join(bad)

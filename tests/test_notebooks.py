@@ -1,4 +1,4 @@
-"""Every notebook in notebooks/ runs top to bottom without error (and in under 2 minutes); the
+"""Every notebook in notebooks/ runs top to bottom without error (not timed: tests never time); the
 committed notebooks carry their outputs (scripts/execute_notebooks.py), with small figures, no bare
 matplotlib reprs, and use jaxdamp's public API only.
 
