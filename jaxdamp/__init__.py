@@ -31,16 +31,6 @@ jit, vmap or grad.
 
 __version__ = "0.2.0"
 
-import os as _os
-import sys as _sys
-
-# The `jaxdamp` command, and only it, keeps XLA's C++ warnings off stderr, where a command writes
-# one status or error line: jaxlib 0.9 writes "Assume version compatibility ..." each time it loads
-# a program from the compilation cache. XLA reads the level when JAX is imported, before any code
-# of the command runs, hence here. Errors still show; a level the user set is kept.
-if _os.path.basename(_sys.argv[0] if _sys.argv else "") == "jaxdamp" and "jax" not in _sys.modules:
-    _os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "2")
-
 
 # Inputs: the design as one pytree
 from .design import Design as Design

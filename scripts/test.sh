@@ -4,8 +4,10 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
-# Two workers: one per core (the suite is mostly XLA compilation, one thread each). No reruns: a
-# worker that crashes fails the run (docs/performance.md, "Worker crashes", says what they were).
-.venv/bin/python -m pytest -n 2 "$@"
+# Two workers: one per core (the suite is mostly XLA compilation, one thread each), each compiling
+# its own programs (no persistent compilation cache: tests/conftest.py says why), a whole test file
+# at a time (--dist loadfile), so that a file's programs compile in one worker, not in both. No
+# reruns: a worker that crashes fails the run (docs/performance.md, "Worker crashes").
+.venv/bin/python -m pytest -n 2 --dist loadfile "$@"
 # Quiet: a passing build prints nothing, so pytest's summary stays the last line of the output.
 NO_MKDOCS_2_WARNING=1 .venv/bin/mkdocs build --strict --quiet

@@ -1,12 +1,6 @@
-import getpass
 import os
-import tempfile
 
-# XLA's C++ warnings stay off stderr, as the `jaxdamp` command keeps them (jaxdamp/__init__.py):
-# set before JAX is imported, and inherited by the CLI subprocesses that tests start.
-os.environ.setdefault("TF_CPP_MIN_LOG_LEVEL", "2")
-
-import jax  # noqa: E402
+import jax
 import pytest
 
 # Figures are drawn headless, as the CLI draws them (the library itself chooses no backend).
@@ -14,12 +8,13 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 # Float64 is enabled here explicitly; importing jaxdamp never changes JAX's configuration.
 jax.config.update("jax_enable_x64", True)
-# The test processes (pytest-xdist workers, subprocesses) share one persistent compilation cache,
-# so a program compiled by one worker is loaded by the next: the suite is compile-bound on 2 cores.
-# Cache keys include the program's fingerprint, so a changed program never reuses a stale entry.
-jax.config.update("jax_compilation_cache_dir",
-                  os.path.join(tempfile.gettempdir(), f"jaxdamp-tests-{getpass.getuser()}"))
-jax.config.update("jax_persistent_cache_min_compile_time_secs", 0.5)
+# No persistent compilation cache in tests, and calls run on the calling thread. With the cache,
+# jaxlib (0.10.2 and 0.9.2 alike) segfaulted about once per suite run while serialising an
+# executable for it (`executable.serialize()` in compilation_cache.put_executable_and_time) or
+# reading one back; a crashed worker fails the run, and a crash is never rerun away
+# (docs/performance.md, "Worker crashes"). The cache only shared compiled programs between the
+# two workers and carried them from one run to the next; the CLI keeps it for users.
+jax.config.update("jax_cpu_enable_async_dispatch", False)
 # In-process CLI calls run their programs as plain calls (JAXDAMP_CACHE_DIR=off): a saved export
 # (jaxdamp.cli.exported) is a second compiled form of a program the Python API tests compile
 # anyway, and its folder (~/.cache/jaxdamp) would carry state from one run to the next.
