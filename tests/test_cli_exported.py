@@ -60,7 +60,11 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
     status_again, again = grad_payload(*args)
     assert status_plain == status_saved == status_again == "ok"
     for key in ("psi_bc_mrad", "k_im_bc", "k_re_bc", "psi_fs_mrad", "k_re_fs"):
+        # The export compiles its own program: rounding may differ, relative to the output's
+        # largest derivative (a derivative that is zero in exact arithmetic comes out ~1e-15).
+        scale = max(np.max(np.abs(np.asarray(v, float))) for v in plain[key].values())
         for var, value in plain[key].items():
-            np.testing.assert_allclose(saved[key][var], value, rtol=1e-12, err_msg=(key, var))
-            np.testing.assert_allclose(again[key][var], value, rtol=1e-12, err_msg=(key, var))
+            for got in (saved, again):
+                np.testing.assert_allclose(got[key][var], value, rtol=1e-12, atol=1e-12 * scale,
+                                           err_msg=(key, var))
     assert abs(plain["k_im_bc"]["theta_l"]) > 0  # a derivative that is not trivially zero
