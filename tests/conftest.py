@@ -29,3 +29,17 @@ def paper():
     from jaxdamp import paper_tables
 
     return paper_tables()
+
+
+# The heaviest test files first (worker-seconds of the run of 2026-11-25, docs/performance.md):
+# with `--dist loadfile` (scripts/test.sh) a worker takes a whole file at a time, so a long file
+# scheduled last would leave the other worker idle; longest first, the two finish together.
+HEAVY_FIRST = ("test_amplitude.py", "test_docs.py", "test_optimize_robust.py", "test_response.py",
+               "test_uncertainty.py", "test_cli_response.py", "test_fit_loops.py",
+               "test_sequence.py", "test_band.py", "test_cli_study.py", "test_coupled_hbm.py",
+               "test_notebooks.py", "test_study.py")
+
+
+def pytest_collection_modifyitems(items):
+    rank = {name: i for i, name in enumerate(HEAVY_FIRST)}
+    items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: files stay whole
