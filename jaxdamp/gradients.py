@@ -33,11 +33,10 @@ from .batch import map_batched
 from .cycle import base_cycle_kernel
 from .design import Design, as_design
 from .geometry import DamperShape
+from .harmonics import UNITS as FIVE_NUMBER_UNITS
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
-from .status import number_repr, status_repr
-
-_FIVE_UNITS = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
 from .params import Contacts, LoadCase
+from .status import number_repr, status_repr
 
 # The design variables that a derivative reports, with the Design field each one lives in.
 PARAMETERS = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "mu", "kn", "kt")
@@ -96,7 +95,7 @@ class FiveNumbersJacobian(NamedTuple):
         derivatives (of k_Im,BC by mu and theta_L); `by_name(jac.d.<output>)` lists them all."""
         try:
             values = ", ".join(f"{f}={number_repr(v, u)}" for f, v, u in
-                               zip(FiveNumbers._fields, tuple(self.values)[:5], _FIVE_UNITS))
+                               zip(FiveNumbers._fields, tuple(self.values)[:5], FIVE_NUMBER_UNITS))
             d = _derivative_repr(self.d.k_im_bc, "k_im_bc", "N mm/mrad")
         except Exception:  # noqa: BLE001 - a repr must not raise
             values, d = "<unavailable>", ""

@@ -38,6 +38,10 @@ from .stretch import moment_half as moment_half
 from .stretch import stretched_cycle as stretched_cycle
 
 
+# Units of the five numbers, in FiveNumbers' order (psi_fs, k_Re,fs, psi_BC, k_Re,BC, k_Im,BC).
+UNITS = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
+
+
 class FiveNumbers(NamedTuple):
     """The paper's characteristic numbers (psi in mrad, k in N mm/mrad) and the status (RESULTS)
     of the Base-Cycle they come from: only `ok` numbers describe a damper (zero after liftoff)."""
@@ -54,8 +58,7 @@ class FiveNumbers(NamedTuple):
         return tuple(self[:5])
 
     def __repr__(self) -> str:
-        units = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
-        parts = [f"{f}={number_repr(v, u)}" for f, v, u in zip(self._fields, self, units)]
+        parts = [f"{f}={number_repr(v, u)}" for f, v, u in zip(self._fields, self, UNITS)]
         return f"FiveNumbers(status={status_repr(self.status)}, " + ", ".join(parts) + ")"
 
 
@@ -235,7 +238,7 @@ def cycle_numbers(shape, mu=None, contacts=None, load=None) -> CycleNumbers:
     return CycleNumbers(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, int(status))
 
 
-__all__ = ["SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation", "MomentHalf",
+__all__ = ["UNITS", "SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation", "MomentHalf",
            "base_cycle_amplitude", "moment", "moment_half", "stretched_cycle", "FiveNumbers",
            "five_numbers", "five_numbers_kernel", "complex_stiffness", "cycle_work",
            "CycleNumbers", "cycle_numbers"]
