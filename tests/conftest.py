@@ -24,6 +24,17 @@ os.environ["JAXDAMP_CACHE_DIR"] = "off"
 jax.config.update("jax_numpy_rank_promotion", "raise")
 
 
+@pytest.fixture(autouse=True, scope="module")
+def _no_persistent_compilation_cache():
+    """Fails the file whose tests left JAX's persistent compilation cache on (the CLI's
+    configure_runtime turns it on where JAXDAMP_CACHE_DIR names a folder): every later file in
+    that worker would write and read cache entries, where jaxlib crashed."""
+    yield
+    leaked = jax.config.jax_compilation_cache_dir
+    jax.config.update("jax_compilation_cache_dir", None)
+    assert not leaked, f"a test turned on the persistent compilation cache at {leaked}"
+
+
 @pytest.fixture(scope="session")
 def paper():
     from jaxdamp import paper_tables

@@ -113,6 +113,7 @@ def _regime(n, regime):
     return {"below": 0.5 * fs, "between": 0.5 * (fs + bc), "above": 1.5 * bc}[regime]
 
 
+@pytest.mark.slow  # 21 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name,mu,regime,initial,steps,tol", MARCH_CASES)
 def test_agrees_with_time_marcher(name, mu, regime, initial, steps, tol):
     shape = jd.DamperShape(55.0, 66.0, 0.10) if name == "random" else jd.family_shape(name)
@@ -224,6 +225,7 @@ def test_curves_match_single_cycles():
                                        rtol=1e-12, atol=1e-9)
 
 
+@pytest.mark.slow  # 30 worker-s (run of 2026-11-25)
 def test_curves_above_psi_bc_are_the_stretched_base_cycle_and_match_the_cycles():
     """amplitude_curves takes the stretched Base-Cycle (closed form) at psi_a >= psi_BC from gross
     slip; curves_kernel (traced: every cycle by the direct method) is the reference, on random
@@ -250,6 +252,7 @@ def test_curves_above_psi_bc_are_the_stretched_base_cycle_and_match_the_cycles()
                                    atol=1e-9 * scale)
 
 
+@pytest.mark.slow  # 46 worker-s (run of 2026-11-25)
 def test_curves_gradients_nan_free_and_match_fd():
     """Reverse- and forward-mode derivatives of k_Re + k_Im w.r.t. theta_L, theta_R, b_R/h, mu, kn,
     kt and psi_a: finite over random designs and amplitudes, including amplitudes whose reversal

@@ -26,6 +26,7 @@ def test_polytope_vertices_are_admissible_and_include_full_slip():
         assert np.min(np.max(np.abs(V[ok] - np.asarray(st.T)), axis=1)) < 1e-12
 
 
+@pytest.mark.slow  # 43 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name,mu,psi", [("60sym", 0.5, 1.2), ("74R", 0.7, 1.5)])
 def test_band_contains_named_states(name, mu, psi):
     shape = jd.family_shape(name)
@@ -45,6 +46,7 @@ def test_band_contains_named_states(name, mu, psi):
             pytest.approx(band.bounds[j], rel=1e-12, abs=1e-9)
 
 
+@pytest.mark.slow  # 28 worker-s (run of 2026-11-25)
 def test_band_closes_above_psi_bc():
     shape, mu = jd.family_shape("60sym"), 0.5
     n = jd.five_numbers(jd.base_cycle(shape, mu, CONTACTS))
@@ -110,6 +112,7 @@ def _k_of_states(shape, mu, psi, P, n0, T):
     return (np.asarray(v) for v in _k_of_states_kernel(shape, *args))
 
 
+@pytest.mark.slow  # 11 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name,mu,psi,enlarge", [("74L", 0.5, 1.2, 0.0), ("74L", 0.3, 1.0, 0.0),
                                                 ("90L", 0.5, 2.0828537, 4.0)])
 def test_band_is_never_narrower_than_ten_thousand_random_states(name, mu, psi, enlarge):
@@ -130,6 +133,7 @@ def test_band_is_never_narrower_than_ten_thousand_random_states(name, mu, psi, e
     assert lo_im <= k_im[valid].min() + tol and hi_im >= k_im[valid].max() - tol
 
 
+@pytest.mark.slow  # 70 worker-s (run of 2026-11-25)
 def test_band_grid_is_the_bands_one_by_one():
     """One program for a grid gives each amplitude's band. To 1e-9 (the band's stated precision,
     band.CONFIRM_TOL), not to rounding: k_Re is not quadratic within a sequence, so the six
@@ -143,6 +147,7 @@ def test_band_grid_is_the_bands_one_by_one():
         np.testing.assert_allclose(b.bounds, one.bounds, rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.slow  # 42 worker-s (run of 2026-11-25)
 def test_k_im_is_quadratic_in_the_initial_state_within_one_sequence():
     """The structure the band uses (issue 24): along a line of initial states on which every
     half runs the same tract sequence, the steady cycle's start state is affine and the dissipated
@@ -170,6 +175,7 @@ def test_k_im_is_quadratic_in_the_initial_state_within_one_sequence():
     assert checked >= 3
 
 
+@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
 def test_no_admissible_state_with_a_valid_cycle_says_why():
     """theta_L = theta_R = 90, b_R/h_R = -0.5: the damper's statics are singular, so no state is
     admissible (tests/test_status_paths.py drives the same design through every path). No bound

@@ -110,6 +110,7 @@ def test_stack_designs_rejects_bad_input(kwargs, match):
 
 
 # ------------------------------------------------------------------ vmap == Python loop
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_vmap_base_cycle_equals_python_loop_1000_designs():
     d = thousand()
     batched = jax.jit(jax.vmap(jd.base_cycle))(*d)
@@ -124,6 +125,7 @@ def test_vmap_base_cycle_equals_python_loop_1000_designs():
     assert int(np.max(batched.half_cycles)) > 2
 
 
+@pytest.mark.slow  # 23 worker-s (run of 2026-11-25)
 def test_evaluate_designs_equals_python_loop():
     d = thousand()
     out = B.evaluate_designs(d, chunk_size=256)  # 1018 designs: 4 chunks, the last one padded
@@ -140,6 +142,7 @@ def test_k_re_bc_matches_loop():
 
 
 # ------------------------------------------------------------------ no NaN over 10,000 designs
+@pytest.mark.slow  # 30 worker-s (run of 2026-11-25)
 def test_no_nan_over_10000_random_designs():
     shape, mu, contacts = random_designs(10_000, seed=11)
     shape, mu = with_family(shape, mu)
@@ -184,6 +187,7 @@ TWO_DEVICE_SCRIPT = textwrap.dedent("""
 """)
 
 
+@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
 def test_batch_is_sharded_over_two_devices():
     env = dict(os.environ, XLA_FLAGS="--xla_force_host_platform_device_count=2", JAX_PLATFORMS="cpu")
     proc = subprocess.run([sys.executable, "-c", TWO_DEVICE_SCRIPT], env=env, capture_output=True,
@@ -231,6 +235,7 @@ def test_sweep_centred_br_matches_design_by_design():
     assert res.valid[:, 1, 1].all()  # 60sym with its centred b_R works at both mu
 
 
+@pytest.mark.slow  # 11 worker-s (run of 2026-11-25)
 def test_sweep_fixed_br_marks_74L_liftoff_at_mu_0p7():
     res = B.sweep([73.9], [49.1], [0.5, 0.7], 0.16)
     assert res.mu_max is None and res.br_over_hr[0, 0] == 0.16

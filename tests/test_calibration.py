@@ -17,6 +17,7 @@ def fits():
             "high_kt": cal.calibrate(start=(KN0 / 3, 3 * KT0))}
 
 
+@pytest.mark.slow  # 26 worker-s (run of 2026-11-25)
 def test_converges_from_3x_off_to_one_optimum(fits):
     a, b = fits["high_kn"], fits["high_kt"]
     assert a.converged and b.converged
@@ -99,6 +100,7 @@ def test_adam_reaches_the_same_optimum(fits):
     assert fit.kt == pytest.approx(fits["high_kn"].kt, rel=1e-3)
 
 
+@pytest.mark.slow  # 40 worker-s (run of 2026-11-25)
 def test_split_fit_is_at_least_as_good(fits):
     fit = cal.calibrate(split=True)
     assert fit.converged and fit.split

@@ -227,6 +227,7 @@ def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):
     assert code == 2 and "failed to load" in one_error_line(err)
 
 
+@pytest.mark.slow  # 10 worker-s (run of 2026-11-25)
 def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
     """The console entry ends the process with os._exit after main(): the exit code and the whole
     output must still arrive (here through pipes, as in scripts)."""

@@ -57,6 +57,7 @@ def test_liftoff_gives_nulls(capsys):
     assert "NaN" not in out and "Infinity" not in out
 
 
+@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
 def test_band_in_json_and_table(capsys):
     code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "4",
                        "--band", "--json")

@@ -11,6 +11,7 @@ KN0, KT0 = jd.REFERENCE_KN, jd.REFERENCE_KT
 FITTED = {"60sym": "B3.1", "74R": "B4.1"}
 
 
+@pytest.mark.slow  # 28 worker-s (run of 2026-11-25)
 def test_cli_json_contract(capsys, paper, tmp_path):
     md = tmp_path / "cmp.md"
     code, out, _ = run_cli(capsys, "calibrate", "--json", "--start-kn", 3 * KN0, "--start-kt", KT0 / 3,

@@ -53,6 +53,7 @@ def test_contacts_from_file_and_flags_override(tmp_path, capsys):
     assert d["inputs"]["contacts"]["kn_n_per_mm"] == dict(zip(("R1", "L1", "L2"), KN))
 
 
+@pytest.mark.slow  # 13 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("command", ["grad", "amplitude"])
 def test_every_design_command_takes_the_contact_flags(tmp_path, capsys, command):
     extra = ["--psi-a", "3"] if command == "amplitude" else []

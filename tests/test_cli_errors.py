@@ -75,6 +75,7 @@ def test_section_out_under_a_regular_file(tmp_path, capsys):
     ["grad", "--shape", "60sym", "--mu", "0.5"],
     ["amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "3"],
 ])
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_every_document_has_inputs(capsys, argv):
     code, out, _ = run_cli(capsys, *argv, "--json")
     d = strict_json(out)

@@ -25,6 +25,7 @@ def _no_nan(x):
     return True
 
 
+@pytest.mark.slow  # 218 worker-s (run of 2026-11-25)
 def test_response_json_contract_and_figures(capsys, tmp_path):
     plots = tmp_path / "figs"
     code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n", "0.2,20",
@@ -81,6 +82,7 @@ def test_plot_dir_checked_before_work(capsys, tmp_path):
     assert code == 2 and out == "" and "plot" in err
 
 
+@pytest.mark.slow  # 85 worker-s (run of 2026-11-25)
 def test_liftoff_is_a_result(capsys):
     code, out, _ = run(capsys, "response", "--shape", "74L", "--mu", "0.7", "--force-n", "5",
                        "--json")
@@ -105,6 +107,7 @@ def _no_null(x, path="doc"):
         assert x is not None, path
 
 
+@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
 def test_ill_conditioned_damper_status_survives(capsys):
     """#23: the Base-Cycle's own status reaches the response (it was rebuilt from flags)."""
     code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--kt", "1e12",
@@ -116,6 +119,7 @@ def test_ill_conditioned_damper_status_survives(capsys):
     assert d["status"] == d["damper_status"] == d["peaks"][0]["status"] == "ill_conditioned"
 
 
+@pytest.mark.slow  # 60 worker-s (run of 2026-11-25)
 def test_frf_json_strict_and_free_peaks_shown(capsys):
     """#27: the free and stuck curves reach their own peaks F / (eta k_b) (a linear oscillator's
     resonance), the peak reduction is A*_free / A*, and no null stands where a number exists."""
@@ -136,6 +140,7 @@ def test_frf_json_strict_and_free_peaks_shown(capsys):
     assert max(entries[2]["free"]["high"]["amplitude_mm"]) == pytest.approx(40.0, rel=1e-6)
 
 
+@pytest.mark.slow  # 88 worker-s (run of 2026-11-25)
 def test_band_is_reported_in_json_and_text(capsys):
     """`--band`: the peak's bounds over every admissible history, in JSON and in the text table;
     the history run (gross slip) lies inside them."""

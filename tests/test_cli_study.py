@@ -14,6 +14,7 @@ def _png_size(path):
     return len(data), width, height
 
 
+@pytest.mark.slow  # 189 worker-s (run of 2026-11-25)
 def test_cli_study_subset(tmp_path, capsys):
     code, out, _ = run_cli(capsys, "study", "--out", tmp_path, "--shapes", "60sym", "--mu", "0.5",
                            "--no-progress", "--no-figures")

@@ -11,6 +11,7 @@ from jaxdamp.uncertainty import Uncertainty, peak_distribution, sample_scenarios
 from helpers import one_error_line, run_cli, strict_json
 
 
+@pytest.mark.slow  # 82 worker-s (run of 2026-11-25)
 def test_json_matches_the_library_on_the_same_samples(capsys):
     code, out, _ = run_cli(capsys, "response", "--shape", "60sym", "--force-n", "3,9",
                            "--uncertainty", "--samples", "6", "--seed", "4",

@@ -42,6 +42,7 @@ CALLS = {
 }
 
 
+@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name", sorted(CALLS))
 def test_second_call_of_a_public_function_compiles_nothing(name):
     first, second = CALLS[name]

@@ -41,6 +41,7 @@ def _identity(bc):
     return (e.contacts.sum() - e.moment) / jax.numpy.where(scale > 0, scale, 1.0)
 
 
+@pytest.mark.slow  # 18 worker-s (run of 2026-11-25)
 def test_validated_range_keeps_the_energy_identity():
     """kn/F_D and kt/F_D from 1e-1 to 1e6 per mm (100 to 1e9 N/mm at F_D = 1000 N) with kt/kn
     from 1e-4 to 1e4 (docs/model.md): every cycle is ok, liftoff or (90R, stiff tangents) not

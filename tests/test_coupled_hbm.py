@@ -17,6 +17,7 @@ MODE = BladeMode()
 FORCE = 20.0  # N: the peak's psi_a = 2.6 mrad >= psi_BC = 2.18 mrad, where k(psi_a) is exact
 
 
+@pytest.mark.slow  # 52 worker-s (run of 2026-11-25)
 def test_describing_function_continuation_reproduces_the_layered_peak():
     # The continuation and arclength peak search, driven by the layered model's own k(psi_a).
     d = damper_stiffness(SHAPE, 0.5, method="interpolated")
@@ -27,6 +28,7 @@ def test_describing_function_continuation_reproduces_the_layered_peak():
     assert float(path.peak_frequency_hz) == pytest.approx(float(layered.peak_frequency_hz), rel=1e-9)
 
 
+@pytest.mark.slow  # 101 worker-s (run of 2026-11-25)
 def test_single_harmonic_hbm_aft_peak_agrees_with_the_layered_peak():
     layered = design_peaks(SHAPE, 0.5, mode=MODE, force_n=FORCE)
     assert float(layered.psi_a_mrad) > 2.18
@@ -37,6 +39,7 @@ def test_single_harmonic_hbm_aft_peak_agrees_with_the_layered_peak():
     assert np.max(np.asarray(path.residual)) <= 1e-9
 
 
+@pytest.mark.slow  # 22 worker-s (run of 2026-11-25)
 def test_time_integration_agrees_with_five_harmonics_near_the_peak():
     # H = 5 at fixed frequencies from the layered solution as a guess; the integration starts on
     # that motion's crest and must settle on the same steady state.
@@ -56,6 +59,7 @@ def test_time_integration_agrees_with_five_harmonics_near_the_peak():
         assert float(ti.amplitude_mm) == pytest.approx(float(np.hypot(y[0], y[1])), rel=1e-4)
 
 
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_exact_layered_peak_agrees_with_hbm_aft_in_the_microslip_range():
     """Below psi_BC the paper's interpolation is not the contact law (the layered peak with it is
     13 % off at F = 2 N); the exact steady cycles from a gross-slip history are. Coupled HBM-AFT

@@ -204,6 +204,7 @@ def test_bad_contacts_and_load():
         jd.base_cycle(jd.family_shape("60sym"), 0.5, REF, jd.LoadCase(q_star=0.0))
 
 
+@pytest.mark.slow  # 16 worker-s (run of 2026-11-25)
 def test_per_contact_mu_runs_under_strict_ranks_and_equals_the_shared_value():
     """mu given per contact (R1, L1, L2) is the same physics as a shared mu when the three are equal
     (conftest makes implicit rank promotion an error, which once broke the (8, 3) candidate table);

@@ -57,6 +57,7 @@ def test_liftoff_is_a_status_with_zero_numbers():
     np.testing.assert_allclose(np.array(got[:5]), ref, rtol=1e-12, atol=1e-9)
 
 
+@pytest.mark.slow  # 26 worker-s (run of 2026-11-25)
 def test_random_designs_while_equals_scan():
     rng = np.random.default_rng(7)
     n = 200
@@ -79,6 +80,7 @@ def test_random_designs_while_equals_scan():
     assert np.sum(scan[:, 5] == jd.RESULTS.ok) > n // 2  # the comparison covers real cycles
 
 
+@pytest.mark.slow  # 62 worker-s (run of 2026-11-25)
 def test_while_loop_is_forward_differentiable():
     shape = jd.family_shape("60sym")
     s, m, c, ld = jd.params.prepare_inputs(shape, 0.5, jd.Contacts(), jd.LoadCase())

@@ -58,11 +58,20 @@ def _cli_commands(not_run=False):
                 cmd = raw.strip().removeprefix("$ ")
                 cmd = cmd.split(" #", 1)[0].strip()
                 if cmd.startswith("jaxdamp "):
-                    cases.append(pytest.param(cmd, id=f"{_rel(path)}:{line + k}"))
+                    marks = [pytest.mark.slow] if cmd in SLOW_COMMANDS else []
+                    cases.append(pytest.param(cmd, id=f"{_rel(path)}:{line + k}", marks=marks))
     return cases
 
 
 PYTHON_FILES = [p for p in DOC_FILES if any(b[0] == "python" and not b[3] for b in code_blocks(p))]
+
+# Pages whose blocks took over 10 worker-seconds in the run of 2026-11-25 (XLA compiling the
+# response, fit and optimiser programs in a fresh process): the full tier runs them
+# (`bash scripts/test.sh --full`, README); the CLI commands by their command and options.
+SLOW_PAGES = {"README.md": 62, "docs/response.md": 204, "docs/fit-loops.md": 126,
+              "docs/exact-cycles.md": 88, "docs/optimize.md": 76, "docs/batching.md": 66}
+SLOW_COMMANDS = {"jaxdamp grad --shape 74R --mu 0.5 --psi-a 3 --mode rev": 64,
+                 "jaxdamp optimize --fix theta_l=45,theta_r=45 --mu-set 0.7": 37}
 
 # Runs the blocks handed over as JSON in one namespace; a failure names the file and line.
 _DRIVER = """
@@ -99,7 +108,8 @@ def test_blocks_are_found_and_few_are_skipped():
     assert other == []
 
 
-@pytest.mark.parametrize("path", PYTHON_FILES, ids=_rel)
+@pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow)
+                                  if _rel(p) in SLOW_PAGES else p for p in PYTHON_FILES], ids=_rel)
 def test_python_blocks_run(path, tmp_path):
     blocks = [[f"{_rel(path)}:{line}", code] for lang, line, code, reason in code_blocks(path)
               if lang == "python" and not reason]

@@ -28,6 +28,7 @@ CALLS = {
 }
 
 
+@pytest.mark.slow  # 152 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name", sorted(CALLS))
 def test_core_public_paths_run_with_strict_dtype_promotion(name):
     with jax.numpy_dtype_promotion("strict"):

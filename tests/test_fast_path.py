@@ -13,6 +13,7 @@ from functools import lru_cache
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 import jaxdamp as jd
 from jaxdamp import batch as B
@@ -46,6 +47,7 @@ def _reference(design):
     return B.summary_kernel(design, MAX_PAIRS, MAX_TRACTS)
 
 
+@pytest.mark.slow  # 38 worker-s (run of 2026-11-25)
 def test_fast_path_equals_reference_over_1000_designs_and_hard_cases():
     d = designs()
     fast = B.evaluate_designs(d)
@@ -72,6 +74,7 @@ def test_rowdot_is_a_dot_product():
     np.testing.assert_allclose(got, x @ y.T, rtol=1e-14, atol=1e-14)
 
 
+@pytest.mark.slow  # 86 worker-s (run of 2026-11-25)
 def test_fast_path_gradients_equal_reference():
     """Forward-mode derivatives of the five numbers and work factors w.r.t. the whole Design, on
     designs the first stage finishes (so the fast kernel itself is differentiated)."""

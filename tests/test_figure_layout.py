@@ -164,6 +164,7 @@ def study_inputs():
     return cycles, summaries, summary
 
 
+@pytest.mark.slow  # 21 worker-s (run of 2026-11-25)
 def test_every_study_figure_has_a_clean_layout(study_inputs):
     import matplotlib.pyplot as plt
 

@@ -44,6 +44,7 @@ def noisy_fit():
     return loops, fit, steps
 
 
+@pytest.mark.slow  # 108 worker-s (run of 2026-11-25)
 def test_synthetic_loops_recovered_inside_intervals(noisy_fit):
     _, fit, steps = noisy_fit
     assert fit.converged and jd.RESULTS.name_of(fit.status) == "ok"
@@ -263,6 +264,7 @@ def test_fit_refuses_float32():
         jax.config.update("jax_enable_x64", True)
 
 
+@pytest.mark.slow  # 96 worker-s (run of 2026-11-25)
 def test_unidentifiable_parameters_are_reported_not_numbered(capsys, tmp_path):
     """kn per contact from moment loops: the command names what the loops do not determine, gives
     no number for it, and keeps intervals for the rest (one compiled program more: ~1 min cold)."""
@@ -320,6 +322,7 @@ def test_contact_loops_recovered_inside_intervals():
     assert fit.sigma == pytest.approx(noise, rel=0.3)
 
 
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_contact_model_force_is_exact_at_the_truth():
     """The fit's displacement-inverted model force equals the travel-sampled one (no noise): the
     residual at the true parameters is rounding only."""
@@ -373,6 +376,7 @@ def _march_contact_loop(a, contact, n_steps=120, pairs=4):
             np.concatenate([T(f), T(b)[1:], T(f)[1:], T(b)[1:]]))
 
 
+@pytest.mark.slow  # 18 worker-s (run of 2026-11-25)
 def test_contact_loops_from_the_time_marcher():
     from jaxdamp.fit import analyse_contact_loop
 

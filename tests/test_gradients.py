@@ -270,6 +270,7 @@ EDGE_CASES = [  # vertical flanks, both vertical, liftoff, zero-length tracts (9
 ]
 
 
+@pytest.mark.slow  # 42 worker-s (run of 2026-11-25)
 def test_no_nan_in_forward_gradients_over_10000_random_designs():
     n = 10_000
     dv = random_designs(n, seed=7)

@@ -23,6 +23,7 @@ def _design(name, mu):
     return jd.params.prepare_inputs(jd.family_shape(name), mu, jd.Contacts(), jd.LoadCase())
 
 
+@pytest.mark.slow  # 130 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name,mu,initial", [("74R", 0.5, "gross_slip"), ("90R", 0.5, "assembly"),
                                              ("60sym", 0.3, "assembly"), ("74L", 0.5, "gross_slip")])
 def test_amplitude_loop_forms_agree(name, mu, initial):
@@ -52,11 +53,15 @@ def test_amplitude_auto_derivatives_are_the_scan_programs():
                                          loop=loop).k_im
         return jnp.sum(jax.vmap(run)(psi))
 
-    ref = jax.grad(total_k_im)(s.theta_l, "scan")
+    # Each derivative is one jitted program: applied eagerly, every loop primitive compiles on
+    # its own, slower, and where jaxlib aborted twice (docs/performance.md, "Worker crashes").
+    rev = jax.jit(jax.grad(total_k_im), static_argnums=1)
+    fwd = jax.jit(jax.jacfwd(total_k_im), static_argnums=1)
+    ref = rev(s.theta_l, "scan")
     assert abs(float(ref)) > 1.0
-    np.testing.assert_allclose(jax.grad(total_k_im)(s.theta_l, "auto"), ref, rtol=1e-10)
-    np.testing.assert_allclose(jax.jacfwd(total_k_im)(s.theta_l, "auto"), ref, rtol=1e-10)
-    np.testing.assert_allclose(jax.jacfwd(total_k_im)(s.theta_l, "while"), ref, rtol=1e-10)
+    np.testing.assert_allclose(rev(s.theta_l, "auto"), ref, rtol=1e-10)
+    np.testing.assert_allclose(fwd(s.theta_l, "auto"), ref, rtol=1e-10)
+    np.testing.assert_allclose(fwd(s.theta_l, "while"), ref, rtol=1e-10)
 
 
 def test_base_cycle_auto_derivatives_are_the_scan_programs():
@@ -66,12 +71,14 @@ def test_base_cycle_auto_derivatives_are_the_scan_programs():
         return five_numbers_kernel(base_cycle_kernel(s._replace(theta_r=theta_r), m, c, ld,
                                                      loop=loop)).k_im_bc
 
-    ref = jax.grad(k_im)(s.theta_r, "scan")
+    rev = jax.jit(jax.grad(k_im), static_argnums=1)
+    ref = rev(s.theta_r, "scan")
     assert abs(float(ref)) > 1.0
-    np.testing.assert_allclose(jax.grad(k_im)(s.theta_r, "auto"), ref, rtol=1e-10)
-    np.testing.assert_allclose(jax.jacfwd(k_im)(s.theta_r, "auto"), ref, rtol=1e-10)
-    batched = jax.vmap(jax.grad(k_im), in_axes=(0, None))(s.theta_r + jnp.array([0.0, 1.0]),
-                                                           "auto")
+    np.testing.assert_allclose(rev(s.theta_r, "auto"), ref, rtol=1e-10)
+    np.testing.assert_allclose(jax.jit(jax.jacfwd(k_im), static_argnums=1)(s.theta_r, "auto"),
+                               ref, rtol=1e-10)
+    batched = jax.jit(jax.vmap(jax.grad(k_im), in_axes=(0, None)), static_argnums=1)(
+        s.theta_r + jnp.array([0.0, 1.0]), "auto")
     np.testing.assert_allclose(batched[0], ref, rtol=1e-10)
 
 

@@ -11,6 +11,7 @@ from jaxdamp_optimize.amplitude_objective import k_im_at_amplitude
 CONTACTS = jd.Contacts(17900.0, 3580.0)
 
 
+@pytest.mark.slow  # 72 worker-s (run of 2026-11-25)
 def test_worst_over_mu_and_gradient():
     def worst(angles):
         shape = jd.DamperShape(angles[0], angles[1], 0.14, 0.8)
@@ -26,6 +27,7 @@ def test_worst_over_mu_and_gradient():
     np.testing.assert_allclose(g, fd, rtol=1e-5)
 
 
+@pytest.mark.slow  # 14 worker-s (run of 2026-11-25)
 def test_robust_k_im_is_the_band_lower_bound():
     from jaxdamp_optimize.amplitude_objective import robust_k_im
 

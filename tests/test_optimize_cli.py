@@ -23,6 +23,7 @@ def run(capsys, *argv):
     return code, out.out, out.err
 
 
+@pytest.mark.slow  # 43 worker-s (run of 2026-11-25)
 def test_json_contract_default_objective(capsys):
     code, out, _ = run(capsys, "--json", "--kn", "20000", "--kt", "4000")
     assert code == 0

@@ -1,6 +1,7 @@
 """Response-based objective: worst case over mu and F_D, liftoff excluded."""
 
 import numpy as np
+import pytest
 
 import jaxdamp_optimize as opt
 from jaxdamp import LoadCase, family_shape
@@ -8,6 +9,7 @@ from jaxdamp.response import BladeMode, design_peaks
 from jaxdamp_optimize.response_objective import worst_peak
 
 
+@pytest.mark.slow  # 96 worker-s (run of 2026-11-25)
 def test_worst_peak_is_the_max_over_mu_and_directly_recomputed_fd():
     problem = opt.make_problem(mus=(0.3, 0.7))
     s = family_shape("60sym")

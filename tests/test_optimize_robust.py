@@ -20,6 +20,7 @@ SPEC = RobustSpec(force_range_n=(4.0, 12.0), fd_spread=0.2, kn_factor=1.0, kt_fa
 V60 = np.asarray(reference_shapes()["60sym"], float)
 
 
+@pytest.mark.slow  # 187 worker-s (run of 2026-11-25)
 def test_the_fd_spread_as_a_force_range_matches_fd_applied_explicitly():
     np.testing.assert_allclose(descent_forces(SPEC), [4.0 / 1.2, 12.0 / 0.8])
     val, feas = robust_values(V60, PROBLEM, SPEC, objective_args(PROBLEM, SPEC))
@@ -40,6 +41,7 @@ def V60_shape():
     return family_shape("60sym")
 
 
+@pytest.mark.slow  # 508 worker-s (run of 2026-11-25)
 def test_smooth_maximum_bounds_the_true_maximum_and_its_gradient_matches_differences():
     spec = SPEC._replace(kn_factor=2.0, kt_factor=2.0, history="band")
     args = objective_args(PROBLEM, spec)

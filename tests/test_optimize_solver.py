@@ -160,6 +160,7 @@ def line_brute_force(line_problem):
     return X[feas, 0], X[k, 0], worst[k]
 
 
+@pytest.mark.slow  # 59 worker-s (run of 2026-11-25)
 def test_active_constraint_reported_at_a_boundary_optimum(line_problem, line_brute_force):
     feasible_br, best_br, best = line_brute_force
     # the brute-force optimum sits at the lower end of the feasible b_R interval

@@ -1,6 +1,7 @@
 """The k(psi_a) figure from exact cycles (jaxdamp.plotting.amplitude): data and drawing."""
 
 import matplotlib
+import pytest
 
 matplotlib.use("Agg")
 
@@ -10,6 +11,7 @@ import jaxdamp as jd  # noqa: E402
 from jaxdamp.plotting.amplitude import amplitude_stiffness_data, plot_amplitude_stiffness  # noqa: E402
 
 
+@pytest.mark.slow  # 14 worker-s (run of 2026-11-25)
 def test_figure_data_and_panels():
     shape, mu, contacts = jd.family_shape("60sym"), 0.5, jd.Contacts(17900.0, 3580.0)
     psi = np.array([0.3, 1.2, 3.0, 6.0])
@@ -25,6 +27,7 @@ def test_figure_data_and_panels():
     assert len(fig.axes) == 2 and fig.axes[1].get_legend() is not None
 
 
+@pytest.mark.slow  # 30 worker-s (run of 2026-11-25)
 def test_psi_labels_are_greek_and_clear_of_the_curves():
     """ψ_fs and ψ_BC (Greek, as in the other figures) sit where no curve passes (the study's
     amplitude_stiffness figures had ψ_fs on the k_Re curve, which peaks there)."""

@@ -14,6 +14,7 @@ from jaxdamp.response import BladeMode, response_curves  # noqa: E402
 MODE = BladeMode()
 
 
+@pytest.mark.slow  # 14 worker-s (run of 2026-11-25)
 def test_response_figure_shows_the_free_and_the_damped_peaks():
     forces = [2.0, 20.0]
     res = response_curves(family_shape("60sym"), 0.5, mode=MODE, force_n=forces,

@@ -56,6 +56,7 @@ def test_an_empty_polytope_is_reported():
     assert not bool(ok) and np.all(np.asarray(d) == 0.0) and float(q) == 0.0
 
 
+@pytest.mark.slow  # 10 worker-s (run of 2026-11-25)
 @settings(max_examples=25, deadline=None)
 @given(st.integers(0, 10_000))
 def test_never_above_dense_feasible_samples(seed):

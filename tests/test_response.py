@@ -102,6 +102,7 @@ def test_a_force_array_shares_one_grid_and_finds_every_root():
         peak_response(d, mode, jnp.ones((2, 2)))
 
 
+@pytest.mark.slow  # 61 worker-s (run of 2026-11-25)
 def test_exact_damper_values_are_its_curve_without_design_derivatives():
     d = damper_stiffness(SHAPE, 0.5)
     psi = jnp.geomspace(0.3, 8.0, 9)
@@ -126,6 +127,7 @@ def test_no_root_without_structural_damping_beyond_the_friction_force():
     assert a == pytest.approx(np.sqrt(0.01 / 2.0), rel=1e-12)
 
 
+@pytest.mark.slow  # 48 worker-s (run of 2026-11-25)
 def test_liftoff_is_reported():
     p = design_peaks(family_shape("74L"), 0.7, force_n=5.0)
     assert int(p.status) == RESULTS.liftoff
@@ -152,6 +154,7 @@ def _peak_and_frequency(x):
     return jnp.stack([p.peak_amplitude_mm, p.peak_frequency_hz])
 
 
+@pytest.mark.slow  # 126 worker-s (run of 2026-11-25)
 def test_gradients_by_implicit_function_match_central_differences():
     f = jax.jit(_peak_and_frequency)
     jf = jax.jit(jax.jacfwd(_peak_and_frequency))
@@ -171,6 +174,7 @@ def test_gradients_by_implicit_function_match_central_differences():
     np.testing.assert_allclose(jrev, jac, rtol=1e-10, atol=1e-14)
 
 
+@pytest.mark.slow  # 146 worker-s (run of 2026-11-25)
 def test_designer_diagram_band_and_limits():
     dd = designer_diagram(SHAPE, force_n=[0.2, 5.0, 50.0], fd_n=[100.0, 1000.0, 1e5],
                           force_at_fd_n=5.0, mu=(0.3, 0.7))
@@ -189,6 +193,7 @@ def test_designer_diagram_band_and_limits():
     np.testing.assert_allclose(dd.stuck_frequency_hz, f_stuck, rtol=1e-8)
 
 
+@pytest.mark.slow  # 170 worker-s (run of 2026-11-25)
 def test_peak_band_brackets_every_named_history():
     """The band of k(psi_a) over all admissible histories bounds each history's k_Im pointwise, and
     the peak equation is monotone in k_Im: the band's peaks bracket the peak of the gross-slip and
@@ -226,6 +231,7 @@ def test_linear_frf_reaches_the_closed_form_resonance_of_free_and_stuck():
             np.testing.assert_allclose(back, a, rtol=1e-8)
 
 
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_response_curves_carry_the_damper_status_and_readable_reprs():
     res = response_curves(SHAPE, 0.5, contacts=Contacts(kt=1e12), force_n=[5.0],
                           method="interpolated")
@@ -239,6 +245,7 @@ def test_response_curves_carry_the_damper_status_and_readable_reprs():
     assert "status ok" in repr(damper_stiffness(SHAPE, 0.5, method="interpolated"))
 
 
+@pytest.mark.slow  # 32 worker-s (run of 2026-11-25)
 def test_a_second_call_with_new_values_compiles_nothing():
     """The response and diagram programs live at module level (#23): new numbers, same shapes."""
     mus = (0.4, 0.5)

@@ -59,6 +59,7 @@ def test_decorator_forms_pass_jit_arguments():
     assert f.__name__ == "f" and f.lower(2.0, power=3).compile()(2.0) == 8.0
 
 
+@pytest.mark.slow  # 19 worker-s (run of 2026-11-25)
 def test_batched_results_equal_plain_jit_to_rounding():
     rng = np.random.default_rng(3)
     n = 64

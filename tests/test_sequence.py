@@ -35,6 +35,7 @@ def _err(a_re, a_im, b_re, b_im):
     return np.max(np.maximum(np.abs(a_re - b_re), np.abs(a_im - b_im)) / scale)
 
 
+@pytest.mark.slow  # 114 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("initial", ["gross_slip", "assembly"])
 def test_sequence_curves_equal_per_amplitude_cycles(initial):
     shape, mu = _stack(*zip(*CASES))
@@ -66,6 +67,7 @@ def test_free_curve_at_any_amplitude_and_cycles_per_curve():
     assert int(np.max(cur.cycles)) <= 30  # against 200 cycles per curve amplitude by amplitude
 
 
+@pytest.mark.slow  # 26 worker-s (run of 2026-11-25)
 def test_explicit_initial_states():
     shape1 = jd.family_shape("60sym")
     P, n0, G, h = admissible_polytope(shape1, 0.5)
@@ -96,6 +98,7 @@ def test_explicit_initial_states():
         np.testing.assert_array_equal(np.asarray(pt.status[i]), st)
 
 
+@pytest.mark.slow  # 18 worker-s (run of 2026-11-25)
 def test_corners_affine_within_a_piece():
     """The structure: within one sequence the loop's corners (tract lengths, moments) are affine in
     psi_a. The forward-mode model of one cycle predicts another cycle's corners in the same piece
@@ -109,6 +112,7 @@ def test_corners_affine_within_a_piece():
     assert np.max(np.abs(np.asarray(pred - pr[1].corners)) / scale) < 1e-12
 
 
+@pytest.mark.slow  # 76 worker-s (run of 2026-11-25)
 def test_gradients_psi_and_design_match_finite_differences():
     shape1 = jd.family_shape("60sym")
     shape, mu = _stack(["60sym"], [0.5])

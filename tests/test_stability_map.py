@@ -22,6 +22,7 @@ def runs():
     return cases, direct, ref
 
 
+@pytest.mark.slow  # 59 worker-s (run of 2026-11-25)
 def test_rows_cover_the_hard_cases_of_the_issue(runs):
     cases, _, _ = runs
     cats = {c["category"] for c in cases}
@@ -32,6 +33,7 @@ def test_rows_cover_the_hard_cases_of_the_issue(runs):
     assert {"90L", "90R"} <= {c["shape"] for c in cases if c["category"] == "vertical flank"}
 
 
+@pytest.mark.slow  # 37 worker-s (run of 2026-11-25)
 def test_direct_is_right_or_flags_every_row(runs):
     cases, direct, ref = runs
     failures = []

@@ -2,6 +2,7 @@
 
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 import jaxdamp as jd
 from jaxdamp.status import RESULTS, ok_status
@@ -28,6 +29,7 @@ def test_solver_statuses():
     assert RESULTS.name_of(lift.status) == "liftoff" and bool(lift.liftoff)
 
 
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_results_print_short_with_units_and_status_by_name():
     """A user printing a result reads its status by name and its numbers with units, in a line or
     two: never `Array(..., dtype=float64)`, a bare status integer or hundreds of lines."""

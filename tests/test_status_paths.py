@@ -56,6 +56,7 @@ def cli(*argv):
     return doc
 
 
+@pytest.mark.slow  # 33 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name", sorted(DESIGNS))
 def test_cycle_paths_agree(name):
     _, shape, mu, contacts = DESIGNS[name]
@@ -72,6 +73,7 @@ def test_cycle_paths_agree(name):
         assert not bool(R.valid(bc.status))
 
 
+@pytest.mark.slow  # 22 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name", DESIGN_LEVEL)
 def test_amplitude_paths_agree(name):
     """From gross slip every amplitude meets the design's status. From assembly, liftoff needs an

@@ -63,6 +63,7 @@ def fine():
     return dict(labels=labels, bc=bc, direct=direct, tm=tm, shapes=shapes, mus=mus)
 
 
+@pytest.mark.slow  # 32 worker-s (run of 2026-11-25)
 def test_liftoff_flags_agree(fine):
     lift_d = np.asarray(fine["bc"].liftoff)
     lift_t = np.asarray(fine["tm"].liftoff)
@@ -113,6 +114,7 @@ def coarse(fine):
             for n in (250, 500, 1000, 2000)}
 
 
+@pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
 def test_error_falls_linearly_with_step(fine, coarse):
     labels = fine["labels"]
     use = np.array([not lab.startswith("random") for lab in labels]) & ~np.asarray(fine["bc"].liftoff)
@@ -144,6 +146,7 @@ def test_too_few_steps_is_flagged_not_wrong(fine, coarse):
     np.testing.assert_array_equal(np.asarray(tm.liftoff), lift)
 
 
+@pytest.mark.slow  # 22 worker-s (run of 2026-11-25)
 def test_gross_slip_end_is_the_full_slip_statics(fine):
     """60sym and 74R end both halves in full slip: the marched forces at C and F equal the statics."""
     tm = fine["tm"]

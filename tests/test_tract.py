@@ -37,6 +37,7 @@ def cases():
     return out
 
 
+@pytest.mark.slow  # 42 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("shape, mu, kt_over_kn", cases())
 def test_reduced_solve_matches_plain_solve(shape, mu, kt_over_kn):
     contacts = Contacts(jd.REFERENCE_KN, kt_over_kn * jd.REFERENCE_KN)

@@ -32,6 +32,7 @@ def test_samples_lie_in_the_stated_ranges_and_pairs_are_drawn_independently():
     assert abs(np.corrcoef(rn[:, 0], rn[:, 1])[0, 1]) < 0.06
 
 
+@pytest.mark.slow  # 120 worker-s (run of 2026-11-25)
 def test_a_common_contact_scale_and_fd_change_obey_the_scaling_law():
     """k(psi; F_D, c kn, c kt) = c k0(psi c F_D0 / F_D): the sample recomputes the exact curve at the
     scaled contacts and load; the reference rescales the nominal curve."""
@@ -44,6 +45,7 @@ def test_a_common_contact_scale_and_fd_change_obey_the_scaling_law():
     np.testing.assert_allclose(dist.magnification[0], a_ref / FORCES, rtol=1e-7)
 
 
+@pytest.mark.slow  # 107 worker-s (run of 2026-11-25)
 def test_each_sample_matches_the_per_design_peak_solver_at_its_own_contacts_and_load():
     scen = sample_scenarios(jax.random.PRNGKey(3), 3)
     dist = peak_distribution(SHAPE, scen, BladeMode(), FORCES, history="assembly")
@@ -71,6 +73,7 @@ def test_band_is_the_larger_history_and_quantiles_agree_with_exceedance():
     assert g_lim.exceedance[0] == pytest.approx(0.5)  # 16 distinct samples: 8 above the median
 
 
+@pytest.mark.slow  # 321 worker-s (run of 2026-11-25)
 def test_magnification_gradient_in_the_shape_matches_central_differences():
     shape, _, _, load, mode = prepare_scene(SHAPE, 0.5)
     scen = Scenarios(jnp.asarray(0.45), jnp.asarray(KN0 * 1.2), jnp.asarray(KT0 * 0.8),
