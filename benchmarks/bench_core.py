@@ -74,7 +74,7 @@ def main():
     def plain(solve):
         return lambda mech, signs, direction: jax.vmap(
             lambda slipping: tract.plain_tract_rates(mech, slipping, signs, direction, solve))(
-                tract._CANDIDATES)
+                tract.CANDIDATE_SETS)
 
     variants = {"reduced": tract.candidate_rates, "plain_cramer": plain(solve3),
                 "plain_linalg": plain(linalg_solve3)}

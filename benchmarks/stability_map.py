@@ -209,7 +209,7 @@ def _direct_one(shape, mu, contacts):
     return jnp.stack(jd.five_numbers(base_cycle_kernel(shape, mu, contacts, LOAD)).numbers())
 
 
-def _merge_reference(cases, direct):
+def merge_reference(cases, direct):
     """Reference runs: most rows at N = 4000/8000 with 12 pairs; rows whose cycle closes slowly
     (90R with a stiff tangential spring, ~100 pairs) at N = 1000/2000 with 150 pairs."""
     n = len(cases)
@@ -233,7 +233,7 @@ def _merge_reference(cases, direct):
 def evaluate(cases=None, progress=print) -> dict:
     cases = hard_cases() if cases is None else cases
     direct = direct_batch(cases)
-    ref = _merge_reference(cases, direct)
+    ref = merge_reference(cases, direct)
     progress("reference done")
     results = []
     for i, case in enumerate(cases):

@@ -33,6 +33,8 @@ __version__ = "0.2.0"
 
 
 # Inputs: the design as one pytree
+import jax
+
 from .design import Design as Design
 from .geometry import DamperShape as DamperShape
 from .geometry import SectionGeometry as SectionGeometry
@@ -172,8 +174,6 @@ from .augmented import al_value_and_grad as al_value_and_grad
 
 def enable_x64() -> None:
     """Switch JAX to float64 (the library's results are specified in float64)."""
-    import jax
-
     jax.config.update("jax_enable_x64", True)
 
 

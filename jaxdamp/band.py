@@ -32,11 +32,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ._validate import check_int, check_range
 from .linalg import solve3
 from .amplitude import amplitude_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic, row_subsets
+from .runtime import padded_size
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
 from .tract import NO_EVENT
@@ -375,9 +377,6 @@ def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) in one batched program
     (`bands_program`); runner(program, args) -> outputs runs it instead of a plain call (the CLI
     passes its saved-program cache)."""
-    from ._validate import check_int, check_range
-    from .runtime import padded_size
-
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     psi = np.atleast_1d(np.asarray(psi_a_mrad, float))

@@ -17,6 +17,7 @@ from typing import NamedTuple, Sequence
 import jax
 import jax.numpy as jnp
 import numpy as np
+from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
 from ._validate import require_x64
@@ -167,8 +168,6 @@ def gather(out) -> object:
     whole result (an all-gather over processes)."""
     leaves = jax.tree_util.tree_leaves(out)
     if leaves and not all(getattr(x, "is_fully_addressable", True) for x in leaves):
-        from jax.experimental import multihost_utils
-
         out = multihost_utils.process_allgather(out, tiled=True)
     return jax.tree_util.tree_map(np.asarray, out)
 

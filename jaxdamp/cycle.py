@@ -6,6 +6,7 @@ periodic cycle is a bounded scan over (forward, backward) pairs until the end st
 
 from __future__ import annotations
 
+import string
 from functools import partial
 from typing import NamedTuple
 
@@ -14,13 +15,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from .design import Design, as_design
-from .geometry import DamperShape
+from .geometry import CONTACT_NAMES, DamperShape
 from .status import from_flags, number_repr, status_repr
 from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
-from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
+from .tract import (BACKSLIDE, STATE_NAMES, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
                     make_mechanics, next_event)
 
 MAX_TRACTS = 6  # per half-cycle; the paper's cases need at most 4, random designs at most 5
@@ -350,8 +351,6 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
 
 
 def _letters():
-    import string
-
     return ["0"] + list(string.ascii_uppercase[: 26])
 
 
@@ -362,11 +361,6 @@ def transitions_chart(bc: BaseCycle) -> list[dict]:
     gross-slip stretch that completes the shorter half is a row with every contact in slip
     ('C-C′' at mid-cycle or 'F-0' at the end, as in the paper).
     """
-    import numpy as np
-
-    from .geometry import CONTACT_NAMES
-    from .tract import STATE_NAMES
-
     names = _letters()
     rows, k = [], 0
     longest = max(float(bc.forward.span), float(bc.backward.span))

@@ -9,7 +9,7 @@ import jax.numpy as jnp
 
 from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle, HalfCycle
-from .harmonics import base_cycle_amplitude, moment
+from .harmonics import base_cycle_amplitude, cycle_work, moment
 from .statics import WorkShapeFactors
 from .status import number_repr
 
@@ -36,8 +36,6 @@ class CycleEnergy(NamedTuple):
 def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     """Energy dissipated per cycle (N mm) at each contact and by the platform moment, at amplitude
     psi_a >= psi_BC (default: the Base-Cycle)."""
-    from .harmonics import cycle_work
-
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else jnp.maximum(
         psi_a_mrad, base_cycle_amplitude(bc))
     total = 2.0 * travel_mm(psi, bc.load.q_star)

@@ -44,6 +44,7 @@ come from the pseudo-inverse of J^T J without the null directions (nothing held 
 from __future__ import annotations
 
 from functools import partial
+from statistics import NormalDist
 from typing import Callable, NamedTuple
 
 import jax
@@ -51,7 +52,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_range, require_x64
-from .amplitude import INITIAL_STATES, amplitude_kernel
+from .amplitude import INITIAL_STATES, amplitude_cycle, amplitude_kernel
 from .conventions import travel_mm
 from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
 from .params import Contacts, LoadCase, validate_load
@@ -463,6 +464,8 @@ def _verbose(**kw):
 
 @partial(jax.jit, static_argnames=("spec", "history", "max_steps", "rtol"))
 def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol):
+    # Imported here, not with the module: optimistix (with equinox) adds 1-2 s to every
+    # `import jaxdamp` (measured 2026-11-25), and only the loop fit uses it.
     import optimistix as optx
 
     def fn(theta, args):
@@ -621,8 +624,6 @@ def identify(jac, sigma2, names, n_phys):
 
 
 def _z() -> float:
-    from statistics import NormalDist
-
     return NormalDist().inv_cdf(0.5 + CONFIDENCE / 2)
 
 
@@ -796,8 +797,6 @@ def sample_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contact
                 load: LoadCase = LoadCase(), *, t, initial: str = "gross_slip"):
     """(psi, M) of the model's exact steady loop sampled at times t (periods) of psi = psi_a cos(2 pi
     t): psi in mrad, M in N mm (numpy). A test loop for `fit_loops` (add noise and offsets)."""
-    from .amplitude import amplitude_cycle
-
     t = np.asarray(t, float)
     ac = amplitude_cycle(shape, mu, psi_a_mrad, contacts, load, initial=initial)
     phase = np.mod(t, 1.0)
@@ -816,8 +815,6 @@ def sample_contact_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts =
     loop for `fit_loops` (add noise and offsets; centre: disp at the forward extreme is the model's
     d there, forward half first). Evaluated along the travel, tract by tract (numpy), not through
     the displacement inversion the fit uses."""
-    from .amplitude import amplitude_cycle
-
     if component not in COMPONENTS:
         raise ValueError(f"component must be tangential or normal; got {component!r}")
     t = np.asarray(t, float)

@@ -14,6 +14,8 @@ from typing import NamedTuple
 import jax.numpy as jnp
 
 from ._validate import check_range
+from .conventions import moment_coefficients
+from .linalg import rowdot
 
 from .conventions import CONTACT_NAMES as CONTACT_NAMES  # noqa: E402  (re-exported)
 FAMILY = ("90L", "74L", "60sym", "74R", "90R")
@@ -129,9 +131,6 @@ def full_slip_slide_rates(shape: DamperShape) -> jnp.ndarray:
 def platform_moment(shape: DamperShape, load, N, T):
     """Platform moment M_P (N mm) of contact forces N, T (units of F_D, last axis = contact) for a
     shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta))."""
-    from .conventions import moment_coefficients
-    from .linalg import rowdot
-
     geo = section_geometry(shape)
     fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
                                  load.r_sin_beta)

@@ -17,6 +17,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .amplitude import amplitude_kernel
 from .conventions import psi_mrad, travel_mm
 # The small-rotation limit lives with the conventions (below amplitude.py, which warns too).
 from .conventions import SMALL_ROTATION_MRAD as SMALL_ROTATION_MRAD
@@ -131,8 +132,6 @@ def _bucketed(kernel, bc, psi_a_mrad):
 
 @batch_jit(static_argnames=("initial",))
 def _exact_stiffness(bc: BaseCycle, psi_a_mrad, initial):
-    from .amplitude import amplitude_kernel
-
     psi = jnp.asarray(psi_a_mrad, float)
     flat = psi.reshape(-1)
     one = lambda p: amplitude_kernel(bc.shape, bc.mu, bc.contacts, bc.load, p,  # noqa: E731

@@ -11,6 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_positive, check_range, require_x64
+from .geometry import DamperShape, validate_shape
 
 # The paper's reference contact pair: the least-squares fit of `jaxdamp calibrate` to Tables B3.1
 # and B4.1 (every number within 0.7 %, docs/paper_comparison.md). MODEL.md's first quick fit was
@@ -156,8 +157,6 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
     """Validate a solver's inputs (ValueError naming the parameter and its range; Float64Required
     in float32) and convert them to float arrays with kn, kt per contact, so that every entry point
     compiles the same program. Plain numbers take a one-comparison fast path."""
-    from .geometry import DamperShape, validate_shape
-
     require_x64()
     if not fast_ok(shape, mu, contacts, load):
         validate_shape(shape)

@@ -42,7 +42,7 @@ from .conventions import travel_mm
 from .fourier import half_fourier
 from .geometry import platform_moment
 from .runtime import batch_jit
-from .status import RESULTS
+from .status import RESULTS, number_repr, status_repr
 from .tract import NO_EVENT
 
 __all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "sequence_curves", "curve_at", "loop_stiffness",
@@ -83,8 +83,6 @@ class StiffnessCurve(NamedTuple):
     def __repr__(self) -> str:
         """One line: the amplitude range, the pieces in use and their statuses by name, the exact
         cycles run (a batch: over all its curves)."""
-        from .status import number_repr, status_repr
-
         try:
             used = np.isfinite(np.asarray(self.start, float))
             pieces = f"{int(used.sum())} of {used.size}"

@@ -7,6 +7,7 @@ helpers turn a cycle into the polylines the figures draw (exact: the cycle is pi
 
 from __future__ import annotations
 
+import string
 from typing import NamedTuple
 
 import jax
@@ -17,6 +18,7 @@ from .energy import contact_energies, work_shape_factors
 from .geometry import DamperShape, section_geometry, validate_shape
 from .params import validate_mu
 from .harmonics import complex_stiffness, five_numbers, moment_half
+from .statics import statics_kernel
 
 PSI_GRID_POINTS = 401
 PSI_MAX_MRAD = 20.0
@@ -57,8 +59,6 @@ def stiffness_at(bc, psi_a_mrad):
 
 @jax.jit
 def _section_data(shape, mu):
-    from .statics import statics_kernel
-
     return section_geometry(shape), statics_kernel(shape, mu)
 
 
@@ -98,8 +98,6 @@ def analyse_cycle(bc, psi=None) -> CycleSummary:
 # ---------------------------------------------------------------- polylines (numpy, exact vertices)
 def point_names(n: int) -> list[str]:
     """Point names along a cycle: 0, A, B, ... (the paper's labels)."""
-    import string
-
     letters = string.ascii_uppercase
     return ["0"] + [letters[i % 26] + ("'" * (i // 26)) for i in range(n - 1)]
 

@@ -27,9 +27,10 @@ from .linalg import rowdot, solve3
 STICK, SLIP, BACKSLIDE, OPEN = 0, 1, 2, 3
 STATE_NAMES = ("stick", "slip", "backslide", "open")
 
-# 8 candidate state sets for 3 contacts: bit i set means contact i slips.
+# The 8 candidate state sets for 3 contacts, (8, 3) bool: bit i of row c set means contact i
+# slips; candidate_rates and choose_states use this order.
 # numpy, not jnp: a module-level JAX array would start the backend when jaxdamp is imported.
-_CANDIDATES = np.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
+CANDIDATE_SETS = np.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
 
 LIMIT_TOL = 1e-10  # force (units of F_D) within which a contact counts as on its friction limit
 RATE_TOL = 1e-9  # relative tolerance on rates (consistency checks, gross-slip detection)
@@ -142,7 +143,7 @@ _PAIRS = ((0, 1), (0, 2), (1, 2))
 
 
 def _slip_solutions(A, g, rel_tol=1e-12):
-    """y (8, 3) and ok (8,) for every candidate set (`_CANDIDATES` order): A_SS y_S = g_S, y = 0 off
+    """y (8, 3) and ok (8,) for every candidate set (`CANDIDATE_SETS` order): A_SS y_S = g_S, y = 0 off
     S, in closed form per set size. ok follows `solve3`'s test |det| > rel_tol * prod(row norms),
     squared so that no square root is taken."""
     tol2 = rel_tol * rel_tol
@@ -171,10 +172,10 @@ def _slip_solutions(A, g, rel_tol=1e-12):
 
 
 def candidate_rates(mech: Mechanics, signs, direction) -> TractRates:
-    """`tract_rates` of all 8 candidate state sets at once (leading axis in `_CANDIDATES` order)."""
+    """`tract_rates` of all 8 candidate state sets at once (leading axis in `CANDIDATE_SETS` order)."""
     A, g = _slip_system(mech, signs, direction)
     y, ok = _slip_solutions(A, g)
-    return _rates(mech, _CANDIDATES.astype(float), signs, y, ok, direction)
+    return _rates(mech, CANDIDATE_SETS.astype(float), signs, y, ok, direction)
 
 
 class TractChoice(NamedTuple):
@@ -196,7 +197,7 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     signs = jnp.where(T >= 0.0, 1.0, -1.0)
     scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
 
-    slipping = jnp.asarray(_CANDIDATES)
+    slipping = jnp.asarray(CANDIDATE_SETS)
     rates = candidate_rates(mech, signs, direction)
     # Per-contact quantities against the (8 candidates, 3 contacts) table: explicit leading axis.
     at_limit, signs8 = at_limit[None], signs[None]
@@ -206,7 +207,7 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     slip_ok = jnp.where(slipping, signs8 * rates.dslip <= RATE_TOL, True)
     allowed = ~jnp.any(slipping & ~at_limit, axis=1)
     good = allowed & rates.ok & jnp.all(stick_ok, axis=1) & jnp.all(slip_ok, axis=1)
-    score = jnp.where(good, 10 + jnp.sum(~_CANDIDATES, axis=1), 0)
+    score = jnp.where(good, 10 + jnp.sum(~CANDIDATE_SETS, axis=1), 0)
     best = jnp.argmax(score)
     pick = lambda x: x[best]  # noqa: E731
     return TractChoice(slipping[best], signs, jax.tree_util.tree_map(pick, rates), good[best])
@@ -250,6 +251,6 @@ def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
     return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2, runner_up)
 
 
-__all__ = ["STATE_NAMES", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
+__all__ = ["STATE_NAMES", "CANDIDATE_SETS", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
            "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates", "TractChoice",
            "choose_states", "TractEvent", "next_event"]

@@ -126,28 +126,31 @@ def _q95_scores(v, history, scenarios, forces, mode, load):
             jnp.max(jnp.stack([jnp.max(o[1]) for o in outs])))
 
 
-def _objective(v, objective, history, temperature, *args):
-    """(smooth max in mm/N, (hard max in mm/N, status))."""
+def smooth_objective(v, objective, history, temperature, *args):
+    """(smooth max in mm/N, (hard max in mm/N, status)) of one design vector v: the log-sum-exp
+    of the scenarios' log magnifications at `temperature`, which bounds the hard maximum from
+    above by at most temperature * log(number of scores). Traced as it is: jit it, or use
+    objective_programs."""
     scores, status = (_worst_scores if objective == "worst" else _q95_scores)(v, history, *args)
     smooth = temperature * jax.nn.logsumexp(scores / temperature)
     return jnp.exp(smooth), (jnp.exp(jnp.max(scores)), status)
 
 
 def _value(v, objective, history, temperature, *args):
-    return _objective(v, objective, history, temperature, *args)[1]
+    return smooth_objective(v, objective, history, temperature, *args)[1]
 
 
 _PROGRAMS: dict = {}
 
 
-def _programs(objective: str, history: str):
+def objective_programs(objective: str, history: str):
     """(batched values, gradient of the smooth maximum) compiled once per objective and history."""
     if (objective, history) not in _PROGRAMS:
         def value(v, temperature, *args):
-            return _objective(v, objective, history, temperature, *args)[1]
+            return smooth_objective(v, objective, history, temperature, *args)[1]
 
         def smooth(v, temperature, *args):
-            return _objective(v, objective, history, temperature, *args)
+            return smooth_objective(v, objective, history, temperature, *args)
 
         _PROGRAMS[objective, history] = (
             jax.jit(jax.vmap(value, (0,) + (None,) * (8 if objective == "worst" else 5))),
@@ -177,7 +180,7 @@ def robust_values(V, problem: Problem, spec: RobustSpec, args) -> tuple[np.ndarr
     """(B,) hard maximum of the objective (mm/N; inf where infeasible) and (B,) feasibility (the
     optimiser's margins at every mu and an ok damper status in every scenario)."""
     V = np.atleast_2d(np.asarray(V, float))
-    run = _programs(spec.objective, spec.history)[0]
+    run = objective_programs(spec.objective, spec.history)[0]
     vals, status = (np.asarray(x) for x in run(jnp.asarray(V), spec.temperature, *args))
     feasible = np.asarray(is_feasible(evaluate_shapes(problem, V))) & (status == 0)
     return np.where(feasible, vals, np.inf), feasible
@@ -286,7 +289,7 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
     spec = validate_spec(spec)
     tick = progress or (lambda n: None)
     args = objective_args(problem, spec, mode)
-    grad = _programs(spec.objective, spec.history)[1]
+    grad = objective_programs(spec.objective, spec.history)[1]
     sp = problem.space
     Z = np.array(list(itertools.product(*[np.linspace(0.0, 1.0, grid_points)] * sp.dim)))
     V = np.stack([complete_shape(problem, z) for z in Z])

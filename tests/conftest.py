@@ -42,13 +42,15 @@ def paper():
     return paper_tables()
 
 
-# The heaviest test files first (worker-seconds of the run of 2026-11-25, docs/performance.md):
-# with `--dist loadfile` (scripts/test.sh) a worker takes a whole file at a time, so a long file
-# scheduled last would leave the other worker idle; longest first, the two finish together.
-HEAVY_FIRST = ("test_amplitude.py", "test_docs.py", "test_optimize_robust.py", "test_response.py",
-               "test_uncertainty.py", "test_cli_response.py", "test_fit_loops.py",
-               "test_sequence.py", "test_band.py", "test_cli_study.py", "test_coupled_hbm.py",
-               "test_notebooks.py", "test_study.py")
+# The heaviest test files of the default tier first (worker-seconds of the run of 2026-11-25,
+# docs/performance.md): with `--dist loadfile` (scripts/test.sh) a worker takes a whole file at a
+# time, so a long file scheduled last would leave the other worker idle; longest first, the two
+# finish together (`--full` runs in the same order).
+HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
+               "test_calibration.py", "test_timemarch.py", "test_docs.py", "test_batch.py",
+               "test_study.py", "test_cli_exported.py", "test_response.py", "test_uncertainty.py",
+               "test_optimize_robust.py", "test_cli_response.py", "test_sequence.py",
+               "test_band.py", "test_cli_study.py", "test_coupled_hbm.py", "test_notebooks.py")
 
 
 def pytest_collection_modifyitems(items):

@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from helpers import assert_leaf_close
+from helpers import assert_leaf_close, count_compiles
 from jaxdamp import batch as B
 
 EXACT_FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -262,10 +262,10 @@ def test_batch_sizes_share_bucketed_programs():
                                                rng.uniform(-0.1, 0.2, n)), 0.5)
 
     jd.evaluate_designs(designs(20))
-    compiled = {k: f._cache_size() for k, f in B._COMPILED.items()}
-    for n in (17, 25, 32):  # one bucket (32 designs)
-        jd.evaluate_designs(designs(n))
-    assert {k: f._cache_size() for k, f in B._COMPILED.items()} == compiled
+    with count_compiles() as compiled:
+        for n in (17, 25, 32):  # one bucket (32 designs)
+            jd.evaluate_designs(designs(n))
+    assert compiled == []
 
 
 def test_bucket_sizes():

@@ -75,7 +75,7 @@ def test_residuals_match_the_public_solver(fits, paper):
 def test_optimum_is_a_minimum_of_the_least_squares(fits):
     """Loss at the fit is below the loss 1 % away in each parameter (both directions)."""
     fit = fits["high_kn"]
-    problem = cal._Problem(cal.paper_targets(), cal.paper_targets(("90R",)), False)
+    problem = cal.LeastSquaresProblem(cal.paper_targets(), cal.paper_targets(("90R",)), False)
     theta = np.log([fit.kn, fit.kt])
     best = problem.loss_parts(theta)[0]
     for d in ([0.01, 0], [-0.01, 0], [0, 0.01], [0, -0.01]):

@@ -218,10 +218,13 @@ def test_status_from_result_fields_or_flags():
 
 
 def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):
-    from importlib.metadata import EntryPoint
+    import importlib.metadata as md
 
-    broken = EntryPoint("broken", "no_such_module_xyz:register", cli.ENTRY_POINT_GROUP)
-    monkeypatch.setattr(cli, "_entry_point_registers", lambda: [cli._loader(broken)])
+    broken = md.EntryPoint("broken", "no_such_module_xyz:register", cli.ENTRY_POINT_GROUP)
+    installed = md.entry_points
+    # The plugin as if installed: the command line finds its commands through entry_points.
+    monkeypatch.setattr(md, "entry_points", lambda **kw: [broken] if kw.get("group") ==
+                        cli.ENTRY_POINT_GROUP else installed(**kw))
     assert run_cli(capsys, "statics", "--shape", "60sym", "--mu", "0.5")[0] == 0
     code, _, err = run_cli(capsys, "broken")
     assert code == 2 and "failed to load" in one_error_line(err)

@@ -24,7 +24,7 @@ def test_saved_export_is_reused_without_tracing(monkeypatch, tmp_path):
     saved = list((tmp_path / "exported").iterdir())
     assert len(saved) == 1 and saved[0].name.startswith("toy-")
     n = len(TRACES)
-    exported._runner.cache_clear()  # as in a new process: only the file is left
+    exported.forget_loaded()  # as in a new process: only the file is left
     # New values, same shapes: the saved program, not a new trace of _program.
     second = exported.call("toy", _program, (jnp.arange(3.0) + 1.0, (jnp.asarray(2.0),
                                                                      jnp.asarray(4.0))))
@@ -56,7 +56,7 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
     monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
     status_saved, saved = grad_payload(*args)
     assert [p.name.split("-")[0] for p in (tmp_path / "exported").iterdir()] == ["grad_fwd"]
-    exported._runner.cache_clear()  # as in a new process: only the file is left
+    exported.forget_loaded()  # as in a new process: only the file is left
     status_again, again = grad_payload(*args)
     assert status_plain == status_saved == status_again == "ok"
     for key in ("psi_bc_mrad", "k_im_bc", "k_re_bc", "psi_fs_mrad", "k_re_fs"):

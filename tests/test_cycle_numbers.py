@@ -89,8 +89,8 @@ def test_while_loop_is_forward_differentiable():
         bc = base_cycle_kernel(s._replace(theta_l=theta_l), m, c, ld, loop=loop)
         return five_numbers_kernel(bc).k_im_bc
 
-    d_while = jax.jacfwd(lambda x: k_im(x, "while"))(s.theta_l)
-    d_scan = jax.grad(lambda x: k_im(x, "scan"))(s.theta_l)
+    d_while = jax.jit(jax.jacfwd(lambda x: k_im(x, "while")))(s.theta_l)
+    d_scan = jax.jit(jax.grad(lambda x: k_im(x, "scan")))(s.theta_l)
     np.testing.assert_allclose(d_while, d_scan, rtol=1e-10)
 
 

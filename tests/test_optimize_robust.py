@@ -10,9 +10,9 @@ import pytest
 from jaxdamp import LoadCase
 from jaxdamp.uncertainty import Scenarios, peak_distribution
 from jaxdamp_optimize.problem import make_problem
-from jaxdamp_optimize.robust_objective import (RobustSpec, _programs, dense_scenarios, descent_forces,
-                                       objective_args, reference_shapes, robust_values,
-                                       validate_spec)
+from jaxdamp_optimize.robust_objective import (RobustSpec, dense_scenarios, descent_forces,
+                                               objective_args, objective_programs,
+                                               reference_shapes, robust_values, validate_spec)
 
 PROBLEM = make_problem(mus=(0.4, 0.6))
 SPEC = RobustSpec(force_range_n=(4.0, 12.0), fd_spread=0.2, kn_factor=1.0, kt_factor=1.0,
@@ -45,7 +45,7 @@ def V60_shape():
 def test_smooth_maximum_bounds_the_true_maximum_and_its_gradient_matches_differences():
     spec = SPEC._replace(kn_factor=2.0, kt_factor=2.0, history="band")
     args = objective_args(PROBLEM, spec)
-    _, grad = _programs(spec.objective, spec.history)
+    _, grad = objective_programs(spec.objective, spec.history)
     (g, (hard, status)) = grad(jnp.asarray(V60), spec.temperature, *args)
     n_scores = 2 * len(PROBLEM.mus) * 5 * spec.n_forces  # histories x mu x corners x forces
 
@@ -61,9 +61,9 @@ def test_smooth_maximum_bounds_the_true_maximum_and_its_gradient_matches_differe
 
 
 def _smooth(v, spec, args):
-    from jaxdamp_optimize.robust_objective import _objective
+    from jaxdamp_optimize.robust_objective import smooth_objective
 
-    return float(jax.jit(_objective, static_argnums=(1, 2))(
+    return float(jax.jit(smooth_objective, static_argnums=(1, 2))(
         jnp.asarray(v), spec.objective, spec.history, spec.temperature, *args)[0])
 
 

@@ -6,7 +6,7 @@ import pytest
 
 import jaxdamp as jd
 from jaxdamp.baselines.hbm import hbm_aft
-from jaxdamp.baselines.regularized import _local_tanh, regularized_aft
+from jaxdamp.baselines.regularized import local_tanh, regularized_aft
 
 CONTACTS = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)
 
@@ -18,7 +18,7 @@ def test_local_slip_equation_is_solved():
     T_tr = jnp.array([0.3, -2.0, 5.0, 0.999, -1e-3])
     muN = jnp.array([1.0, 1.0, 0.5, 1.0, 2.0])
     for c in (1.0, 1e-3, 1e-9):
-        z = _local_tanh(T_tr, muN, jnp.full(5, c))
+        z = local_tanh(T_tr, muN, jnp.full(5, c))
         g = muN * jnp.tanh(z) + c * z - T_tr
         assert float(jnp.max(jnp.abs(g))) < 1e-12
 

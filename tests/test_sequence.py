@@ -48,6 +48,7 @@ def test_sequence_curves_equal_per_amplitude_cycles(initial):
     assert np.all(np.isfinite(np.asarray(seq.k_re))) and np.all(np.isfinite(np.asarray(seq.k_im)))
 
 
+@pytest.mark.slow  # 41 worker-s (run of 2026-11-25)
 def test_free_curve_at_any_amplitude_and_cycles_per_curve():
     """The curve built on [psi_lo, psi_hi] (probes placed by the method, not on the grid)
     evaluated at 200 other amplitudes: every one covered, equal to the cycles, status for status,
@@ -121,12 +122,13 @@ def test_gradients_psi_and_design_match_finite_differences():
     one = jax.tree_util.tree_map(lambda x: x[0], cur)
     psi0 = jnp.asarray(1.2)  # microslip, away from the breaks
 
+    @jax.jit  # one program, not the kernel's loops op by op
     def k_ref(p, m):
         ac = amplitude_kernel(shape1, jnp.asarray(m, float), jd.Contacts(), jd.LoadCase(),
                               jnp.asarray(p, float))
         return jnp.stack([ac.k_re, ac.k_im])
 
-    d_psi = jax.jacfwd(lambda p: jnp.stack(one.at(p)[:2]))(psi0)
+    d_psi = jax.jit(jax.jacfwd(lambda p: jnp.stack(one.at(p)[:2])))(psi0)
     h = 1e-6
     fd = (k_ref(psi0 + h, 0.5) - k_ref(psi0 - h, 0.5)) / (2 * h)
     np.testing.assert_allclose(np.asarray(d_psi), np.asarray(fd), rtol=1e-5, atol=1e-3)
@@ -136,7 +138,7 @@ def test_gradients_psi_and_design_match_finite_differences():
         return jnp.stack(c.at(psi0)[:2])
 
     np.testing.assert_allclose(np.asarray(k_design(0.5)), np.asarray(k_ref(psi0, 0.5)), rtol=1e-12)
-    g = jax.jacrev(k_design)(0.5)
+    g = jax.jit(jax.jacrev(k_design))(0.5)
     fd = (k_ref(psi0, 0.5 + h) - k_ref(psi0, 0.5 - h)) / (2 * h)
     assert np.all(np.isfinite(np.asarray(g)))
     np.testing.assert_allclose(np.asarray(g), np.asarray(fd), rtol=1e-5, atol=1e-3)

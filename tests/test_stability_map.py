@@ -18,7 +18,7 @@ _spec.loader.exec_module(sm)
 def runs():
     cases = sm.hard_cases()
     direct = sm.direct_batch(cases)
-    ref = sm._merge_reference(cases, direct)
+    ref = sm.merge_reference(cases, direct)
     return cases, direct, ref
 
 

@@ -46,7 +46,7 @@ def test_reduced_solve_matches_plain_solve(shape, mu, kt_over_kn):
     for direction in (-1.0, 1.0):
         signs = jnp.asarray(rng.choice([-1.0, 1.0], 3))
         every = tract.candidate_rates(mech, signs, direction)
-        for k, slipping in enumerate(tract._CANDIDATES):
+        for k, slipping in enumerate(tract.CANDIDATE_SETS):
             dN, dT, dslip, cond = plain_rates(mech, slipping, signs, direction)
             one = tract.tract_rates(mech, slipping, signs, direction)
             assert bool(one.ok) and bool(every.ok[k])
@@ -67,7 +67,7 @@ def test_singular_set_is_flagged_not_nan():
     every = tract.candidate_rates(mech, signs, 1.0)
     for leaf in every:
         assert np.all(np.isfinite(np.asarray(leaf)))
-    conds = [float(plain_rates(mech, s, signs, 1.0)[3]) for s in tract._CANDIDATES]
+    conds = [float(plain_rates(mech, s, signs, 1.0)[3]) for s in tract.CANDIDATE_SETS]
     singular = np.array(conds) > 1e12
     assert singular[7] and not singular[:7].any()
     np.testing.assert_array_equal(np.asarray(every.ok), ~singular)

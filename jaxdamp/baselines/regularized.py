@@ -31,7 +31,7 @@ LOCAL_ITERS = 80  # bound on the safeguarded Newton iterations of the per-contac
 MAX_NEWTON_REG = 20
 
 
-def _local_tanh(T_tr, muN, c):
+def local_tanh(T_tr, muN, c):
     """Solve muN tanh(z) + c z = T_tr for z (monotone in z), Newton safeguarded by bisection."""
     lo = (T_tr - muN) / c
     hi = (T_tr + muN) / c
@@ -79,7 +79,7 @@ def respond_tanh(m: MarchModel, q, dv, p_old, c_reg):
     N = jnp.where(closed, N_tr, 0.0)
     muN = jnp.maximum(m.mu * N, 1e-300)
     T_tr = m.T_ref - m.kt * (gt - p_old)
-    z = _local_tanh(T_tr, muN, c_reg)
+    z = local_tanh(T_tr, muN, c_reg)
     th = jnp.tanh(z)
     T = jnp.where(closed, muN * th, 0.0)
     p = gt - (m.T_ref - T) / m.kt

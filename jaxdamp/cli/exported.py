@@ -60,6 +60,12 @@ def _runner(exported_bytes: bytes):
     return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
 
 
+def forget_loaded() -> None:
+    """Forget the programs this process has loaded from saved exports, so that the next call
+    reads its file again, as a new process would."""
+    _runner.cache_clear()
+
+
 def _serialized(exp, out_tree) -> bytes:
     """The Exported and the program's output structure (a PyTreeDef) as bytes. jax.export's own
     serialize() needs the flatbuffers package, which the project does not depend on, and keeps no

@@ -165,7 +165,7 @@ def _evaluate(theta, cases: _Cases, split: bool, max_pairs: int = MAX_PAIRS):
     return nums, jac, ok
 
 
-class _Problem:
+class LeastSquaresProblem:
     """Host-side least-squares problem: fitted targets plus report-only rows in one batch."""
 
     def __init__(self, targets: CalibrationTargets, report: CalibrationTargets | None, split: bool):
@@ -232,7 +232,7 @@ def _optimizer(method: str, learning_rate: float):
     return optax.adam(optax.exponential_decay(learning_rate, transition_steps=50, decay_rate=0.9))
 
 
-def _solver(problem: _Problem, method: str, learning_rate: float):
+def _solver(problem: LeastSquaresProblem, method: str, learning_rate: float):
     """(init, update) pure functions for the problem. The loss enters the traced optax code through a
     pure callback to the compiled `_evaluate` kernel, with its forward-mode gradient as custom VJP;
     so the optimiser's own reverse-mode calls and line search cost nothing to compile."""
@@ -353,13 +353,13 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
 
     history, params, iterations = [], [], 0
     if theta0.size == 2:
-        shared = _Problem(targets, report, False)
+        shared = LeastSquaresProblem(targets, report, False)
         theta, count = _minimize(shared, theta0, method, max_iter, gtol, learning_rate, history, params,
                                  callback)
         iterations += count
         if split:  # continue from the shared optimum
             theta0 = np.asarray(theta)[[0, 0, 1, 1]]
-    problem = shared if not split else _Problem(targets, report, True)
+    problem = shared if not split else LeastSquaresProblem(targets, report, True)
     if split:
         theta, count = _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, params,
                                  callback)
@@ -546,6 +546,6 @@ def history_rows(res: CalibrationResult) -> list[dict]:
 
 __all__ = ["NUMBERS", "FITTED_TABLES", "REPORTED_TABLES", "NOT_COMPARABLE", "TABLE_NAMES",
            "DEFAULT_START_KN", "DEFAULT_START_KT", "CalibrationTargets", "paper_targets",
-           "CalibrationState", "CalibrationResult", "calibrate", "validate_start",
+           "CalibrationState", "CalibrationResult", "LeastSquaresProblem", "calibrate", "validate_start",
            "target_numbers", "residuals_pct", "comparison_table", "comparison_document",
            "history_rows"]
