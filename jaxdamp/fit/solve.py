@@ -1,0 +1,460 @@
+"""The loop fit itself: the parameter vector (log mu, log kn, log kt, shared per FitSpec, and the
+loops' offsets), the residuals against the model's exact loops, the two-stage Levenberg-Marquardt
+solve (optimistix), identifiability and confidence intervals (the module docstring of
+`jaxdamp.fit` says how), and `fit_loops` / `fit_problem`, which check, analyse and stack the
+loops first."""
+
+from __future__ import annotations
+
+from functools import partial
+from statistics import NormalDist
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .._validate import check_range, require_x64
+from ..amplitude import INITIAL_STATES, amplitude_kernel
+from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
+from ..params import Contacts, LoadCase, validate_load
+from ..status import RESULTS, number_repr, status_repr
+from .loops import COMPONENTS, ContactLoop, MomentLoop, analyse_loop
+from .model import contact_loop_force, loop_model_moment
+
+__all__ = ["FitSpec", "LoopFit", "FitProblem", "fit_loops", "fit_problem", "fit_residuals",
+           "identify", "DEFAULT_START", "GROUPINGS", "K_REF", "MAX_SPAN", "ROBUST_DELTA"]
+
+
+# Generic start (as `jaxdamp calibrate`'s: a round order of magnitude, not the answer): mu = 0.5,
+# kn = 1e4 N/mm, kt = kn / 2.
+DEFAULT_START = {"mu": 0.5, "kn": 1.0e4, "kt": 5.0e3}
+K_REF = 1.0e4  # N/mm, the stiffness of log-parameter 0
+GROUPINGS = {"mu": ("shared", "contact"), "kn": ("shared", "side", "contact"),
+             "kt": ("shared", "side", "contact")}
+_INDEX = {"shared": (0, 0, 0), "side": (0, 1, 1), "contact": (0, 1, 2)}
+_LABELS = {"shared": ("",), "side": ("R1", "L"), "contact": CONTACT_NAMES}
+ROBUST_DELTA = 2.0  # pseudo-Huber threshold, in robust standard deviations of the residuals
+MAX_SPAN = 4.0  # an interval wider than a factor 4 (hi / lo) is no measurement of the parameter
+NULL_RCOND = 1e-7  # singular values below this fraction of the largest: null directions
+NULL_LOADING = 0.1  # a parameter with a component above this in a null direction is in it
+CONFIDENCE = 0.95
+
+
+class FitSpec(NamedTuple):
+    """How each contact parameter is shared: mu 'shared' | 'contact'; kn, kt 'shared' | 'side'
+    (R1 | L1 = L2) | 'contact'."""
+
+    mu: str = "shared"
+    kn: str = "shared"
+    kt: str = "shared"
+
+    def sizes(self) -> tuple[int, int, int]:
+        return tuple(len(_LABELS[g]) for g in self)
+
+    def names(self) -> list[str]:
+        out = []
+        for p, g in zip(("mu", "kn", "kt"), self):
+            out += [p if not lab else f"{p}_{lab}" for lab in _LABELS[g]]
+        return out
+
+
+
+def _expand(theta, spec: FitSpec):
+    """(mu, kn (3,), kt (3,), offsets) from the parameter vector."""
+    n_mu, n_kn, n_kt = spec.sizes()
+    lmu = theta[:n_mu]
+    lkn = theta[n_mu:n_mu + n_kn]
+    lkt = theta[n_mu + n_kn:n_mu + n_kn + n_kt]
+    mu = jnp.exp(lmu)[0] if spec.mu == "shared" else jnp.exp(lmu)
+    kn = K_REF * jnp.exp(lkn[jnp.asarray(_INDEX[spec.kn])])
+    kt = K_REF * jnp.exp(lkt[jnp.asarray(_INDEX[spec.kt])])
+    return mu, kn, kt, theta[n_mu + n_kn + n_kt:]
+
+
+class _Data(NamedTuple):
+    """The loops stacked and padded (loops, samples)."""
+
+    psi_a: jnp.ndarray  # (L,)
+    forward: jnp.ndarray  # (L, n) bool
+    u: jnp.ndarray  # (L, n)
+    moment: jnp.ndarray  # (L, n), in units of scale
+    mask: jnp.ndarray  # (L, n) 1.0 for a sample, 0.0 for padding
+    scale: jnp.ndarray  # (L,) each loop's force scale (N mm for moment loops, N for contact loops)
+    kind: jnp.ndarray  # (L,) int: 0 moment loop, 1 tangential contact loop, 2 normal contact loop
+    contact: jnp.ndarray  # (L,) int: the contact of a contact loop (0 R1, 1 L1, 2 L2)
+    x: jnp.ndarray  # (L, n) contact loops: displacement from the measured centre, mm
+
+
+def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
+    """(model moment or contact force (L, n) in units of each loop's scale, offsets, cycle statuses
+    (L,), per loop: False for a tangential contact loop whose model displacement is not monotone
+    along a half (then its force is not a function of the displacement there))."""
+    mu, kn, kt, off = _expand(theta, spec)
+    contacts = Contacts(kn, kt)
+
+    def one(psi_a, fwd, u, kind, contact, x):
+        ac = amplitude_kernel(shape, mu, contacts, load, psi_a, initial=history)
+        m = loop_model_moment(ac, fwd, u)
+        # contact loops: `forward` holds "the measured displacement decreases on this half"
+        f, mono = contact_loop_force(ac, contact, kind == 2, fwd, x)
+        return jnp.where(kind == 0, m, f * load.F_D), ac.status, mono | (kind != 1)
+
+    m, status, mono = jax.vmap(one)(data.psi_a, data.forward, data.u, data.kind, data.contact, data.x)
+    return m / data.scale[:, None], off, status, mono
+
+
+_model_jit = jax.jit(_model, static_argnames=("spec", "history"))
+
+
+def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
+    """Residuals (flattened, padding zero) in units of the moment scale, pseudo-Huber rescaled
+    where inv_delta > 0 (1 / delta; 0: plain least squares)."""
+    m, off, _, _ = _model(theta, shape, load, data, spec, history)
+    r = (data.moment - m - off[:, None]) * data.mask
+    z = r * inv_delta
+    return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1)
+
+
+_LISTENERS: list = []  # the running fit's step callback (one compiled program for every caller)
+
+
+def _report(step, loss, step_size):
+    for f in _LISTENERS[-1:]:
+        f(step, loss, step_size)
+
+
+def _verbose(**kw):
+    jax.debug.callback(_report, kw["num_steps"][1], kw["loss_last_accepted_step"][1],
+                       kw["step_size"][1])
+
+
+@partial(jax.jit, static_argnames=("spec", "history", "max_steps", "rtol"))
+def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol):
+    # Imported here, not with the module: optimistix (with equinox) adds 1-2 s to every
+    # `import jaxdamp` (measured 2026-11-25), and only the loop fit uses it.
+    import optimistix as optx
+
+    def fn(theta, args):
+        return fit_residuals(theta, shape, load, data, spec, history, inv_delta)
+
+    verbose = _verbose
+    solver = optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3, verbose=verbose)
+    sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False)
+    r = fn(sol.value, None)
+    jac = jax.jacfwd(fn)(sol.value, None)
+    _, _, status, _ = _model(sol.value, shape, load, data, spec, history)
+    return sol.value, r, jac, sol.result == optx.RESULTS.successful, sol.stats["num_steps"], status
+
+
+class LoopFit(NamedTuple):
+    """The fitted contact parameters and their uncertainty (`fit_loops`).
+
+    names: the parameters (mu, kn, kt per their grouping, then offset_0...); value, se, lo, hi:
+    per parameter, NaN where not identifiable (mu dimensionless, kn, kt in N/mm, offsets in N mm;
+    lo, hi: the CONFIDENCE interval); correlation: (p, p), NaN rows for the unidentified ones.
+    identifiable: bool per parameter; why: per parameter, "" or the reason it is not identifiable.
+    mu, kn, kt: the fitted values as the solver takes them (mu a number or (3,), kn, kt (3,) N/mm),
+    including unidentified ones at the value the solver ended on (to run the model, not as results).
+    """
+
+    names: list
+    value: np.ndarray
+    se: np.ndarray
+    lo: np.ndarray
+    hi: np.ndarray
+    correlation: np.ndarray
+    identifiable: np.ndarray
+    why: list
+    mu: object
+    kn: np.ndarray
+    kt: np.ndarray
+    offsets: np.ndarray  # per loop: N mm (moment loop) or N (contact loop)
+    sigma: float  # residual standard deviation (robust stage, rescaled residuals), N mm or N; NaN
+    # where moment and contact loops are fitted together (no common unit)
+    rms: np.ndarray  # per loop, plain rms residual at the optimum (N mm or N)
+    loops: list  # the MomentLoop or ContactLoop of each input
+    fitted: list  # per loop, the model moment (N mm) or force (N), offset included, at each sample
+    statuses: np.ndarray  # RESULTS code of each loop's model cycle at the optimum
+    converged: bool
+    steps: list  # LM steps per stage
+    history: list  # (stage, step, loss) as the solver went
+    spec: FitSpec
+    initial: str
+    status: int  # RESULTS code: ok, not_converged, liftoff, ... (the worst)
+    held: list  # the names not identified (their values are where the solver ended, no result)
+    monotone: np.ndarray  # per loop: False for a tangential contact loop whose model displacement
+    # is not monotone along a half at the optimum (its force is then not a function of it there)
+
+    def __repr__(self) -> str:
+        """One or two lines: status by name, each contact parameter with its unit and standard
+        error (or 'not identifiable'), the residual sd, the loops and whether the solve converged."""
+        try:
+            parts = []
+            for n, v, se, ok in zip(self.names, np.asarray(self.value, float), np.asarray(self.se, float),
+                                    np.asarray(self.identifiable, bool)):
+                if n.startswith("offset"):
+                    continue
+                unit = "" if n.startswith("mu") else " N/mm"
+                parts.append(f"{n}={v:.5g} ± {se:.2g}{unit}" if ok else f"{n}=not identifiable")
+            loops = list(self.loops)
+            unit = "N mm" if all(isinstance(lp, MomentLoop) for lp in loops) else "N"
+            mixed = not loops or not np.isfinite(float(self.sigma))  # moment and contact loops: no sd
+            tail = (f"sigma={number_repr(self.sigma, '' if mixed else unit)}, loops={len(loops)}, "
+                    f"converged={bool(np.asarray(self.converged))}")
+            body = ", ".join(parts + [tail])
+        except Exception:  # noqa: BLE001 - a repr must not raise (a hand-built or traced LoopFit)
+            body = "<unavailable>"
+        return f"LoopFit(status={status_repr(self.status)}, {body})"
+
+    def as_dict(self) -> dict:
+        """Plain-Python view (floats, lists; None where a number does not exist)."""
+        f = lambda v: None if v is None or not np.isfinite(v) else float(v)  # noqa: E731
+        params = {}
+        for i, n in enumerate(self.names):
+            params[n] = {"value": f(self.value[i]), "se": f(self.se[i]), "lo": f(self.lo[i]),
+                         "hi": f(self.hi[i]), "identifiable": bool(self.identifiable[i]),
+                         "why": self.why[i] or None}
+        return {"parameters": params, "correlation": [[f(v) for v in row] for row in self.correlation],
+                "sigma_nmm": f(self.sigma), "rms_nmm": [f(v) for v in self.rms],
+                "converged": self.converged, "steps": self.steps,
+                "status": RESULTS.name_of(self.status)}
+
+
+def _robust_sd(r):
+    r = np.asarray(r)
+    return float(1.4826 * np.median(np.abs(r - np.median(r))))
+
+
+def _pad(n: int) -> int:
+    return max(512, 1 << int(np.ceil(np.log2(max(n, 1)))))
+
+
+def _stack(loops: list, scale) -> _Data:
+    n = _pad(max(lp.x.size for lp in loops))
+    L = len(loops)
+    fwd, u, m, mask, x = (np.zeros((L, n), bool), np.zeros((L, n)), np.zeros((L, n)), np.zeros((L, n)),
+                          np.zeros((L, n)))
+    kind, contact = np.zeros(L, np.int32), np.zeros(L, np.int32)
+    scale = np.broadcast_to(np.asarray(scale, float), (L,))
+    for i, lp in enumerate(loops):
+        k = lp.x.size
+        fwd[i, :k], u[i, :k], m[i, :k], mask[i, :k] = lp.forward, lp.u, lp.y / scale[i], 1.0
+        if isinstance(lp, ContactLoop):
+            kind[i] = 1 + COMPONENTS.index(lp.component)
+            contact[i] = lp.contact
+            x[i, :k] = lp.disp - lp.disp_c
+    return _Data(jnp.asarray([lp.psi_a for lp in loops]), jnp.asarray(fwd), jnp.asarray(u),
+                 jnp.asarray(m), jnp.asarray(mask), jnp.asarray(scale), jnp.asarray(kind),
+                 jnp.asarray(contact), jnp.asarray(x))
+
+
+def identify(jac, sigma2, names, n_phys):
+    """(identifiable (p,) bool, why (p,) reasons, covariance (p, p), NaN for the unidentified) from
+    the residuals' Jacobian (n, p) at the optimum and the residual variance sigma2. The first n_phys
+    parameters are logs (their interval spans exp(2 z se)). A parameter with a component above
+    NULL_LOADING in a direction whose singular value is below NULL_RCOND of the largest is not
+    identifiable, nor is a log-parameter whose interval would span more than MAX_SPAN. The
+    covariance is sigma2 (J^T J)^+ (pseudo-inverse with the null directions cut): for a parameter
+    outside the null directions it is its full variance, the weakly determined directions
+    included; nothing is held fixed."""
+    p = jac.shape[1]
+    ok = np.ones(p, bool)
+    why = [""] * p
+    _, s, vt = np.linalg.svd(jac, full_matrices=False)
+    if not s[0] > 0.0:
+        return ok & False, ["not identifiable: the loops carry no information on it (zero Jacobian)"] * p, \
+            np.full((p, p), np.nan)
+    for k in np.nonzero(s < NULL_RCOND * s[0])[0]:
+        involved = np.nonzero(np.abs(vt[k]) > NULL_LOADING)[0]
+        for j in involved:
+            if ok[j]:
+                others = [names[i] for i in involved if i != j]
+                why[j] = ("not identifiable: the loops constrain only a combination of it"
+                          + (f" with {', '.join(others)}" if others else " (it does not change them)")
+                          + " (a null direction of the Jacobian)")
+            ok[j] = False
+    keep = s >= NULL_RCOND * s[0]
+    vk = vt[keep]
+    cov = sigma2 * (vk.T / s[keep] ** 2) @ vk
+    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    z = _z()
+    for j in range(min(n_phys, p)):
+        span = float(np.exp(min(2 * z * se[j], 700.0)))
+        if ok[j] and span > MAX_SPAN:
+            why[j] = (f"not identifiable from these loops: its {CONFIDENCE:.0%} interval would span a "
+                      f"factor {span:.3g} (more than {MAX_SPAN:g})")
+            ok[j] = False
+    cov[~ok, :] = np.nan
+    cov[:, ~ok] = np.nan
+    return ok, why, cov
+
+
+def _z() -> float:
+    return NormalDist().inv_cdf(0.5 + CONFIDENCE / 2)
+
+
+class FitProblem(NamedTuple):
+    """The least-squares problem of `fit_loops`, for your own solver: residuals(theta, inv_delta)
+    (jit-compiled; flattened, padding zero, units of `scale`; inv_delta = 0 plain least squares, else
+    1 / the pseudo-Huber threshold) from theta0 (the generic start, offsets from the data)."""
+
+    residuals: Callable
+    theta0: np.ndarray
+    names: list
+    scale: np.ndarray  # (L,) per loop: N mm or N
+    loops: list
+    spec: FitSpec
+    n_phys: int
+    data: object
+    shape: DamperShape
+    load: LoadCase
+    initial: str
+    loss0: float  # 0.5 sum r^2 at theta0 (plain)
+
+
+def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
+                mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
+                names=None) -> FitProblem:
+    """The checked, analysed and stacked problem that `fit_loops` solves (same arguments)."""
+    require_x64()
+    validate_shape(shape)
+    validate_load(load)
+    if initial not in INITIAL_STATES:
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    for key, g in (("mu", mu), ("kn", kn), ("kt", kt)):
+        if g not in GROUPINGS[key]:
+            raise ValueError(f"{key} grouping must be one of {', '.join(GROUPINGS[key])}; got {g!r}")
+    st = dict(DEFAULT_START, **(start or {}))
+    check_range("mu", st["mu"], 0.0, 5.0, lo_open=True)
+    check_range("kn", st["kn"], 0.0, 1e12, lo_open=True, unit="N/mm")
+    check_range("kt", st["kt"], 0.0, 1e12, lo_open=True, unit="N/mm")
+    loops = list(loops)
+    if not loops:
+        raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
+    names = names or [f"loop {i + 1}" for i in range(len(loops))]
+    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*lp, name=nm)
+             for lp, nm in zip(loops, names)]
+    for lp in loops:
+        check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
+    spec = FitSpec(mu, kn, kt)
+    n_mu, n_kn, n_kt = spec.sizes()
+    n_phys = n_mu + n_kn + n_kt
+    # one residual scale per unit (N mm for moment loops, N for contact loops): half the largest
+    # range of the loops in that unit
+    group = lambda lp: isinstance(lp, ContactLoop)  # noqa: E731
+    gscale = {g: max(float(np.ptp(lp.y)) for lp in loops if group(lp) == g) / 2.0 or 1.0
+              for g in {group(lp) for lp in loops}}
+    scale = np.array([gscale[group(lp)] for lp in loops])
+    data = _stack(loops, scale)
+    shape_j = DamperShape(*(None if v is None else jnp.asarray(v, float) for v in shape))
+    load_j = LoadCase(*(jnp.asarray(v, float) for v in load))
+    theta = np.concatenate([np.full(n_mu, np.log(st["mu"])), np.full(n_kn, np.log(st["kn"] / K_REF)),
+                            np.full(n_kt, np.log(st["kt"] / K_REF)), np.zeros(len(loops))])
+    # start offsets: the mean gap between the measured loop and the model at the start
+    m0, _, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
+    theta[n_phys:] = gap
+    r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
+    loss0 = float(0.5 * jnp.sum(r0 * r0))
+    pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
+    res = jax.jit(lambda th, inv_delta: fit_residuals(th, shape_j, load_j, data, spec, initial,
+                                                      inv_delta))
+    return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial,
+                      loss0)
+
+
+def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
+              mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
+              robust: bool = True, max_steps: int = 100, rtol: float = 1e-6,
+              callback: Callable | None = None, names=None) -> LoopFit:
+    """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
+
+    loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
+    sampling) or of MomentLoop; shape: the damper's DamperShape; load: F_D, q*, r sin(beta) of the
+    test. initial: the history of the model's steady cycle, "gross_slip" or "assembly". mu: "shared"
+    or "contact"; kn, kt: "shared", "side" (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"}
+    (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
+    callback(stage, step, loss): called as the solver goes (from the compiled solve).
+
+    Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
+    parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
+    raise LoopError (a ValueError) naming the loop.
+    """
+    if not isinstance(max_steps, int) or max_steps < 1:
+        raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
+    prob = fit_problem(loops, shape, load=load, initial=initial, mu=mu, kn=kn, kt=kt, start=start,
+                       names=names)
+    spec, n_phys, data, scale, theta = prob.spec, prob.n_phys, prob.data, prob.scale, prob.theta0
+    shape_j, load_j, loops = prob.shape, prob.load, prob.loops
+    n_mu = spec.sizes()[0]
+    history, steps = [], []
+    stage_box = [0]
+
+    def cb(step, loss, step_size):
+        if int(step) == 0:  # optimistix reports no loss before its first step
+            return
+        history.append((stage_box[0], int(step), float(loss)))
+        if callback is not None:
+            callback(stage_box[0], int(step), float(loss))
+
+    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol)
+    history.append((0, 0, prob.loss0))  # the generic start
+    if callback is not None:
+        callback(0, 0, prob.loss0)
+    _LISTENERS.append(cb)
+    try:
+        theta, r, jac, ok, nsteps, status = _solve(jnp.asarray(theta), shape_j, load_j, data,
+                                                   jnp.asarray(0.0), **kw)
+        steps.append(int(nsteps))
+        converged = bool(ok)
+        mask = np.asarray(data.mask).reshape(-1) > 0
+        if robust:
+            delta = ROBUST_DELTA * max(_robust_sd(np.asarray(r)[mask]), 1e-12)
+            stage_box[0] = 1
+            theta, r, jac, ok, nsteps, status = _solve(theta, shape_j, load_j, data,
+                                                       jnp.asarray(1.0 / delta), **kw)
+            steps.append(int(nsteps))
+            converged = bool(ok)
+        jax.effects_barrier()
+        history.sort()  # (stage, step): debug callbacks may arrive out of order
+    finally:
+        _LISTENERS.remove(cb)
+    theta, r, jac = np.asarray(theta), np.asarray(r)[mask], np.asarray(jac)[mask]
+    n, p = r.size, theta.size
+    dof = max(n - p, 1)
+    sigma2 = float(np.sum(r ** 2) / dof)
+    pnames = prob.names
+    ident, why, cov = identify(jac, sigma2, pnames, n_phys)
+    se_t = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    z = _z()
+    value = np.concatenate([np.exp(theta[:n_mu]), K_REF * np.exp(theta[n_mu:n_phys]),
+                            theta[n_phys:] * scale])
+    se = np.concatenate([value[:n_phys] * se_t[:n_phys], se_t[n_phys:] * scale])
+    lo = np.concatenate([value[:n_phys] * np.exp(-z * se_t[:n_phys]), value[n_phys:] - z * se[n_phys:]])
+    hi = np.concatenate([value[:n_phys] * np.exp(z * se_t[:n_phys]), value[n_phys:] + z * se[n_phys:]])
+    d = np.sqrt(np.diag(cov))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        corr = cov / np.outer(d, d)
+    for a in (value, se, lo, hi):
+        a[~ident] = np.nan
+    mu_v, kn_v, kt_v, _ = (np.asarray(v) for v in _expand(jnp.asarray(theta), spec))
+    m_fit, off, cyc_status, mono = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    fitted = np.asarray((m_fit + off[:, None]) * scale[:, None])
+    fitted_list = [fitted[i, :lp.x.size] for i, lp in enumerate(loops)]
+    rms = np.array([float(np.sqrt(np.mean((lp.y - f) ** 2))) for lp, f in zip(loops, fitted_list)])
+    # one residual sd where all loops share a unit (N mm or N); mixed units have none (see rms)
+    sigma = float(np.sqrt(sigma2) * scale[0]) if np.all(scale == scale[0]) else float("nan")
+    cyc_status = np.asarray(cyc_status)
+    worst = RESULTS.ok
+    for s in cyc_status:
+        if not RESULTS.valid(int(s)):
+            worst = int(s)
+    if worst == RESULTS.ok and not converged:
+        worst = RESULTS.not_converged
+    held = [nm for nm, k in zip(pnames, ident) if not k]
+    return LoopFit(pnames, value, se, lo, hi, corr, ident, why,
+                   float(mu_v) if mu_v.ndim == 0 else mu_v, kn_v, kt_v, value[n_phys:] if np.all(
+                       ident[n_phys:]) else theta[n_phys:] * scale, sigma,
+                   rms, loops, fitted_list, cyc_status, converged, steps, history, spec, initial,
+                   int(worst), held, np.asarray(mono, bool))
