@@ -1,0 +1,68 @@
+"""Blade forced response from the damper's complex stiffness (the Platform Centred Reduction).
+
+One blade-dominated mode of a tuned bladed disk at one interblade phase angle, reduced to the tip
+displacement amplitude A (mm). The damper is a complex spring between the platforms: at platform
+rotation amplitude psi_a = r A (mrad) it adds 1e-3 r^2 (k_Re + i k_Im) (N/mm) to the modal dynamic
+stiffness, with k in N mm/mrad (M = k psi, psi in mrad, and the modal force of a moment M is
+1e-3 r M since a rotation psi (mrad) is 1e-3 r A rad per mm of tip motion):
+
+    D(omega, A) = k_b (1 - (omega/omega0)^2 + i eta) + 1e-3 r^2 (k_Re(r A) + i k_Im(r A))
+
+and the first-harmonic steady state is |D(omega, A)| A = F (the amplitude-layered solution: each
+amplitude A is a linear problem). For each A the equation is quadratic in omega^2 (`frf`); at the
+peak Re D = 0, so A (eta k_b + 1e-3 r^2 k_Im(r A)) = F (`peak_response`).
+
+The damper enters only through a pure-JAX, differentiable `k_of_psi(psi_a_mrad) -> (k_re, k_im)`
+built by `damper_stiffness(shape, mu, contacts, load, method=...)`: "exact" (default) takes the
+steady travel-limited cycle at each amplitude (`jaxdamp.amplitude`, from a gross-slip history
+unless initial="assembly"); "interpolated" is the paper's, `complex_stiffness(method=
+"interpolated")` on the Base-Cycle (exact for psi_a >= psi_BC, linear in the microslip range).
+
+Units: A and tip displacements in mm, F in N, k_b in N/mm, f in Hz, r in mrad/mm, psi in mrad,
+k in N mm/mrad.
+
+The package: `scene` (the blade mode and the checked scene), `stiffness` (the damper as a complex
+spring), `frf` (closed-form FRFs), `peaks` (the peak response and its compiled programs),
+`peak_band` (the band of peaks over contact histories), `diagram` (the designer's diagram).
+"""
+
+from .scene import BladeMode as BladeMode
+from .scene import prepare_scene as prepare_scene
+from .scene import validate_mode as validate_mode
+from .stiffness import DamperStiffness as DamperStiffness
+from .stiffness import STIFFNESS_METHODS as STIFFNESS_METHODS
+from .stiffness import damper_stiffness as damper_stiffness
+from .stiffness import damper_stiffness_kernel as damper_stiffness_kernel
+from .stiffness import no_damper as no_damper
+from .stiffness import register_stiffness_method as register_stiffness_method
+from .stiffness import scaled_stiffness as scaled_stiffness
+from .stiffness import stuck_damper as stuck_damper
+from .stiffness import tabulated_stiffness as tabulated_stiffness
+from .frf import FRF as FRF
+from .frf import frf as frf
+from .frf import frf_amplitude_grid as frf_amplitude_grid
+from .frf import linear_frf as linear_frf
+from .frf import response_amplitude_linear as response_amplitude_linear
+from .peaks import Peaks as Peaks
+from .peaks import ResponseCurves as ResponseCurves
+from .peaks import curves_program as curves_program
+from .peaks import design_peaks as design_peaks
+from .peaks import peak_frequency_hz as peak_frequency_hz
+from .peaks import peak_program as peak_program
+from .peaks import peak_residual as peak_residual
+from .peaks import peak_response as peak_response
+from .peaks import response_curves as response_curves
+from .peak_band import peak_band as peak_band
+from .diagram import DIAGRAM_MUS as DIAGRAM_MUS
+from .diagram import DesignerDiagram as DesignerDiagram
+from .diagram import designer_diagram as designer_diagram
+from .diagram import diagram_program as diagram_program
+
+__all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
+           "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
+           "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual",
+           "peak_frequency_hz",
+           "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
+           "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
+           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band",
+           "tabulated_stiffness"]

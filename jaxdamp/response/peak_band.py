@@ -1,0 +1,65 @@
+"""The band of peaks over every admissible contact history: the response of the band's lower and
+upper k_Im curves (`jaxdamp.band`), tabulated and run through one compiled peak program."""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..band import amplitude_bands
+from ..runtime import batch_jit
+from ..status import RESULTS
+from .peaks import peak_response
+from .scene import BladeMode, prepare_scene
+from .stiffness import DamperStiffness, interpolated_damper, tabulated_stiffness
+
+__all__ = ["peak_band"]
+
+
+def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+              psi_grid_mrad=None, n_samples: int = 64, steps: int = 6, runner=None):
+    """Bounds of the peak amplitude A* (mm) over every admissible contact history.
+
+    At each amplitude every history's steady cycle has k_Im inside the band
+    (`jaxdamp.band.amplitude_band`), and the peak equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F
+    gives a smaller A for a larger k_Im: the peaks of the band's lower and upper k_Im curves bracket
+    the peak of every history. The band is tabulated on psi_grid_mrad (default: 24 amplitudes from
+    0.05 psi_BC to 3 psi_BC, one batched program: `band.amplitude_bands`; runner as there) and
+    interpolated linearly between them. Returns (Peaks with the band's
+    lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
+    bound curves)."""
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    base = interpolated_damper(shape, mu, contacts, load)
+    if psi_grid_mrad is None:
+        psi_ref = float(base.psi_ref_mrad)
+        psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
+    grid = np.asarray(psi_grid_mrad, float)
+    # every amplitude's band in one batched program (sampling plus the trust-region refinement)
+    bands = amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples, steps=steps,
+                            runner=runner)
+    # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
+    k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
+    # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
+    k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
+    force = jnp.asarray(force_n, float)
+    forces = force.reshape(-1)
+    pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
+
+    def solve(k_im, envelope):
+        peaks = _tabulated_peaks(jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k_im),
+                                 base.status, base.k_re_stuck, base.psi_ref_mrad, mode, forces,
+                                 envelope=envelope)
+        return jax.tree_util.tree_map(pick, peaks)
+
+    return solve(k[:, 2], "lower"), solve(k[:, 3], "upper"), grid, k
+
+
+@batch_jit(static_argnames=("envelope",))
+def _tabulated_peaks(grid, k_re, k_im, status, k_re_stuck, psi_ref, mode, forces, envelope):
+    """Peaks at each force of the curve tabulated on grid (`tabulated_stiffness`): one module-level
+    program whose curve is an argument, so that every band's peaks reuse it."""
+    base = DamperStiffness(None, status, k_re_stuck, psi_ref)
+    damper = tabulated_stiffness(grid, k_re, k_im, base, envelope=envelope)
+    return jax.vmap(lambda f: peak_response(damper, mode, f))(forces)
+

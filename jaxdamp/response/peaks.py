@@ -1,0 +1,289 @@
+"""The peak response: every root of A (eta k_b + 1e-3 r^2 k_Im(r A)) = F, bracketed on a grid and
+refined, with implicit-function derivatives; the compiled programs for peaks and response curves,
+one per stiffness method and options, built once per process."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..runtime import batch_jit
+from ..status import RESULTS, number_repr, status_repr
+from .._validate import check_positive
+from .frf import FRF, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
+from .scene import BladeMode, prepare_scene, validate_mode
+from .stiffness import DamperStiffness, damper_stiffness_kernel, is_traced
+
+__all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
+           "SHARED_GRID_FACTOR", "Peaks", "peak_residual", "peak_frequency_hz", "peak_response",
+           "peak_program", "ResponseCurves", "curves_program", "response_curves", "design_peaks"]
+
+
+N_GRID = 160  # bracketing grid points (log-spaced)
+GRID_DECADES = 7.0  # the grid spans [A_hi 10^-7, A_hi]
+MAX_ROOTS = 4
+REFINE_STEPS = 60  # at most this many bracketed (Illinois) steps per root
+
+
+class Peaks(NamedTuple):
+    """Every peak amplitude A* at force F: the roots of A (eta k_b + 1e-3 r^2 k_Im(r A)) = F.
+
+    roots_mm / frequency_hz: (MAX_ROOTS,) ascending, masked by `found` (0 where absent). Between
+    the first and the second root the response curve has no point; roots 2 and 3 bound an isola
+    (a detached branch), and so on. peak_amplitude_mm is the first root: the largest amplitude on
+    the branch connected to small amplitudes; max_amplitude_mm is the largest root (isolas
+    included). psi_a_mrad = r * peak_amplitude_mm. status: RESULTS (no_root where the search range
+    holds no root, e.g. eta = 0 and F beyond the damper's friction force; the damper's own status
+    otherwise). n_roots counts the sign changes on the grid (roots closer than a grid cell pair
+    up and are missed: tangencies are not reported).
+    """
+
+    roots_mm: jnp.ndarray
+    frequency_hz: jnp.ndarray
+    found: jnp.ndarray
+    n_roots: jnp.ndarray
+    peak_amplitude_mm: jnp.ndarray
+    peak_frequency_hz: jnp.ndarray
+    psi_a_mrad: jnp.ndarray
+    max_amplitude_mm: jnp.ndarray
+    status: jnp.ndarray
+
+    def __repr__(self):
+        return (f"Peaks(A* {number_repr(self.peak_amplitude_mm, 'mm')} at "
+                f"{number_repr(self.peak_frequency_hz, 'Hz')}, psi_a "
+                f"{number_repr(self.psi_a_mrad, 'mrad')}, "
+                f"roots {number_repr(self.n_roots, '', '.0f')}, "
+                f"status {status_repr(self.status)})")
+
+
+def peak_residual(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm):
+    """A (eta k_b + 1e-3 r^2 k_Im(r A)) - F, N: zero at a peak (Re D = 0 and |D| A = F)."""
+    a = jnp.asarray(amplitude_mm, float)
+    _, im = dynamic_stiffness(mode, damper.k_of_psi, a)
+    return a * im - force_n
+
+
+def peak_frequency_hz(damper: DamperStiffness, mode: BladeMode, amplitude_mm):
+    """f = f0 sqrt(1 + 1e-3 r^2 k_Re(r A) / k_b): the frequency where Re D = 0 at amplitude A."""
+    re, _ = dynamic_stiffness(mode, damper.k_of_psi, amplitude_mm)
+    w = re / mode.k_b
+    ok = w > 0
+    return jnp.where(ok, mode.f0_hz * jnp.sqrt(jnp.where(ok, w, 1.0)), 0.0)
+
+
+ROOT_RTOL = 1e-13  # relative step (or bracket width) at which a root has converged
+
+
+def _bracketed_root(g, lo, hi, glo, ghi, steps):
+    """Root of g in [lo, hi] from g(lo) = glo, g(hi) = ghi of opposite signs: the Illinois
+    variant of regula falsi (superlinear, the bracket is kept), at most `steps` evaluations,
+    stopping when a step or the bracket is below ROOT_RTOL of the root.
+
+    Values only, and derivative-free: the damper curve's values run its fast program (loops that
+    stop when done), while a Newton step would need its derivative program. `_root_ift`
+    differentiates the root by the implicit function theorem, never through this loop, so it may
+    be a while loop (under vmap it runs until every root has converged)."""
+
+    def body(c):
+        i, lo, hi, glo, ghi, x, side, _ = c
+        d = ghi - glo
+        ok = d != 0
+        x_new = jnp.where(ok, (lo * ghi - hi * glo) / jnp.where(ok, d, 1.0), 0.5 * (lo + hi))
+        x_new = jnp.clip(x_new, lo, hi)
+        gx = g(x_new)
+        right = jnp.sign(gx) == jnp.sign(ghi)  # the root is left of x_new: x_new becomes hi
+        # Illinois: halve the value kept at the end that did not move twice in a row.
+        glo = jnp.where(right, jnp.where(side > 0, 0.5 * glo, glo), gx)
+        ghi = jnp.where(right, gx, jnp.where(side < 0, 0.5 * ghi, ghi))
+        lo, hi = jnp.where(right, lo, x_new), jnp.where(right, x_new, hi)
+        side = jnp.where(right, 1, -1)
+        tol = ROOT_RTOL * jnp.abs(x_new)
+        done = (gx == 0) | (jnp.abs(x_new - x) <= tol) | (hi - lo <= tol)
+        return i + 1, lo, hi, glo, ghi, x_new, side, done
+
+    def more(c):
+        return (c[0] < steps) & ~c[7]
+
+    start = (jnp.array(0), lo, hi, glo, ghi, hi, jnp.array(0), (hi - lo <= 0) | (glo == 0))
+    x = jax.lax.while_loop(more, body, start)[5]
+    return jnp.where(glo == 0, lo, x)
+
+
+def _root_ift(g, g_values, lo, hi, glo, ghi, steps):
+    """A root of the scalar g in the bracket [lo, hi], differentiable by the implicit function
+    theorem (jax.lax.custom_root: dA* = -g_theta / g_A, through whatever g closes over). The
+    search runs on g_values: g's values, with nothing to differentiate."""
+    lo, hi, glo, ghi = (jax.lax.stop_gradient(v) for v in (lo, hi, glo, ghi))
+
+    def solve(f, x0):
+        return _bracketed_root(g_values, lo, hi, glo, ghi, steps)
+
+    def tangent_solve(f_lin, y):
+        d = f_lin(jnp.ones_like(y))
+        ok = jnp.abs(d) > 0
+        return jnp.where(ok, y / jnp.where(ok, d, 1.0), 0.0)
+
+    return jax.lax.custom_root(g, 0.5 * (lo + hi), solve, tangent_solve)
+
+
+SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
+
+
+def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
+                  max_roots: int = MAX_ROOTS, amplitude_cap_mm=None) -> Peaks:
+    """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
+
+    Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
+    log-spaced over GRID_DECADES below that bound (or below amplitude_cap_mm when eta = 0, default
+    1e6 psi_ref / r). Each sign change is refined by bracketed regula falsi (Illinois); gradients by
+    the implicit function theorem. Pure JAX: jit, vmap (e.g. over designs), grad, jacfwd.
+
+    force_n: a scalar, or a 1-D array of forces (then every field has a leading force axis). The
+    forces of an array share one amplitude grid, since k(psi) does not depend on F (the layered
+    method's point): SHARED_GRID_FACTOR * n_grid points from GRID_DECADES below the smallest
+    force's bound to the largest's, as fine as one force's grid for forces within 10^3.5 of each
+    other (coarser beyond). The damper curve is evaluated once on it instead of once per force.
+    """
+    f = jnp.asarray(force_n, float)
+    if f.ndim > 1:
+        raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
+    if (damper.source is not None and damper.source.matches(damper) and n_grid == N_GRID
+            and max_roots == MAX_ROOTS and amplitude_cap_mm is None and not is_traced(mode, f)):
+        # A curve that `damper_stiffness` built from concrete inputs, called from plain Python:
+        # the compiled peak program of its method (the same function, jitted), not op by op.
+        src = damper.source
+        mode = BladeMode(*(jnp.asarray(v, float) for v in validate_mode(mode)))
+        return peak_program(src.method, src.options)(*src.design, mode, f)
+    forces = f.reshape(-1)
+    damped = mode.eta * mode.k_b > 0
+    cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None
+           else jnp.asarray(amplitude_cap_mm, float))
+    a_hi = jnp.where(damped, forces / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9),
+                     cap)
+    a_hi = jax.lax.stop_gradient(a_hi)
+    if f.ndim == 0:
+        grid = a_hi[0] * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
+    else:
+        top = jnp.max(a_hi)
+        decades = GRID_DECADES + jnp.log10(top / jnp.min(a_hi))
+        grid = top * jnp.logspace(-1.0, 0.0, int(SHARED_GRID_FACTOR * n_grid)) ** decades
+    grid = jnp.concatenate([jnp.zeros(1), grid])
+    cells_n = grid.size - 1
+    # The searches run on the curve's values (see DamperStiffness.values); g(a) = a im(a) - F, so
+    # the grid's residual at F = 0 serves every force.
+    values = damper._replace(k_of_psi=damper.values)
+    a_im = jax.lax.stop_gradient(peak_residual(values, mode, 0.0, grid))
+
+    def one_force(force):
+        def g_of(a):
+            return peak_residual(damper, mode, force, a)
+
+        def g_values(a):
+            return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
+
+        gg = a_im - force
+        change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
+        n_roots = jnp.sum(change).astype(jnp.int32)
+        # The first max_roots sign changes, in ascending order (cells without a change sort last).
+        cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1))[:max_roots]
+        found = jnp.arange(max_roots, dtype=jnp.int32) < n_roots
+        lo = grid[cells]
+        hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
+
+        roots = jax.vmap(lambda *b: _root_ift(g_of, g_values, *b, REFINE_STEPS))(
+            lo, hi, gg[cells], gg[cells + 1])
+        roots = jnp.where(found, roots, 0.0)
+        freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
+                          0.0)
+        last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
+        status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
+        peak = roots[0]
+        return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last],
+                     status)
+
+    peaks = jax.vmap(one_force)(forces)
+    return jax.tree_util.tree_map(lambda x: x[0], peaks) if f.ndim == 0 else peaks
+
+
+_PEAK_PROGRAMS: dict = {}
+
+
+def peak_program(method: str, options: tuple = ()):
+    """One compiled peak solver per stiffness method and options (sorted (name, value) pairs),
+    reused by every call: (shape, mu, contacts, load, mode, force_n) -> Peaks, on prepared inputs
+    (`prepare_scene`); force_n a scalar or a 1-D array."""
+    if (method, options) not in _PEAK_PROGRAMS:
+        def run(shape, mu, contacts, load, mode, force_n):
+            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
+            return peak_response(d, mode, force_n)
+
+        _PEAK_PROGRAMS[method, options] = batch_jit(run)
+    return _PEAK_PROGRAMS[method, options]
+
+
+class ResponseCurves(NamedTuple):
+    """`response_curves`: the peaks at each force and the FRFs with the damper, free and stuck
+    (each field has a leading force axis). The damped FRF runs up to the largest peak root (up to
+    F / (eta k_b) where the damper is not valid); the free and stuck ones across their own peaks
+    (`linear_frf`). status: the damper curve's RESULTS code; k_re_stuck in N mm/mrad."""
+
+    peaks: Peaks
+    damper: FRF
+    free: FRF
+    stuck: FRF
+    status: jnp.ndarray
+    k_re_stuck: jnp.ndarray
+
+    def __repr__(self):
+        return (f"ResponseCurves({self.peaks!r}, k_Re,stuck "
+                f"{number_repr(self.k_re_stuck, 'N mm/mrad')}, status {status_repr(self.status)})")
+
+
+_CURVE_PROGRAMS: dict = {}
+
+
+def curves_program(method: str, options: tuple = ()):
+    """One compiled program per stiffness method and options (sorted (name, value) pairs): the
+    damper curve once, the peaks of every force on one shared grid, and the three FRFs:
+    (shape, mu, contacts, load, mode, forces (n,)) -> ResponseCurves, on prepared inputs."""
+    if (method, options) not in _CURVE_PROGRAMS:
+        def run(shape, mu, contacts, load, mode, forces):
+            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
+            peaks = peak_response(d, mode, forces)
+            valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
+            free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
+            top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
+            damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
+            free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
+            stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
+            return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
+
+        _CURVE_PROGRAMS[method, options] = batch_jit(run)
+    return _CURVE_PROGRAMS[method, options]
+
+
+def response_curves(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(),
+                    force_n=(1.0,), method: str = "exact", **options) -> ResponseCurves:
+    """Peaks and FRFs (damper, free, stuck) of one design at the forces force_n (N, 1-D): inputs
+    checked once here, then one compiled program (`curves_program`)."""
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    forces = jnp.asarray(force_n, float).reshape(-1)
+    check_positive("force_n", np.asarray(forces), unit="N")
+    return curves_program(method, tuple(sorted(options.items())))(shape, mu, contacts, load, mode,
+                                                                  forces)
+
+
+def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+                 method: str = "exact", **options) -> Peaks:
+    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
+    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    force = jnp.asarray(force_n, float)
+    run = peak_program(method, tuple(sorted(options.items())))
+    if force.ndim == 0:
+        return run(shape, mu, contacts, load, mode, force)
+    return jax.vmap(run, in_axes=(None, None, None, None, None, 0))(shape, mu, contacts, load,
+                                                                    mode, force)
+

@@ -1,0 +1,195 @@
+"""The damper as a complex spring: `DamperStiffness`, a pure-JAX k_of_psi(psi_a_mrad) -> (k_re,
+k_im) with its status and limits, built by method ("exact": the steady travel-limited cycle at each
+amplitude; "interpolated": the paper's, on the Base-Cycle), and the curves derived from one
+(tabulated, scaled by the paper's law, stuck, none)."""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from ..amplitude import amplitude_kernel
+from ..cycle import base_cycle_kernel
+from ..harmonics import complex_stiffness, five_numbers_kernel
+from ..params import Contacts, LoadCase, prepare_inputs
+from ..status import RESULTS, number_repr, status_repr
+
+__all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
+           "interpolated_damper", "exact_damper", "register_stiffness_method", "is_traced",
+           "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
+           "scaled_stiffness", "stuck_damper", "no_damper"]
+
+
+KOfPsi = Callable[[jnp.ndarray], tuple]
+
+
+class DamperStiffness(NamedTuple):
+    """The damper as a complex spring: k_of_psi(psi_a_mrad) -> (k_re, k_im) in N mm/mrad.
+
+    status: RESULTS code of the damper model (liftoff, not_converged, ...); k_re_stuck: the
+    stick-state stiffness k_Re,fs (the stuck limit); psi_ref_mrad: an amplitude scale of the curve
+    (psi_BC), used to place amplitude grids.
+    """
+
+    k_of_psi: KOfPsi
+    status: jnp.ndarray
+    k_re_stuck: jnp.ndarray
+    psi_ref_mrad: jnp.ndarray
+    # The same curve for values only (None: k_of_psi): the design held constant, so that searches
+    # (the peak's amplitude grid and root iterations) run the curve's value program even while an
+    # outer jacfwd/grad differentiates the design; only the root's IFT step uses k_of_psi.
+    k_values: KOfPsi | None = None
+    # How `damper_stiffness` built this curve from concrete inputs (a `CompiledSource`), so that
+    # `peak_response` on it runs one compiled program instead of op by op; None otherwise.
+    source: "CompiledSource | None" = None
+
+    def __repr__(self):
+        return (f"DamperStiffness(k_Re,stuck {number_repr(self.k_re_stuck, 'N mm/mrad')}, psi_ref "
+                f"{number_repr(self.psi_ref_mrad, 'mrad')}, status {status_repr(self.status)})")
+
+    def values(self, psi):
+        """(k_re, k_im) at psi without derivatives with respect to the design."""
+        return (self.k_of_psi if self.k_values is None else self.k_values)(psi)
+
+
+class CompiledSource:
+    """The stiffness method, its options and the prepared design a `DamperStiffness` was built
+    from, tied to its curve function: a plain object (a pytree leaf), not data to differentiate."""
+
+    __slots__ = ("k_of_psi", "method", "options", "design")
+
+    def __init__(self, k_of_psi, method: str, options: tuple, design: tuple):
+        self.k_of_psi, self.method, self.options, self.design = k_of_psi, method, options, design
+
+    def matches(self, damper: "DamperStiffness") -> bool:
+        """True while the damper still is the curve it was built as (a `_replace` of k_of_psi,
+        as `tabulated_stiffness` or `scaled_stiffness` make, unties it)."""
+        return damper.k_of_psi is self.k_of_psi
+
+
+def interpolated_damper(shape, mu, contacts, load) -> DamperStiffness:
+    """The paper's k(psi_a) on the Base-Cycle (kernels only: traceable, inputs not checked). The
+    status is the Base-Cycle's own (ill_conditioned, liftoff, ...), never rebuilt from flags."""
+    bc = base_cycle_kernel(shape, mu, contacts, load)
+    nums = five_numbers_kernel(bc)
+    return DamperStiffness(lambda psi: complex_stiffness(bc, psi, method="interpolated"),
+                           bc.status, nums.k_re_fs, jnp.maximum(nums.psi_bc, 1e-12))
+
+
+def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> DamperStiffness:
+    """k(psi_a) from the exact steady cycle at each amplitude (`jaxdamp.amplitude`), from the named
+    initial state (gross_slip: the state after a gross-slip history). The stuck limit, the
+    amplitude scale and the status come from the Base-Cycle."""
+    base = interpolated_damper(shape, mu, contacts, load)
+
+    def curve(design):
+        def k_of_psi(psi):
+            psi = jnp.asarray(psi, float)
+            cycles = jax.vmap(lambda a: amplitude_kernel(*design, a, initial=initial))(
+                psi.reshape(-1))
+            return cycles.k_re.reshape(psi.shape), cycles.k_im.reshape(psi.shape)
+        return k_of_psi
+
+    design = (shape, mu, contacts, load)
+    return base._replace(k_of_psi=curve(design), k_values=curve(jax.lax.stop_gradient(design)))
+
+
+STIFFNESS_METHODS: dict[str, Callable[..., DamperStiffness]] = {"interpolated": interpolated_damper,
+                                                                "exact": exact_damper}
+
+
+def register_stiffness_method(name: str, factory: Callable[..., DamperStiffness]) -> None:
+    """Add a way to build k(psi_a): factory(shape, mu, contacts, load) -> DamperStiffness.
+
+    Built in: "exact" (the travel-limited steady cycles of `jaxdamp.amplitude`, option initial=)
+    and "interpolated" (the paper's linear microslip interpolation, for comparison with it)."""
+    STIFFNESS_METHODS[name] = factory
+
+
+def is_traced(*trees) -> bool:
+    return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(trees))
+
+
+def damper_stiffness_kernel(shape, mu, contacts, load, method: str = "exact",
+                            **options) -> DamperStiffness:
+    """`damper_stiffness` without input checks, for use inside jit/vmap/grad (inputs as
+    `prepare_scene` returns them)."""
+    if method not in STIFFNESS_METHODS:
+        raise ValueError(f"method must be one of {', '.join(STIFFNESS_METHODS)}; got {method!r}")
+    return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
+
+
+def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
+                     **options) -> DamperStiffness:
+    """The damper's amplitude-dependent complex stiffness for one design (pure JAX, traceable in
+    the shape, mu, contact stiffness and load). method: a key of STIFFNESS_METHODS, by default the
+    exact curve from a gross-slip history (options: initial="gross_slip" | "assembly").
+
+    Concrete inputs are checked here (`params.prepare_inputs`); traced ones are not (check them
+    once outside, or call `damper_stiffness_kernel`)."""
+    contacts = Contacts() if contacts is None else contacts
+    load = LoadCase() if load is None else load
+    if is_traced(shape, mu, contacts, load):
+        return damper_stiffness_kernel(shape, mu, contacts, load, method, **options)
+    design = prepare_inputs(shape, mu, contacts, load)
+    damper = damper_stiffness_kernel(*design, method, **options)
+    source = CompiledSource(damper.k_of_psi, method, tuple(sorted(options.items())), design)
+    return damper._replace(source=source)
+
+
+def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
+                        envelope: str = "linear") -> DamperStiffness:
+    """A damper curve known on an amplitude grid (mrad); status, stuck limit and amplitude scale
+    from `base`. Between grid points k_Im is linear (envelope="linear"), or the larger ("upper") or
+    smaller ("lower") of the two neighbouring values: a conservative envelope of a bound curve that
+    is monotone between grid points. Beyond the ends the end values hold."""
+    grid = jnp.asarray(psi_grid_mrad, float)
+    k_re, k_im = jnp.asarray(k_re, float), jnp.asarray(k_im, float)
+    pick = {"upper": jnp.maximum, "lower": jnp.minimum}.get(envelope)
+
+    def k_of_psi(psi):
+        psi = jnp.asarray(psi, float)
+        if pick is None:
+            return jnp.interp(psi, grid, k_re), jnp.interp(psi, grid, k_im)
+        right = jnp.clip(jnp.searchsorted(grid, psi), 0, grid.size - 1)
+        left = jnp.clip(right - 1, 0, grid.size - 1)
+        return jnp.interp(psi, grid, k_re), pick(k_im[left], k_im[right])
+
+    return base._replace(k_of_psi=k_of_psi)
+
+
+
+def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) -> DamperStiffness:
+    """The paper's scaling law: k(psi; F_D, c kn, c kt) from the curve at (F_D0, kn, kt).
+
+    Forces (and moments) scale with F_D; displacements (and psi) with F_D / k at fixed kt/kn. So
+    M(psi; F_D, c) = (F_D/F_D0) M0(psi / s) with s = (F_D/F_D0) / c, and k = M / psi gives
+    k(psi; F_D, c) = c k0(psi c F_D0 / F_D). At fixed contact stiffness (c = 1) an F_D change only
+    stretches the psi axis: the stick stiffness is independent of F_D. An F_D sweep costs one curve.
+    """
+    s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
+
+    def scaled(k_fn, stretch, c):
+        def k_of_psi(psi):
+            k_re, k_im = k_fn(jnp.asarray(psi, float) / stretch)
+            return c * k_re, c * k_im
+        return k_of_psi
+
+    # The values-only curve holds the scaling constant too.
+    frozen = scaled(ref.values, *jax.lax.stop_gradient((s, contact_scale)))
+    return DamperStiffness(scaled(ref.k_of_psi, s, contact_scale), ref.status,
+                           contact_scale * ref.k_re_stuck, ref.psi_ref_mrad * s, frozen)
+
+
+def stuck_damper(k_re_stuck) -> DamperStiffness:
+    """The stuck limit: a real spring k_Re,fs at every amplitude (no dissipation)."""
+    k = jnp.asarray(k_re_stuck, float)
+    return DamperStiffness(lambda psi: (jnp.zeros_like(psi) + k, jnp.zeros_like(psi)),
+                           jnp.int32(RESULTS.ok), k, jnp.asarray(1.0))
+
+
+def no_damper() -> DamperStiffness:
+    """The free limit: platforms without a damper."""
+    return stuck_damper(0.0)
