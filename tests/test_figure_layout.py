@@ -213,7 +213,7 @@ def test_no_study_figure_hides_a_curve(study_inputs):
     at mu = 0.7 runs along the mu = 0.5 one) get distinct markers and a note: no line is hidden."""
     import matplotlib.pyplot as plt
 
-    from jaxdamp.plotting.figures import hidden_lines
+    from jaxdamp.plotting.labels import hidden_lines
 
     cycles, summaries, summary = study_inputs
     hidden, noted = [], []
@@ -230,7 +230,8 @@ def test_hidden_line_checker_and_the_90R_moment_cycles():
     import matplotlib.pyplot as plt
 
     import jaxdamp as jd
-    from jaxdamp.plotting.figures import hidden_lines, plot_moment_cycles
+    from jaxdamp.plotting.figures import plot_moment_cycles
+    from jaxdamp.plotting.labels import hidden_lines
 
     fig, ax = plt.subplots()
     ax.plot([0, 1, 2], [0, 1, 2], "-o", color="C0", label="a")

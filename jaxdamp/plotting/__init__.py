@@ -3,15 +3,15 @@ backend: the CLI picks Agg before it plots, notebooks keep their inline backend.
 
 from .figures import default_amplitudes as default_amplitudes
 from .figures import force_track as force_track
-from .figures import mu_color as mu_color
+from .style import mu_color as mu_color
 from .figures import plot_complex_stiffness as plot_complex_stiffness
 from .figures import plot_energy as plot_energy
 from .figures import plot_equilibrium_tracks as plot_equilibrium_tracks
 from .figures import plot_family_comparison as plot_family_comparison
 from .figures import plot_moment_cycles as plot_moment_cycles
-from .figures import plot_section as plot_section
+from .section import plot_section as plot_section
 from .figures import plot_stretched_cycles as plot_stretched_cycles
-from .figures import section_lines_of_action as section_lines_of_action
+from .section import section_lines_of_action as section_lines_of_action
 from .sweep import heatmap_figure as heatmap_figure
 from .sweep import write_sweep as write_sweep
 from .study import key_figure as key_figure

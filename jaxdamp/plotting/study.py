@@ -19,7 +19,7 @@ def study_figures(cycles, summaries, summary):
     A curve that lies on another one in any panel is brought to the front with distinct markers and
     a note (`mark_coincident_lines`). The caller saves and closes each figure (`make_figures`) or
     inspects it (the layout test)."""
-    from .figures import mark_coincident_lines
+    from .labels import mark_coincident_lines
 
     for fig, name, caption, section in _study_figures(cycles, summaries, summary):
         for ax in fig.axes:
