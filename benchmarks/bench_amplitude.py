@@ -1,5 +1,5 @@
 """Benchmark (not a test): exact k(psi_a) curves, 1000 designs x 64 amplitudes in one batched call
-(`jaxdamp.amplitude.amplitude_curves`), in steady cycles per second, against Base-Cycles per second
+(`jaxdamp.curves.amplitude_curves`), in steady cycles per second, against Base-Cycles per second
 (`jaxdamp.cycle.base_cycles`) on the same designs. Warm medians; compile times separately.
 
     PYTHONPATH=. python benchmarks/bench_amplitude.py [--designs 1000] [--amplitudes 64]

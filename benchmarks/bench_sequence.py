@@ -29,7 +29,7 @@ use_measured_xla_flags()
 
 import jaxdamp as jd  # noqa: E402
 import jobs_layered as jl  # noqa: E402
-from jaxdamp.amplitude import broadcast_designs, flat_cycles  # noqa: E402
+from jaxdamp.curves import broadcast_designs, flat_cycles  # noqa: E402
 from jaxdamp import sequence as sq  # noqa: E402
 from jaxdamp import sequence_curves, stiffness_curve  # noqa: E402
 

@@ -6,8 +6,8 @@
 Parts, each timed warm (median of 5, `block_until_ready`), one batched call over all designs:
 - psi_BC: the Base-Cycle and its five numbers (`jobs_layered.psi_bc_kernel`), which fixes the grid;
 - above psi_BC: the stretched Base-Cycle's closed form at the 43 amplitudes above psi_BC
-  (`amplitude.stretched_curves`);
-- below psi_BC: one exact cycle per amplitude at the 21 amplitudes below (`amplitude.flat_cycles`,
+  (`curves.stretched_curves`);
+- below psi_BC: one exact cycle per amplitude at the 21 amplitudes below (`curves.flat_cycles`,
   what `amplitude_curves` runs there);
 - the probes the sequence curve would need instead (5.2 per curve measured in
   results/sequence_curves.json), priced at this run's probe cost (`sequence.probe_kernel`);
@@ -36,7 +36,7 @@ use_measured_xla_flags()
 
 import jaxdamp as jd  # noqa: E402
 import jobs_layered as jl  # noqa: E402
-from jaxdamp.amplitude import broadcast_designs, flat_cycles, stretched_curves  # noqa: E402
+from jaxdamp.curves import broadcast_designs, flat_cycles, stretched_curves  # noqa: E402
 from jaxdamp import sequence as sq  # noqa: E402
 
 OUT = Path(__file__).parent / "results"

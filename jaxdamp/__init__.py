@@ -94,9 +94,9 @@ from .energy import work_shape_factors as work_shape_factors
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
 from .amplitude import amplitude_kernel as amplitude_kernel
-from .amplitude import StiffnessCurves as StiffnessCurves
-from .amplitude import amplitude_curves as amplitude_curves
-from .amplitude import curves_kernel as curves_kernel
+from .curves import StiffnessCurves as StiffnessCurves
+from .curves import amplitude_curves as amplitude_curves
+from .curves import curves_kernel as curves_kernel
 from .band import Band as Band
 from .band import amplitude_band as amplitude_band
 from .band import amplitude_bands as amplitude_bands

@@ -37,18 +37,15 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_int, check_range, is_concrete
+from ._validate import check_int, check_range
 from .linalg import solve3
-from .cycle import (base_cycle_kernel, bounded_loop, check_loop, mechanics, repeat_until,
-                    tract_rows, values_by_while, zeros_of)
-from .geometry import CONTACT_NAMES, DamperShape, platform_moment, validate_shape
+from .cycle import (bounded_loop, check_loop, mechanics, repeat_until, tract_rows, values_by_while,
+                    zeros_of)
+from .geometry import CONTACT_NAMES, DamperShape, platform_moment
 from .fourier import half_fourier
-from .params import (Contacts, LoadCase, above_validated_range, prepare_inputs, validate_contacts,
-                     validate_load, validate_mu)
-from .stretch import base_cycle_amplitude, gross_slip_stiffness
+from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
-from .runtime import batch_jit, padded_size
 from .status import RESULTS, number_repr, status_repr
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
                     choose_states, next_event)
@@ -60,10 +57,9 @@ TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
-__all__ = ["check_curves_inputs", "TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
+__all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
            "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
-           "StiffnessCurves", "amplitude_curves", "curves_kernel", "travel_half",
-           "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
+           "travel_half", "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
 
 
 class TravelHalf(NamedTuple):
@@ -503,180 +499,3 @@ def transitions_chart(ac: AmplitudeCycle) -> list[dict]:
             rows.append(row)
             k += 1
     return rows
-
-
-# ---------------------------------------------------------------- k(psi_a) for many designs
-class StiffnessCurves(NamedTuple):
-    """k(psi_a) of a batch of designs: arrays (designs, amplitudes)."""
-
-    psi_a: jnp.ndarray  # mrad
-    k_re: jnp.ndarray  # N mm/mrad (zero where status is not ok / shakedown)
-    k_im: jnp.ndarray
-    status: jnp.ndarray  # RESULTS codes (int32)
-    cycles: jnp.ndarray  # pairs of halves run (of the Base-Cycle where its stretch is the cycle)
-
-    def __repr__(self) -> str:
-        return (f"StiffnessCurves(status={status_repr(self.status)}, "
-                f"psi_a={number_repr(self.psi_a, 'mrad')}, k_re={number_repr(self.k_re, 'N mm/mrad')}, "
-                f"k_im={number_repr(self.k_im, 'N mm/mrad')})")
-
-
-def _batch_size(args):
-    sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
-    return max(sizes) if sizes else 1
-
-
-def _broadcast_designs(args, size, xp=jnp):
-    """Every leaf with a leading design axis of `size` (a leaf without it is shared); xp: jnp
-    (traceable) or np (concrete inputs, host-side indexing without a dispatch per operation)."""
-    def one(x):
-        x = xp.asarray(x, float)
-        lead = x.ndim > 0 and x.shape[0] == size
-        return x if lead else xp.broadcast_to(x, (size,) + x.shape)
-    return jax.tree_util.tree_map(one, args)
-
-
-def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad, *,
-                  initial="gross_slip", max_tracts: int = MAX_TRACTS,
-                  max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
-    """`amplitude_curves` as a pure JAX function (jit / vmap / grad / jacfwd): every input leaf has
-    a leading design axis or is shared; psi_a_mrad is (amplitudes,) shared or (designs, amplitudes).
-    Differentiable forward and reverse w.r.t. every input, NaN-free (the tracts' lengths are minima
-    of closed-form events, so a reversal falling on a transition only switches which one is taken)."""
-    args = (shapes, mu, contacts, load)
-    size = max(_batch_size(args), int(np.shape(psi_a_mrad)[0]) if np.ndim(psi_a_mrad) == 2 else 1)
-    shapes, mu, contacts, load = _broadcast_designs(args, size)
-    psi = jnp.asarray(psi_a_mrad, float)
-    psi = jnp.broadcast_to(psi, (size,) + psi.shape[-1:])
-
-    def design(s, m, c, ld, p):
-        run = lambda a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
-                                         max_tracts=max_tracts, max_pairs=max_pairs)
-        ac = jax.vmap(run)(p)
-        return StiffnessCurves(p, ac.k_re, ac.k_im, ac.status, ac.cycles)
-
-    return jax.vmap(design)(shapes, mu, contacts, load, psi)
-
-
-_curves_jit = batch_jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
-
-
-@batch_jit(static_argnames=("initial", "max_tracts", "max_pairs"))
-def _flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
-    run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
-                                                  max_tracts=max_tracts, max_pairs=max_pairs)
-    ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
-    return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
-
-
-# Above psi_BC (by this relative margin) the steady cycle from a gross-slip history is the
-# Base-Cycle stretched by full slip at both ends, whose k is closed-form.
-STRETCH_MARGIN = 1e-9
-
-
-@batch_jit
-def _stretched_curves(shapes, mu, contacts, load, psi):
-    """Per (design, amplitude): k of the stretched Base-Cycle, whether it is the steady cycle from
-    gross slip there (Base-Cycle ok and psi >= psi_BC (1 + STRETCH_MARGIN)), and the Base-Cycle's
-    pairs of halves."""
-
-    def one(s, m, c, ld, p):
-        bc = base_cycle_kernel(s, m, c, ld)
-        k_re, k_im, _ = jax.vmap(lambda a: gross_slip_stiffness(bc, a))(p)
-        use = (bc.status == RESULTS.ok) & (p >= base_cycle_amplitude(bc) * (1 + STRETCH_MARGIN))
-        return k_re, k_im, use, jnp.broadcast_to(bc.half_cycles // 2, p.shape)
-
-    return jax.vmap(one)(shapes, mu, contacts, load, psi)
-
-
-def _padded(index: np.ndarray) -> np.ndarray:
-    """index padded by repeating its first entry to `runtime.padded_size` (eight steps per octave,
-    at least 16): a new count rarely compiles a new program, and at most ~1/8 of the work is
-    padding."""
-    size = padded_size(index.size, 16, 8)
-    return np.concatenate([index, np.full(size - index.size, index[0])])
-
-
-def check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stacklevel=4):
-    """The checks of a batch of curves (ValueError naming the parameter and its range), and the
-    small-rotation warning; returns the amplitudes as a float array (1-D shared or 2-D per design)."""
-    if initial not in INITIAL_STATES:
-        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
-    validate_shape(shapes)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=stacklevel)
-    psi = np.asarray(psi_a_mrad, float)
-    if psi.ndim not in (1, 2):
-        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
-                         "(0, 10000] mrad")
-    return psi
-
-
-def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
-                     load: LoadCase = LoadCase(), *, initial="gross_slip",
-                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
-    """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
-    batched call. shapes / mu / contacts / load: every leaf with a leading design axis or a scalar
-    shared by all (as `cycle.base_cycles`; a per-contact (3,) stiffness of a batch of 3 designs is
-    read as one value per design). psi_a_mrad: (amplitudes,) shared or (designs, amplitudes), > 0.
-    initial: "gross_slip" or "assembly". Returns StiffnessCurves with (designs, amplitudes) arrays.
-
-    Concrete inputs: from a gross-slip history, amplitudes at or above a design's psi_BC take the
-    Base-Cycle stretched by full slip at both ends, which is the steady cycle there (closed-form k;
-    the same numbers as the cycle to ~1e-11, tests/test_amplitude.py); the other (design,
-    amplitude) pairs run in two stages: one pair of halves each, then the full iteration only where
-    the cycle did not close in one pair. Traced inputs (inside jit / grad) run `curves_kernel`,
-    every cycle by the direct method.
-    """
-
-    leaves = jax.tree_util.tree_leaves((shapes, mu, contacts, load, psi_a_mrad))
-    if not all(is_concrete(x) for x in leaves):
-        return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
-                             max_tracts=max_tracts, max_pairs=max_pairs)
-    psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
-    args = (shapes, mu, contacts, load)
-    size = max(_batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
-    designs = _broadcast_designs(args, size, np)
-    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
-    n_amp = psi.shape[1]
-    flat_psi = psi.reshape(-1)
-    if initial == "gross_slip":
-        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in _stretched_curves(
-            *designs, jnp.asarray(psi)))
-    else:
-        k_re, k_im, pairs = (np.zeros(flat_psi.size) for _ in range(3))
-        use = np.zeros(flat_psi.size, bool)
-    out = StiffnessCurves(flat_psi, k_re, k_im, np.where(use, RESULTS.ok, 0).astype(np.int32),
-                          pairs.astype(np.int32))
-    todo = np.nonzero(~use)[0]
-    if todo.size:
-        # The remaining (design, amplitude) pairs, flattened, so that the second stage re-runs
-        # only the pairs that need it. Gathers and merges in numpy: as eager JAX operations they
-        # cost a dispatch each, more than half of a 128-design x 64-amplitude curve job.
-        idx = _padded(todo)
-        design_of = idx // n_amp
-        flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
-        sub_psi = flat_psi[idx]
-        first = _flat_cycles(*flat, sub_psi, initial, max_tracts, 1)
-        cyc = {f: np.array(getattr(first, f))[: todo.size] for f in ("k_re", "k_im", "status",
-                                                                      "cycles")}
-        again = np.nonzero(cyc["status"] == RESULTS.not_converged)[0]
-        if max_pairs > 1 and again.size:
-            j = _padded(again)
-            sub = jax.tree_util.tree_map(lambda x: x[j], flat)
-            rerun = _flat_cycles(*sub, sub_psi[j], initial, max_tracts, max_pairs)
-            for f, v in cyc.items():
-                v[again] = np.asarray(getattr(rerun, f))[: again.size]
-        for f, v in cyc.items():
-            getattr(out, f)[todo] = v
-    return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)
-
-
-# Public names of the pieces of `amplitude_curves` that `jaxdamp.sequence.sequence_curves` reuses.
-broadcast_designs = _broadcast_designs
-stretched_curves = _stretched_curves  # (k_re, k_im, use, pairs) of the stretched Base-Cycle
-flat_cycles = _flat_cycles  # per-amplitude cycles of flattened (design, amplitude) pairs
-padded = _padded

@@ -35,8 +35,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .amplitude import (MAX_PAIRS, MAX_TRACTS, StiffnessCurves, amplitude_kernel, broadcast_designs,
-                        check_curves_inputs, flat_cycles, stretched_curves)
+from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel
+from .curves import (StiffnessCurves, batch_size, broadcast_designs, check_curves_inputs,
+                     flat_cycles, padded_index, stretched_curves)
 from .params import Contacts, LoadCase
 from .conventions import travel_mm
 from .fourier import half_fourier
@@ -208,14 +209,6 @@ def _model_k(corners, slopes, psi_ref, psi, q_star):
     return loop_stiffness(rows, psi, q_star)
 
 
-def _pad(index: np.ndarray) -> np.ndarray:
-    n = max(index.size, 1)
-    step = max(16, 1 << max(int(np.log2(n)) - 3, 0))
-    size = -(-n // step) * step
-    first = index[0] if index.size else 0
-    return np.concatenate([index, np.full(size - index.size, first, dtype=index.dtype)])
-
-
 def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gross_slip",
                     N_init=None, T_init=None, n_probes: int = 5, max_rounds: int = MAX_ROUNDS,
                     max_probes: int = 64,
@@ -223,7 +216,7 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
     """The piecewise closed-form k(psi_a) of a batch of designs on [psi_lo, psi_hi] (mrad).
 
     designs: (shapes, mu, contacts, load), every leaf with a leading design axis of the same size
-    (concrete arrays; `amplitude._broadcast_designs` form). psi_lo, psi_hi: (designs,) or scalars.
+    (concrete arrays; `curves.broadcast_designs` form). psi_lo, psi_hi: (designs,) or scalars.
     initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init: (designs, 3)).
     grid: (designs, amplitudes), ascending, instead of psi_lo / psi_hi: the curve is wanted on
     these amplitudes only, so probes are taken on grid points and a gap with no grid point inside
@@ -250,7 +243,7 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
         """Probe records (numpy) for (design, psi) pairs, one batched call."""
         if design_idx.size == 0:
             return None
-        idx = _pad(np.arange(design_idx.size))
+        idx = padded_index(np.arange(design_idx.size))
         d = design_idx[idx]
         sub = jax.tree_util.tree_map(lambda x: np.asarray(x)[d], (shapes, mu, contacts, load))
         pr = _probes(*sub, jnp.asarray(psi[idx]), jnp.asarray(N0[d]), jnp.asarray(T0[d]),
@@ -261,7 +254,7 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
         """k of the models of probes `which` (indices into recs) at psi."""
         if which.size == 0:
             return np.zeros(0), np.zeros(0)
-        idx = _pad(np.arange(which.size))
+        idx = padded_index(np.arange(which.size))
         w = which[idx]
         k_re, k_im = _model_k(jnp.asarray(recs["corners"][w]), jnp.asarray(recs["slopes"][w]),
                               jnp.asarray(recs["psi"][w]), jnp.asarray(psi[idx]),
@@ -415,7 +408,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip",
                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
                     n_probes: int = 5, return_curve: bool = False):
-    """`amplitude.amplitude_curves` (same arguments, same StiffnessCurves) by the piecewise closed
+    """`curves.amplitude_curves` (same arguments, same StiffnessCurves) by the piecewise closed
     form: per design one `stiffness_curve` on its amplitude grid (a few exact cycles), then k at
     every amplitude from the pieces; amplitudes no verified piece covers run as plain cycles, and
     from a gross-slip history the amplitudes above psi_BC take the stretched Base-Cycle exactly as
@@ -425,8 +418,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     piece. return_curve=True: (StiffnessCurves, the StiffnessCurve batch it was built from)."""
     psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
     args = (shapes, mu, contacts, load)
-    sizes = [int(np.shape(x)[0]) for x in jax.tree_util.tree_leaves(args) if np.ndim(x) > 0]
-    size = max(sizes + [psi.shape[0] if psi.ndim == 2 else 1])
+    size = max(batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
     designs = broadcast_designs(args, size, np)
     psi = np.broadcast_to(psi, (size, psi.shape[-1]))
     n_amp = psi.shape[1]
@@ -461,7 +453,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
         covered |= use
     todo = np.nonzero(~covered.reshape(-1))[0]
     if todo.size:
-        idx = _pad(todo)
+        idx = padded_index(todo)
         design_of = idx // n_amp
         flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
         rerun = flat_cycles(*flat, psi.reshape(-1)[idx], initial, max_tracts, max_pairs)

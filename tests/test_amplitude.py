@@ -214,7 +214,7 @@ def test_curves_match_single_cycles():
     shapes = jd.DamperShape(rng.uniform(50, 75, 4), rng.uniform(50, 75, 4), rng.uniform(0.0, 0.15, 4))
     mu = rng.uniform(0.3, 0.7, 4)
     psi = np.array([0.3, 1.1, 2.5, 7.0])
-    cv = jd.amplitude.amplitude_curves(shapes, mu, psi, CONTACTS, initial="assembly")
+    cv = jd.curves.amplitude_curves(shapes, mu, psi, CONTACTS, initial="assembly")
     assert cv.k_re.shape == (4, 4)
     for d in range(4):
         for j in (1, 3):
@@ -230,7 +230,7 @@ def test_curves_above_psi_bc_are_the_stretched_base_cycle_and_match_the_cycles()
     """amplitude_curves takes the stretched Base-Cycle (closed form) at psi_a >= psi_BC from gross
     slip; curves_kernel (traced: every cycle by the direct method) is the reference, on random
     designs with amplitudes on both sides of their psi_BC, liftoff included."""
-    from jaxdamp.amplitude import curves_kernel
+    from jaxdamp.curves import curves_kernel
 
     rng = np.random.default_rng(11)
     n = 24
@@ -259,7 +259,7 @@ def test_curves_gradients_nan_free_and_match_fd():
     falls exactly on a transition (psi_fs, psi_BC); central differences agree away from switches.
     One batch holds every point (random, special and finite-difference), so that each program is
     compiled once."""
-    from jaxdamp.amplitude import curves_kernel
+    from jaxdamp.curves import curves_kernel
 
     rng = np.random.default_rng(7)
     D = 5

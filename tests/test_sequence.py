@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.amplitude import amplitude_kernel, broadcast_designs
+from jaxdamp.amplitude import amplitude_kernel
+from jaxdamp.curves import broadcast_designs
 from jaxdamp.band import admissible_polytope, polytope_vertices
 from jaxdamp.sequence import (curve_at, probe_kernel, refit_kernel, sequence_curves,
                               stiffness_curve)

@@ -262,7 +262,7 @@ def exact_curves(shapes, mus, psi, contacts, load) -> dict:
     kernel for the whole study); psi in mrad, k in N mm/mrad, NaN where the status is not valid."""
     import jax
 
-    from ..amplitude import amplitude_curves
+    from ..curves import amplitude_curves
     from ..status import RESULTS
 
     stacked = jax.tree_util.tree_map(lambda *x: np.stack([np.asarray(v, float) for v in x]), *shapes)
