@@ -23,7 +23,6 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
   `peak_response`, `peak_band`, `frf`, `designer_diagram`.
 - Measured loops: `fit_loops` (mu, kn, kt with intervals from moment or contact loops).
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
-- Optimisation building block: `ALState`, `al_init`, `al_update` (augmented Lagrangian).
 
 Every `*_kernel` is the unchecked, traceable form of its entry point: call it inside your own
 jit, vmap or grad.
@@ -165,11 +164,6 @@ from .uncertainty import peak_distribution as peak_distribution
 from .uncertainty import magnification_kernel as magnification_kernel
 
 # Constrained optimisation building block (optax style)
-from .augmented import ALConfig as ALConfig
-from .augmented import ALState as ALState
-from .augmented import al_init as al_init
-from .augmented import al_update as al_update
-from .augmented import al_value_and_grad as al_value_and_grad
 
 
 def enable_x64() -> None:
@@ -178,11 +172,11 @@ def enable_x64() -> None:
 
 
 __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometry",
-           "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables", "platform_moment",
-           "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT", "validate_mu",
-           "validate_contacts", "validate_load", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
-           "VALIDATED_KT_OVER_KN", "validated_range_violations", "RESULTS", "Float64Required",
-           "SMALL_ROTATION_MRAD",
+           "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables",
+           "platform_moment", "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT",
+           "validate_mu", "validate_contacts", "validate_load",
+           "VALIDATED_STIFFNESS_OVER_FD_PER_MM", "VALIDATED_KT_OVER_KN",
+           "validated_range_violations", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
            "SmallRotationWarning", "FullSlipStatics", "FullSlipState", "full_slip_statics",
            "full_slip_state", "statics_kernel", "DesignResult", "design_br",
            "full_slip_work_shape_factors", "BaseCycle", "HalfCycle", "base_cycle",
@@ -190,16 +184,16 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
-           "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band", "amplitude_bands",
-           "admissible_polytope", "polytope_vertices", "StiffnessCurve", "curve_at",
-           "sequence_curves", "stiffness_curve", "stack_designs", "map_batched", "default_chunk", "base_cycles",
-           "evaluate_designs", "DesignSummary", "sweep", "SweepResult", "centred_br",
-           "FiveNumbersJacobian", "five_numbers_jacobian", "KImGradient", "k_im_gradient_at",
-           "batch_jacobian", "BladeMode", "validate_mode", "DamperStiffness", "damper_stiffness",
-           "damper_stiffness_kernel", "stuck_damper", "no_damper", "scaled_stiffness",
-           "tabulated_stiffness", "register_stiffness_method", "FRF", "frf", "frf_amplitude_grid", "linear_frf",
-           "Peaks", "peak_response", "design_peaks", "peak_band", "ResponseCurves",
-           "response_curves", "DesignerDiagram", "designer_diagram", "DIAGRAM_MUS", "Uncertainty",
-           "Scenarios", "PeakDistribution", "sample_scenarios", "peak_distribution",
-           "magnification_kernel", "LoopFit", "fit_loops", "fit_problem", "sample_loop", "ALConfig", "ALState", "al_init", "al_update",
-           "al_value_and_grad"]
+           "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
+           "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",
+           "curve_at", "sequence_curves", "stiffness_curve", "stack_designs", "map_batched",
+           "default_chunk", "base_cycles", "evaluate_designs", "DesignSummary", "sweep",
+           "SweepResult", "centred_br", "FiveNumbersJacobian", "five_numbers_jacobian",
+           "KImGradient", "k_im_gradient_at", "batch_jacobian", "BladeMode", "validate_mode",
+           "DamperStiffness", "damper_stiffness", "damper_stiffness_kernel", "stuck_damper",
+           "no_damper", "scaled_stiffness", "tabulated_stiffness", "register_stiffness_method",
+           "FRF", "frf", "frf_amplitude_grid", "linear_frf", "Peaks", "peak_response",
+           "design_peaks", "peak_band", "ResponseCurves", "response_curves", "DesignerDiagram",
+           "designer_diagram", "DIAGRAM_MUS", "Uncertainty", "Scenarios", "PeakDistribution",
+           "sample_scenarios", "peak_distribution", "magnification_kernel", "LoopFit", "fit_loops",
+           "fit_problem", "sample_loop"]
