@@ -12,7 +12,8 @@ their aggregation over mu), `constraints` (margins g >= 0 from the statics and t
 `problem` (batched, compiled evaluators; what one evaluation is), `augmented` (PHR augmented
 Lagrangian), `solver` (optax L-BFGS / Adam inner loop, multi-start, history), `check` (final
 re-check by the public API, active constraints, infeasibility reasons), `grid` (brute-force
-search, heatmap), `reference` (60sym baseline, family table), `plot`, `cli` (`jaxdamp optimize`).
+search, heatmap), `reference` (60sym baseline, family table), `descent` (the feasible descent of
+the response and robust objectives), `plot`, `cli` (`jaxdamp optimize`).
 """
 
 from .amplitude_objective import k_im_at_amplitude as k_im_at_amplitude

@@ -27,6 +27,7 @@ import numpy as np
 from jaxdamp import (BladeMode, Contacts, DamperShape, LoadCase, damper_stiffness, peak_response,
                      scaled_stiffness)
 
+from .descent import feasible_descent
 from .design import VARIABLES
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
 
@@ -124,30 +125,23 @@ def optimize_response(problem: Problem | None = None, force_n=20.0, fd_spread=0.
     span = np.asarray(sp.upper) - np.asarray(sp.lower)
     free_idx = [VARIABLES.index(n) for n in sp.free]
     best_z, best_val, n_steps = None, np.inf, 0
+
+    def gradient(z):
+        _, g = _worst_grad(jnp.asarray(complete_shape(problem, z)), *args)
+        return np.asarray(g)[free_idx] * span
+
+    def evaluate(z):
+        vn, fn = worst_peak(complete_shape(problem, z)[None], problem, force_n, fd_spread, mode)
+        return float(vn[0]), bool(fn[0])
+
     for i in order:
         if not np.isfinite(vals[i]):
             continue
-        z, val, lr = Z[i].copy(), vals[i], 0.05
-        for _ in range(steps):
-            v = complete_shape(problem, z)
-            _, g = _worst_grad(jnp.asarray(v), *args)
-            gz = np.asarray(g)[free_idx] * span
-            norm = np.linalg.norm(gz)
-            if not np.isfinite(norm) or norm == 0:
-                break
-            moved = False
-            for _ in range(6):  # backtracking: accept only a feasible improvement
-                zn = np.clip(z - lr * gz / norm, 0.0, 1.0)
-                vn, fn = worst_peak(complete_shape(problem, zn)[None], problem, force_n, fd_spread, mode)
-                n_steps += 1
-                if fn[0] and vn[0] < val:
-                    z, val, lr, moved = zn, float(vn[0]), lr * 1.5, True
-                    break
-                lr *= 0.3
-            if not moved or lr < 1e-5:
-                break
-        if val < best_val:
-            best_z, best_val = z, val
+        run = feasible_descent(Z[i], float(vals[i]), gradient, evaluate, steps=steps,
+                               step_size=0.05, tries=6, min_step=1e-5)
+        n_steps += run.evaluations
+        if run.value < best_val:
+            best_z, best_val = run.z, run.value
     best = _report(problem, "response optimum", complete_shape(problem, best_z), force_n, fd_spread, mode) \
         if best_z is not None else ResponseDesign("response optimum", (), None, False, None)
     from jaxdamp import family_shape

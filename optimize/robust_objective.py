@@ -30,6 +30,7 @@ from jaxdamp import (RESULTS, BladeMode, Contacts, DamperShape, LoadCase, Scenar
                      damper_stiffness_kernel, family_shape, magnification_kernel, peak_distribution,
                      peak_response, sample_scenarios)
 
+from .descent import feasible_descent
 from .design import VARIABLES
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
 from .response_objective import complete_shape
@@ -299,30 +300,24 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
     span = np.asarray(sp.upper) - np.asarray(sp.lower)
     free_idx = [VARIABLES.index(n) for n in sp.free]
     best_z, best_val, n_desc, hist = None, np.inf, 0, []
+
+    def gradient(z):
+        g, _ = grad(jnp.asarray(complete_shape(problem, z)), spec.temperature, *args)
+        return np.asarray(g)[free_idx] * span
+
+    def evaluate(z):  # the true (hard) maximum decides, not the smooth one the gradient is of
+        vn, fn = robust_values(complete_shape(problem, z), problem, spec, args)
+        return float(vn[0]), bool(fn[0])
+
     for k, i in enumerate(np.argsort(vals)[:starts]):
         if not np.isfinite(vals[i]):
             continue
-        z, val, lr = Z[i].copy(), float(vals[i]), 0.1
-        for step in range(steps):
-            g, _ = grad(jnp.asarray(complete_shape(problem, z)), spec.temperature, *args)
-            gz = np.asarray(g)[free_idx] * span
-            norm = np.linalg.norm(gz)
-            if not np.isfinite(norm) or norm == 0:
-                break
-            moved = False
-            for _ in range(4):  # backtracking: accept only a feasible improvement of the true max
-                zn = np.clip(z - lr * gz / norm, 0.0, 1.0)
-                vn, fn = robust_values(complete_shape(problem, zn), problem, spec, args)
-                n_desc += 1
-                if fn[0] and vn[0] < val:
-                    z, val, lr, moved = zn, float(vn[0]), lr * 1.5, True
-                    hist.append((k, step, val))
-                    break
-                lr *= 0.3
-            if not moved:
-                break
-        if val < best_val:
-            best_z, best_val = z, val
+        run = feasible_descent(Z[i], float(vals[i]), gradient, evaluate, steps=steps,
+                               step_size=0.1, tries=4)
+        n_desc += run.evaluations
+        hist += [(k, step, val) for step, val in run.accepted]
+        if run.value < best_val:
+            best_z, best_val = run.z, run.value
         tick(1)
     if best_z is None:
         raise ValueError("no feasible design on the grid: widen the bounds or the margins")

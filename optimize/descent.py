@@ -1,0 +1,58 @@
+"""Projected descent that only accepts feasible improvements, on the unit box of the free variables.
+
+The response and robust optimisers minimise a worst case whose gradient is that of a smooth
+surrogate (a log-sum-exp, or the peak of the worst scenario), under a constraint that is never
+penalised: a step is kept only where the design is feasible and the true objective falls. This is
+that loop, once: normalised gradient steps, clipped to [0, 1]; a step grows 1.5 times after an
+accepted move and shrinks 0.3 times per rejected try.
+"""
+
+from __future__ import annotations
+
+from typing import Callable, NamedTuple
+
+import numpy as np
+
+GROW = 1.5  # step factor after an accepted move
+SHRINK = 0.3  # step factor after a rejected try
+
+
+class Descent(NamedTuple):
+    """Where a descent ended: z on the unit box, its objective value, the objective evaluations
+    spent, and (step, value) of every accepted move."""
+
+    z: np.ndarray
+    value: float
+    evaluations: int
+    accepted: list
+
+
+def feasible_descent(z, value: float, gradient: Callable, evaluate: Callable, *, steps: int,
+                     step_size: float, tries: int, min_step: float = 0.0) -> Descent:
+    """From z (unit box) with objective `value`: at most `steps` moves along -gradient(z) (any
+    scale: it is normalised), each found in at most `tries` step sizes; evaluate(z) -> (value,
+    feasible). Stops early at a zero or non-finite gradient, a step with no accepted try, or a
+    step size below min_step."""
+    z = np.asarray(z, float)
+    evaluations, accepted = 0, []
+    for step in range(steps):
+        g = np.asarray(gradient(z), float)
+        norm = np.linalg.norm(g)
+        if not np.isfinite(norm) or norm == 0:
+            break
+        moved = False
+        for _ in range(tries):
+            trial = np.clip(z - step_size * g / norm, 0.0, 1.0)
+            trial_value, feasible = evaluate(trial)
+            evaluations += 1
+            if feasible and trial_value < value:
+                z, value, step_size, moved = trial, float(trial_value), step_size * GROW, True
+                accepted.append((step, value))
+                break
+            step_size *= SHRINK
+        if not moved or step_size < min_step:
+            break
+    return Descent(z, float(value), evaluations, accepted)
+
+
+__all__ = ["Descent", "feasible_descent", "GROW", "SHRINK"]

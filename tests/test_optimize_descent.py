@@ -1,0 +1,52 @@
+"""The feasible descent shared by the response and robust optimisers, on problems whose optimum is
+known in closed form (independent of the damper)."""
+
+import numpy as np
+
+from jaxdamp_optimize.descent import feasible_descent
+
+
+def _quadratic(centre):
+    centre = np.asarray(centre, float)
+    return (lambda z: 2.0 * (z - centre)), (lambda z: (float(np.sum((z - centre) ** 2)), True))
+
+
+def test_reaches_an_interior_minimum_and_values_only_fall():
+    gradient, evaluate = _quadratic([0.3, 0.7])
+    out = feasible_descent(np.array([0.9, 0.1]), evaluate(np.array([0.9, 0.1]))[0], gradient,
+                           evaluate, steps=60, step_size=0.1, tries=6)
+    np.testing.assert_allclose(out.z, [0.3, 0.7], atol=1e-3)
+    values = [v for _, v in out.accepted]
+    assert values == sorted(values, reverse=True) and len(values) > 3
+
+
+def test_a_minimum_outside_the_box_ends_on_its_face():
+    gradient, evaluate = _quadratic([1.4, 0.5])  # the box optimum is (1, 0.5)
+    out = feasible_descent(np.array([0.2, 0.2]), evaluate(np.array([0.2, 0.2]))[0], gradient,
+                           evaluate, steps=80, step_size=0.1, tries=6)
+    assert np.all((out.z >= 0.0) & (out.z <= 1.0))
+    np.testing.assert_allclose(out.z, [1.0, 0.5], atol=2e-3)
+
+
+def test_never_accepts_an_infeasible_design():
+    centre = np.array([0.2, 0.2])
+    infeasible = lambda z: z[0] + z[1] < 0.8  # noqa: E731  (the optimum is cut off)
+    gradient = lambda z: 2.0 * (z - centre)  # noqa: E731
+    seen = []
+
+    def evaluate(z):
+        seen.append(z)
+        return float(np.sum((z - centre) ** 2)), not infeasible(z)
+
+    z0 = np.array([0.9, 0.9])
+    out = feasible_descent(z0, evaluate(z0)[0], gradient, evaluate, steps=40, step_size=0.2,
+                           tries=8)
+    assert not infeasible(out.z)
+    assert out.z.sum() < 1.2  # it did move towards the cut
+    assert out.evaluations == len(seen) - 1
+
+
+def test_zero_gradient_stops_at_once():
+    out = feasible_descent(np.array([0.5]), 1.0, lambda z: np.zeros(1),
+                           lambda z: (0.0, True), steps=10, step_size=0.1, tries=3)
+    assert out.evaluations == 0 and out.accepted == [] and out.value == 1.0
