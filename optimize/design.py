@@ -130,12 +130,17 @@ def shape_of(space: DesignSpace, x) -> DamperShape:
                        fields["bl2_over_hl"], None)
 
 
+def shape_of_vector(v) -> DamperShape:
+    """DamperShape (x_d = None) of a complete shape vector v = (theta_l, theta_r, br_over_hr,
+    bl2_over_hl), leading axes kept; jit-able."""
+    return DamperShape(v[..., 0], v[..., 1], v[..., 2], v[..., 3], None)
+
+
 def design_from_vector(v, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase()) -> Design:
     """The Design of a complete shape vector v = (theta_l, theta_r, br_over_hr, bl2_over_hl) at mu
     (scalar or an array: then a batch over mu); jit-able. Every optimiser path reaches the solver
     through here (unit box -> `from_unit` -> `embed` -> this)."""
-    v = jnp.asarray(v, dtype=float)
-    return Design(DamperShape(v[..., 0], v[..., 1], v[..., 2], v[..., 3], None), mu, contacts, load)
+    return Design(shape_of_vector(jnp.asarray(v, dtype=float)), mu, contacts, load)
 
 
 def design_of(space: DesignSpace, z, mu, contacts: Contacts = Contacts(),
@@ -187,6 +192,6 @@ def in_bounds(space: DesignSpace, x, tol=1e-12) -> bool:
 
 
 __all__ = ["VARIABLES", "UNITS", "DEFAULT_BOUNDS", "DEFAULT_FIXED", "DesignSpace", "design_space",
-           "to_unit", "from_unit", "project", "shape_of", "design_from_vector", "design_of",
-           "unit_of", "embed", "free_columns", "vector_of", "shape_dict", "family_start",
+           "to_unit", "from_unit", "project", "shape_of", "shape_of_vector", "design_from_vector",
+           "design_of", "unit_of", "embed", "free_columns", "vector_of", "shape_dict", "family_start",
            "in_bounds"]

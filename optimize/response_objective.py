@@ -24,16 +24,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import (BladeMode, Contacts, DamperShape, LoadCase, damper_stiffness, peak_response,
+from jaxdamp import (BladeMode, Contacts, LoadCase, damper_stiffness, peak_response,
                      scaled_stiffness)
 
 from .descent import feasible_descent
-from .design import VARIABLES
+from .design import VARIABLES, shape_of_vector
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
-
-
-def _shape(v):
-    return DamperShape(v[0], v[1], v[2], v[3], None)
 
 
 def _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load):
@@ -41,7 +37,7 @@ def _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load):
     load = LoadCase(*load)
 
     def per_mu(mu):
-        d = damper_stiffness(_shape(v), mu, Contacts(kn, kt), load, method="interpolated")
+        d = damper_stiffness(shape_of_vector(v), mu, Contacts(kn, kt), load, method="interpolated")
         a = jax.vmap(lambda c: peak_response(scaled_stiffness(d, load.F_D, load.F_D * c), mode,
                                              force_n).peak_amplitude_mm)(fd_factors)
         return a, d.status

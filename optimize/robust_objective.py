@@ -26,12 +26,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import (RESULTS, BladeMode, Contacts, DamperShape, LoadCase, Scenarios, Uncertainty,
+from jaxdamp import (RESULTS, BladeMode, Contacts, LoadCase, Scenarios, Uncertainty,
                      damper_stiffness_kernel, family_shape, magnification_kernel, peak_distribution,
                      peak_response, sample_scenarios)
 
 from .descent import feasible_descent
-from .design import VARIABLES
+from .design import VARIABLES, shape_of_vector
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
 from .response_objective import complete_shape
 
@@ -97,17 +97,13 @@ def _initials(history: str):
     return ("gross_slip", "assembly") if history == "band" else ("gross_slip",)
 
 
-def _shape(v):
-    return DamperShape(v[0], v[1], v[2], v[3], None)
-
-
 def _worst_scores(v, history, mus, corners, forces, mode, kn, kt, load):
     """log A*/F of every (history, mu, corner, force) and the worst damper status."""
     load = LoadCase(*load)
 
     def one(mu, c, initial):
         # Traced (vmapped) inputs: the unchecked kernel; the spec was checked once by the caller.
-        d = damper_stiffness_kernel(_shape(v), mu, Contacts(kn * c[0], kt * c[1]), load, "exact",
+        d = damper_stiffness_kernel(shape_of_vector(v), mu, Contacts(kn * c[0], kt * c[1]), load, "exact",
                                     initial=initial)
         return jnp.log(peak_response(d, mode, forces).peak_amplitude_mm / forces), d.status
 
@@ -120,7 +116,7 @@ def _worst_scores(v, history, mus, corners, forces, mode, kn, kt, load):
 def _q95_scores(v, history, scenarios, forces, mode, load):
     """log of the 95th percentile of A*/F over the samples, per force; worst sample status."""
     load = LoadCase(*load)
-    outs = [jax.vmap(lambda s: magnification_kernel(_shape(v), s, load, mode, forces, h))(scenarios)
+    outs = [jax.vmap(lambda s: magnification_kernel(shape_of_vector(v), s, load, mode, forces, h))(scenarios)
             for h in _initials(history)]
     m = jnp.max(jnp.stack([o[0] for o in outs]), axis=0)  # history band: the upper edge
     return (jnp.log(jnp.quantile(m, 0.95, axis=0)),
@@ -233,7 +229,7 @@ def certify(name: str, v, problem: Problem, spec: RobustSpec, mode: BladeMode = 
     feasible = bool(np.asarray(is_feasible(evaluate_shapes(problem, v[None])))[0])
     dense = dense_scenarios(problem, spec) if dense is None else dense
     hist = "band" if spec.history == "band" else "gross_slip"
-    shape = _shape(v)
+    shape = shape_of_vector(v)
     load = LoadCase(*problem.load)
     d = peak_distribution(shape, dense, mode, forces, load, history=hist, progress=progress)
     u = Uncertainty(min(problem.mus), max(problem.mus), spec.fd_spread, spec.kn_factor,
@@ -242,7 +238,7 @@ def certify(name: str, v, problem: Problem, spec: RobustSpec, mode: BladeMode = 
     mc = peak_distribution(shape, mc_scen, mode, forces, load, history=hist, levels=(0.95,),
                            progress=progress)
     ok = feasible and d.n_ok == len(dense.mu) and mc.n_ok == n_mc
-    reason = "ok" if ok else infeasibility_reason(feasible, np.concatenate([d.status, mc.status]))
+    reason = "ok" if ok else uncertified_reason(feasible, np.concatenate([d.status, mc.status]))
     band = (np.nanmin(d.magnification, axis=0), np.nanmax(d.magnification, axis=0))
     return CertifiedDesign(name, tuple(map(float, v)), ok,
                            float(np.max(d.worst)) if ok else None,
@@ -252,7 +248,7 @@ def certify(name: str, v, problem: Problem, spec: RobustSpec, mode: BladeMode = 
                            len(dense.mu), reason)
 
 
-def infeasibility_reason(margins_ok: bool, status) -> str:
+def uncertified_reason(margins_ok: bool, status) -> str:
     """Why a design is not certified, in words: the margins, and every damper status that is not
     ok with how many scenarios gave it (a non-converged cycle is not a liftoff)."""
     status = np.asarray(status)
@@ -332,5 +328,5 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
 
 __all__ = ["RobustSpec", "CertifiedDesign", "RobustOptimum", "ROBUST_MU_SET", "PREVIOUS_OPTIMA",
            "OBJECTIVES", "HISTORY_CHOICES", "validate_spec", "descent_forces", "objective_args",
-           "robust_values", "dense_scenarios", "certify", "infeasibility_reason", "reference_shapes",
+           "robust_values", "dense_scenarios", "certify", "uncertified_reason", "reference_shapes",
            "optimize_robust"]

@@ -7,25 +7,24 @@ runs `sys.executable -m ipykernel_launcher`, so a fresh virtualenv works without
 kernelspec install`. New notebooks are picked up automatically.
 """
 
+import importlib.util
 import json
-import sys
 from pathlib import Path
 
 import pytest
 
 NOTEBOOK_DIR = Path(__file__).resolve().parent.parent / "notebooks"
+_spec = importlib.util.spec_from_file_location(
+    "execute_notebooks", NOTEBOOK_DIR.parent / "scripts" / "execute_notebooks.py")
+_execute_notebooks = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(_execute_notebooks)
 NOTEBOOKS = sorted(NOTEBOOK_DIR.glob("*.ipynb"))
 
 
 @pytest.fixture(scope="module")
 def kernel_path(tmp_path_factory):
-    root = tmp_path_factory.mktemp("jupyter")
-    spec = root / "kernels" / "python3"
-    spec.mkdir(parents=True)
-    (spec / "kernel.json").write_text(json.dumps({
-        "argv": [sys.executable, "-m", "ipykernel_launcher", "-f", "{connection_file}"],
-        "display_name": "Python 3 (jaxdamp tests)", "language": "python"}))
-    return str(root)
+    # The kernel spec scripts/execute_notebooks.py executes the committed notebooks with.
+    return _execute_notebooks.kernel_root(tmp_path_factory.mktemp("jupyter"))
 
 
 def test_notebooks_exist():

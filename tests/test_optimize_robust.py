@@ -92,10 +92,10 @@ def test_bad_spec_is_refused_naming_the_flag(change, flag):
 def test_a_design_that_is_not_certified_says_why_in_status_names():
     """The reason names the statuses the scenarios gave: a non-converged cycle is not a liftoff."""
     from jaxdamp import RESULTS
-    from jaxdamp_optimize.robust_objective import infeasibility_reason
+    from jaxdamp_optimize.robust_objective import uncertified_reason
 
     status = [RESULTS.ok, RESULTS.not_converged, RESULTS.ok, RESULTS.liftoff, RESULTS.liftoff]
-    reason = infeasibility_reason(True, status)
+    reason = uncertified_reason(True, status)
     assert reason == "liftoff in 2 of 5 scenarios; not_converged in 1 of 5 scenarios"
-    assert infeasibility_reason(False, [RESULTS.ok]).startswith("margins")
-    assert infeasibility_reason(True, [RESULTS.ok, RESULTS.ok]) == "ok"
+    assert uncertified_reason(False, [RESULTS.ok]).startswith("margins")
+    assert uncertified_reason(True, [RESULTS.ok, RESULTS.ok]) == "ok"
