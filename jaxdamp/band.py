@@ -25,7 +25,7 @@ batched program (the response's band, `peak_band`).
 
 from __future__ import annotations
 
-from functools import lru_cache
+import functools
 from typing import NamedTuple
 
 import jax
@@ -361,7 +361,7 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
                       band_status.astype(jnp.int32))
 
 
-@lru_cache(maxsize=None)
+@functools.cache
 def bands_program(n_samples: int, steps: int, starts: int):
     """The jitted band of a grid of amplitudes, f(shape, mu, contacts, load, psi (n,), key) ->
     BandKernel with a leading amplitude axis (one program per option set; the CLI saves it)."""

@@ -12,6 +12,7 @@ writes heatmaps and data).
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple, Sequence
 
 import jax
@@ -235,14 +236,10 @@ def bucket_size(n: int, ndev: int, chunk: int) -> int:
     return -(-size // ndev) * ndev
 
 
-_COMPILED: dict = {}
-
-
+@functools.cache
 def _compiled(fn, in_axes):
-    key = (fn, in_axes)
-    if key not in _COMPILED:
-        _COMPILED[key] = batch_jit(jax.vmap(fn, in_axes=in_axes))
-    return _COMPILED[key]
+    """One compiled, vmapped program per kernel and in_axes, for the life of the process."""
+    return batch_jit(jax.vmap(fn, in_axes=in_axes))
 
 
 def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = None,
@@ -489,7 +486,7 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
 
 __all__ = ["AXIS", "MIN_BATCH", "DesignSummary", "stack_designs", "take", "device_mesh", "shard",
            "gather", "CHUNK_BY_PLATFORM", "BYTES_PER_DESIGN", "MEMORY_SHARE", "default_chunk",
-           "VALUES_CHUNK_BY_PLATFORM", "values_chunk", "device_chunk", "bucket_size", "_COMPILED",
+           "VALUES_CHUNK_BY_PLATFORM", "values_chunk", "device_chunk", "bucket_size",
            "map_batched", "two_stage", "BATCH_LOOP", "SECOND_STAGE_LOOP", "base_cycles",
            "FIRST_STAGE_TRACTS", "summary_kernel", "first_stage_summary", "needs_second_stage",
            "evaluate_designs", "SweepResult", "centred_br", "check_sweep_inputs", "sweep"]

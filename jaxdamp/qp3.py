@@ -19,8 +19,8 @@ The polytope must be bounded (a box row set does it); an empty polytope returns 
 
 from __future__ import annotations
 
+import functools
 import itertools
-from functools import lru_cache
 
 import jax.numpy as jnp
 import numpy as np
@@ -32,7 +32,7 @@ __all__ = ["minimise_quadratic", "row_subsets", "FEASIBLE_TOL"]
 FEASIBLE_TOL = 1e-12  # a candidate may violate a row by this (relative to the row's scale)
 
 
-@lru_cache(maxsize=None)
+@functools.cache
 def row_subsets(m: int, k: int) -> np.ndarray:
     """(n, k) subsets of exactly k of m rows, in itertools.combinations order."""
     return np.array(list(itertools.combinations(range(m), k)), np.int32).reshape(-1, k)

@@ -19,6 +19,7 @@ applied explicitly, 50 forces) plus a per-pair Monte Carlo.
 
 from __future__ import annotations
 
+import functools
 import itertools
 from typing import NamedTuple
 
@@ -137,22 +138,17 @@ def _value(v, objective, history, temperature, *args):
     return smooth_objective(v, objective, history, temperature, *args)[1]
 
 
-_PROGRAMS: dict = {}
-
-
+@functools.cache
 def objective_programs(objective: str, history: str):
     """(batched values, gradient of the smooth maximum) compiled once per objective and history."""
-    if (objective, history) not in _PROGRAMS:
-        def value(v, temperature, *args):
-            return smooth_objective(v, objective, history, temperature, *args)[1]
+    def value(v, temperature, *args):
+        return smooth_objective(v, objective, history, temperature, *args)[1]
 
-        def smooth(v, temperature, *args):
-            return smooth_objective(v, objective, history, temperature, *args)
+    def smooth(v, temperature, *args):
+        return smooth_objective(v, objective, history, temperature, *args)
 
-        _PROGRAMS[objective, history] = (
-            jax.jit(jax.vmap(value, (0,) + (None,) * (8 if objective == "worst" else 5))),
+    return (jax.jit(jax.vmap(value, (0,) + (None,) * (8 if objective == "worst" else 5))),
             jax.jit(jax.jacfwd(smooth, has_aux=True)))
-    return _PROGRAMS[objective, history]
 
 
 def objective_args(problem: Problem, spec: RobustSpec, mode: BladeMode = BladeMode(),

@@ -22,7 +22,7 @@ infeasible, with the reason, and its design is the least-violating one found (no
 
 from __future__ import annotations
 
-from functools import lru_cache
+import functools
 from typing import NamedTuple
 
 import jax
@@ -275,7 +275,7 @@ def _prune(track, alive, config):
     return np.sort(np.array([k for *_, k in sorted(order)][:config.keep]))
 
 
-@lru_cache(maxsize=None)
+@functools.cache
 def _lbfgs(memory: int):
     """optax L-BFGS init/update, vmapped over starts and jitted (eager vmap re-traces its scans)."""
     t = optax.scale_by_lbfgs(memory_size=memory)
@@ -378,12 +378,19 @@ def _run_lbfgs(problem, scorer, z0, track, config):
     return alive
 
 
+@functools.cache
+def _adam(learning_rate: float, rounds: int, final_learning_rate: float):
+    """optax Adam on a cosine schedule, init/update vmapped over starts and jitted once per
+    schedule (not per call: a new jit would compile again)."""
+    schedule = optax.cosine_decay_schedule(learning_rate, rounds, final_learning_rate / learning_rate)
+    opt = optax.adam(schedule)
+    return jax.jit(jax.vmap(opt.init)), jax.jit(jax.vmap(opt.update))
+
+
 def _run_adam(problem, scorer, z0, track, config):
     """Projected Adam on the augmented Lagrangian, batched over starts (one evaluation per round)."""
-    schedule = optax.cosine_decay_schedule(config.learning_rate, config.rounds,
-                                           config.final_learning_rate / config.learning_rate)
-    opt = optax.adam(schedule)
-    init, update = jax.jit(jax.vmap(opt.init)), jax.jit(jax.vmap(opt.update))
+    init, update = _adam(float(config.learning_rate), int(config.rounds),
+                         float(config.final_learning_rate))
     alive = np.arange(len(z0))
     z = np.asarray(z0, float)
     state = init(jnp.asarray(z))

@@ -26,7 +26,7 @@ def _cycle_numbers(bc):
     return bc, five_numbers_kernel(bc), contact_energies(bc), work_shape_factors(bc)
 
 
-@functools.lru_cache(maxsize=None)
+@functools.cache
 def _program():
     import jax
 

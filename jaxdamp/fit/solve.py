@@ -116,6 +116,8 @@ def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, 
     return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1)
 
 
+_residuals_jit = jax.jit(fit_residuals, static_argnums=(4, 5))
+
 _LISTENERS: list = []  # the running fit's step callback (one compiled program for every caller)
 
 
@@ -358,8 +360,8 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
     loss0 = float(0.5 * jnp.sum(r0 * r0))
     pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
-    res = jax.jit(lambda th, inv_delta: fit_residuals(th, shape_j, load_j, data, spec, initial,
-                                                      inv_delta))
+    def res(th, inv_delta):  # the module-level program; the data are its arguments, not constants
+        return _residuals_jit(th, shape_j, load_j, data, spec, initial, inv_delta)
     return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial,
                       loss0)
 

@@ -3,6 +3,7 @@ mu, with the free and stuck limits."""
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import jax
@@ -87,23 +88,17 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
         stuck_f, status.astype(int))
 
 
-_DIAGRAM_PROGRAMS: dict = {}
-
-
+@functools.cache
 def diagram_program(method: str, options: tuple = ()):
     """The designer's diagram as one compiled program per method and options, vmapped over mu:
     (shape, mus, contacts, load, mode, forces, fds, fd0, force_at_fd) -> (peak against force
     (n_mu, n_force), against F_D (n_mu, n_fd), stuck frequency (n_mu,), status (n_mu,))."""
-    if (method, options) not in _DIAGRAM_PROGRAMS:
-        def per_mu(shape, m, contacts, load, mode, forces, fds, fd0, f_fd):
-            d = damper_stiffness_kernel(shape, m, contacts, load, method, **dict(options))
-            by_force = peak_response(d, mode, forces).peak_amplitude_mm  # one shared grid
-            by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
-                                                      f_fd).peak_amplitude_mm)(fds)
-            stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
-            return by_force, by_fd, stuck_f, d.status
+    def per_mu(shape, m, contacts, load, mode, forces, fds, fd0, f_fd):
+        d = damper_stiffness_kernel(shape, m, contacts, load, method, **dict(options))
+        by_force = peak_response(d, mode, forces).peak_amplitude_mm  # one shared grid
+        by_fd = jax.vmap(lambda fd: peak_response(scaled_stiffness(d, fd0, fd), mode,
+                                                  f_fd).peak_amplitude_mm)(fds)
+        stuck_f = peak_frequency_hz(stuck_damper(d.k_re_stuck), mode, 1.0)
+        return by_force, by_fd, stuck_f, d.status
 
-        _DIAGRAM_PROGRAMS[method, options] = batch_jit(jax.vmap(
-            per_mu, in_axes=(None, 0, None, None, None, None, None, None, None)))
-    return _DIAGRAM_PROGRAMS[method, options]
-
+    return batch_jit(jax.vmap(per_mu, in_axes=(None, 0, None, None, None, None, None, None, None)))

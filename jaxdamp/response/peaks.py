@@ -4,6 +4,7 @@ one per stiffness method and options, built once per process."""
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import jax
@@ -208,20 +209,16 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     return jax.tree_util.tree_map(lambda x: x[0], peaks) if f.ndim == 0 else peaks
 
 
-_PEAK_PROGRAMS: dict = {}
-
-
+@functools.cache
 def peak_program(method: str, options: tuple = ()):
     """One compiled peak solver per stiffness method and options (sorted (name, value) pairs),
     reused by every call: (shape, mu, contacts, load, mode, force_n) -> Peaks, on prepared inputs
     (`prepare_scene`); force_n a scalar or a 1-D array."""
-    if (method, options) not in _PEAK_PROGRAMS:
-        def run(shape, mu, contacts, load, mode, force_n):
-            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
-            return peak_response(d, mode, force_n)
+    def run(shape, mu, contacts, load, mode, force_n):
+        d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
+        return peak_response(d, mode, force_n)
 
-        _PEAK_PROGRAMS[method, options] = batch_jit(run)
-    return _PEAK_PROGRAMS[method, options]
+    return batch_jit(run)
 
 
 class ResponseCurves(NamedTuple):
@@ -242,27 +239,23 @@ class ResponseCurves(NamedTuple):
                 f"{number_repr(self.k_re_stuck, 'N mm/mrad')}, status {status_repr(self.status)})")
 
 
-_CURVE_PROGRAMS: dict = {}
-
-
+@functools.cache
 def curves_program(method: str, options: tuple = ()):
     """One compiled program per stiffness method and options (sorted (name, value) pairs): the
     damper curve once, the peaks of every force on one shared grid, and the three FRFs:
     (shape, mu, contacts, load, mode, forces (n,)) -> ResponseCurves, on prepared inputs."""
-    if (method, options) not in _CURVE_PROGRAMS:
-        def run(shape, mu, contacts, load, mode, forces):
-            d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
-            peaks = peak_response(d, mode, forces)
-            valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
-            free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
-            top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
-            damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
-            free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
-            stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
-            return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
+    def run(shape, mu, contacts, load, mode, forces):
+        d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
+        peaks = peak_response(d, mode, forces)
+        valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
+        free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
+        top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
+        damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
+        free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
+        stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
+        return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
 
-        _CURVE_PROGRAMS[method, options] = batch_jit(run)
-    return _CURVE_PROGRAMS[method, options]
+    return batch_jit(run)
 
 
 def response_curves(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(),
