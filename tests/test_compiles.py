@@ -39,7 +39,28 @@ CALLS = {
                               lambda: jd.five_numbers_jacobian(S74R, 0.4)),
     "contact_energies": (lambda: jd.contact_energies(jd.base_cycle(S60, 0.5)),
                          lambda: jd.contact_energies(jd.base_cycle(S74R, 0.3))),
+    "peak_band": (lambda: jd.peak_band(S60, 0.5, force_n=np.array([5.0])),
+                  lambda: jd.peak_band(S74R, 0.4, force_n=np.array([7.0]))),
+    "fit_loops": (lambda: _fit(S60, 0.5), lambda: _fit(S74R, 0.4)),
+    "robust_objective": (lambda: _robust(S60), lambda: _robust(S74R)),
 }
+
+
+def _fit(shape, mu):
+    """A fit of one model loop (the same number of samples each time), a few steps."""
+    psi, m = jd.sample_loop(shape, mu, 2.0, t=np.linspace(0.0, 2.0, 241))
+    return jd.fit_loops([(psi, m)], shape, max_steps=3)
+
+
+def _robust(shape):
+    """The robust objective's values of a design vector (the optimiser's inner evaluation)."""
+    from jaxdamp_optimize.problem import make_problem
+    from jaxdamp_optimize.robust_objective import RobustSpec, objective_args, robust_values
+
+    problem = make_problem(mus=(0.4, 0.6))
+    spec = RobustSpec(force_range_n=(4.0, 12.0), n_forces=2)
+    v = [shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl]
+    return robust_values(np.asarray([v], float), problem, spec, objective_args(problem, spec))
 
 
 @pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
