@@ -175,7 +175,7 @@ def test_k_im_is_quadratic_in_the_initial_state_within_one_sequence():
     assert checked >= 3
 
 
-@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 71 worker-s (run of 2026-11-25)
 def test_no_admissible_state_with_a_valid_cycle_says_why():
     """theta_L = theta_R = 90, b_R/h_R = -0.5: the damper's statics are singular, so no state is
     admissible (tests/test_status_paths.py drives the same design through every path). No bound
@@ -186,6 +186,7 @@ def test_no_admissible_state_with_a_valid_cycle_says_why():
     assert all(v is None for v in band.as_dict().values())
 
 
+@pytest.mark.slow  # 82 worker-s (run of 2026-11-25)
 def test_a_self_locking_wedge_has_an_unbounded_admissible_set_whose_far_states_stick():
     """90L at mu 0.5: the recession cone is not empty (so the vertices' hull is not the admissible
     set). Far along a ray every contact sticks: the cycle is the stuck line, k_Re = k_Re,fs of the

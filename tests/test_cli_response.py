@@ -107,7 +107,7 @@ def _no_null(x, path="doc"):
         assert x is not None, path
 
 
-@pytest.mark.slow  # 36 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 71 worker-s (run of 2026-11-25)
 def test_ill_conditioned_damper_status_survives(capsys):
     """#23: the Base-Cycle's own status reaches the response (it was rebuilt from flags)."""
     code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--kt", "1e12",

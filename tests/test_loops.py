@@ -44,7 +44,7 @@ def test_amplitude_loop_forms_agree(name, mu, initial):
     assert np.sum(np.asarray(ref.k_im) > 0) >= 8  # dissipative cycles are part of the comparison
 
 
-@pytest.mark.slow  # 99 worker-s eager (2026-11-25); jitted, still over 10
+@pytest.mark.slow  # 198 worker-s eager (2026-11-25); jitted, still over 10
 def test_amplitude_auto_derivatives_are_the_scan_programs():
     s, m, c, ld = _design("74R", 0.5)
     psi = jnp.asarray(AMPLITUDES[8:20:3])

@@ -23,7 +23,7 @@ def run(capsys, *argv):
     return code, out.out, out.err
 
 
-@pytest.mark.slow  # 43 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 86 worker-s (run of 2026-11-25)
 def test_json_contract_default_objective(capsys):
     code, out, _ = run(capsys, "--json", "--kn", "20000", "--kt", "4000")
     assert code == 0
@@ -48,6 +48,7 @@ def test_json_contract_default_objective(capsys):
     assert worst == pytest.approx(d["objective"], rel=1e-9)
 
 
+@pytest.mark.slow  # 81 worker-s (run of 2026-11-25); test_optimize_solver holds the same in Python
 def test_45sym_at_mu_07_is_infeasible_not_an_optimum(capsys):
     code, out, _ = run(capsys, "--fix", "theta_l=45,theta_r=45", "--mu-set", "0.7", "--json")
     assert code == 0

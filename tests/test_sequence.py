@@ -49,7 +49,7 @@ def test_sequence_curves_equal_per_amplitude_cycles(initial):
     assert np.all(np.isfinite(np.asarray(seq.k_re))) and np.all(np.isfinite(np.asarray(seq.k_im)))
 
 
-@pytest.mark.slow  # 41 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 83 worker-s (run of 2026-11-25)
 def test_free_curve_at_any_amplitude_and_cycles_per_curve():
     """The curve built on [psi_lo, psi_hi] (probes placed by the method, not on the grid)
     evaluated at 200 other amplitudes: every one covered, equal to the cycles, status for status,

@@ -33,7 +33,7 @@ def test_rows_cover_the_hard_cases_of_the_issue(runs):
     assert {"90L", "90R"} <= {c["shape"] for c in cases if c["category"] == "vertical flank"}
 
 
-@pytest.mark.slow  # 37 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 74 worker-s (run of 2026-11-25)
 def test_direct_is_right_or_flags_every_row(runs):
     cases, direct, ref = runs
     failures = []
@@ -44,6 +44,7 @@ def test_direct_is_right_or_flags_every_row(runs):
     assert not failures, failures
 
 
+@pytest.mark.slow  # the benchmark's hard cases (fixture `runs`): 69 worker-s
 def test_liftoff_rows_are_flagged_by_both_methods(runs):
     cases, direct, ref = runs
     for i, case in enumerate(cases):
@@ -53,6 +54,7 @@ def test_liftoff_rows_are_flagged_by_both_methods(runs):
     assert len(lifted) == 2  # mu* + 0.001 and the paper's 74L at 0.7
 
 
+@pytest.mark.slow  # the benchmark's hard cases (fixture `runs`): 69 worker-s
 def test_reference_bounds_are_tight_enough_to_mean_something(runs):
     """The check is not vacuous: on the rows the direct method solves, the reference pins psi_BC to
     within 1/8000 of a span (1/2000 on the slow-closing row) and k_Re,fs to 1e-8."""

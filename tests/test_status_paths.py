@@ -56,7 +56,7 @@ def cli(*argv):
     return doc
 
 
-@pytest.mark.slow  # 33 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 67 worker-s (run of 2026-11-25)
 @pytest.mark.parametrize("name", sorted(DESIGNS))
 def test_cycle_paths_agree(name):
     _, shape, mu, contacts = DESIGNS[name]

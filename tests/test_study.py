@@ -47,7 +47,7 @@ def test_study_json_contract(full):
                     assert isinstance(e[k], float)
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_74L_lifts_off_at_mu_07_and_is_shown_as_such(full):
     out, s = full
     e = s["results"]["74L"]["0.7"]
@@ -60,7 +60,7 @@ def test_74L_lifts_off_at_mu_07_and_is_shown_as_such(full):
     assert "| 74L | 0.7 | LIFTOFF |" in report
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_every_valid_case_converges(full):
     _, s = full
     assert all(e["converged"] for per in s["results"].values() for e in per.values() if not e["liftoff"])
@@ -68,7 +68,7 @@ def test_every_valid_case_converges(full):
 
 # ---------------------------------------------------------------- the paper's tables
 @pytest.mark.parametrize("shape", ["60sym", "74R"])
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_tables_B3_B4_within_2_percent_and_in_report(full, paper, shape):
     """Tables B3.1 (60sym) and B4.1 (74R), every number, within 2 % of the paper."""
     out, s = full
@@ -84,7 +84,7 @@ def test_tables_B3_B4_within_2_percent_and_in_report(full, paper, shape):
     assert worst <= 2.0, f"{shape}: largest deviation from the paper {worst:.2f} %"
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_states_the_2_percent_criterion_truthfully(full, paper):
     out, s = full
     worst = max(abs(100.0 * (s["results"][sh][f"{row[0]:g}"][k] - ref) / ref)
@@ -97,7 +97,7 @@ def test_report_states_the_2_percent_criterion_truthfully(full, paper):
     assert f"largest |deviation| {worst:.2f} %: {verdict}" in (out / "report.md").read_text()
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_table_1_resultant_distances(full, paper):
     """60sym's left-resultant distances (Table 1) from the study's statics."""
     _, s = full
@@ -126,7 +126,7 @@ def test_paper_qualitative_findings_hold(full):
     assert (out / "report.md").read_text().count("**holds**") == len(s["findings"])
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_tables_written(full):
     out, s = full
     for name in ("five_numbers.csv", "work_shape_factors.csv", "scores.csv", "transitions.csv",
@@ -217,6 +217,7 @@ def test_figures_exist_and_are_real_pngs(with_figures):
         assert nbytes > 30_000 and w >= 700 and h >= 450, (f, nbytes, w, h)
 
 
+@pytest.mark.slow  # the reduced study with figures (fixture `with_figures`): 223 worker-s
 def test_report_html_and_markdown_reference_every_figure(with_figures):
     out, s = with_figures
     md = (out / "report.md").read_text()
@@ -232,7 +233,7 @@ def test_report_html_and_markdown_reference_every_figure(with_figures):
 SHAPE_NAMES = ("90L", "74L", "60sym", "74R", "90R")
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_has_a_contents_list_and_shape_names_in_every_heading(full):
     out, _ = full
     md = (out / "report.md").read_text()
@@ -249,7 +250,7 @@ def test_report_has_a_contents_list_and_shape_names_in_every_heading(full):
         assert f'id="{anchor}"' in html, anchor
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_states_the_90R_caveat_once(full):
     from jaxdamp.paper.study import NOTE_90R
 
@@ -260,7 +261,7 @@ def test_report_states_the_90R_caveat_once(full):
     assert "90R: see the note under Table B5.1." in md
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_text_cells_are_left_aligned(full):
     out, _ = full
     html = (out / "report.html").read_text()
@@ -269,7 +270,7 @@ def test_report_text_cells_are_left_aligned(full):
     assert '<td class="num">0.7</td>' in html
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_explains_W_R1_zero_beside_w_R1_50_percent(full):
     """60sym: R1 sticks through the Base-Cycle (W_R1 = 0) yet carries half of w_M; the report says why,
     and the reason holds: energy beyond psi_BC grows as F_D * 2 (psi_a - psi_BC) * q*/2 * w_i."""
@@ -290,6 +291,7 @@ def test_report_explains_W_R1_zero_beside_w_R1_50_percent(full):
     assert [float(g) for g in gain] == pytest.approx(ref, rel=1e-9)
 
 
+@pytest.mark.slow  # the reduced study with figures (fixture `with_figures`): 223 worker-s
 def test_key_figure_has_its_own_heading(with_figures):
     out, _ = with_figures
     md = (out / "report.md").read_text()
@@ -306,7 +308,7 @@ def _arr(v):
     return np.array([np.nan if x is None else x for x in v], float)
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_stiffness_band_entries_have_status_gaps_and_finite_or_null_numbers(full):
     import math
 
@@ -334,7 +336,7 @@ def test_stiffness_band_entries_have_status_gaps_and_finite_or_null_numbers(full
                 assert (g["gap"] == 0.0) == (g["side"] == "inside")
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_band_holds_both_named_states_and_the_exact_base_cycle_beyond_psi_bc(full):
     """Every amplitude of the band: both named states' exact k lie in [min, max]; beyond psi_BC
     the paper's curve is the Base-Cycle's own (stretched-cycle) first harmonic, an admissible
@@ -361,7 +363,7 @@ def test_band_holds_both_named_states_and_the_exact_base_cycle_beyond_psi_bc(ful
                 assert np.all((lo[beyond] - tol <= v[beyond]) & (v[beyond] <= hi[beyond] + tol)), (shape, mu, k)
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_peak_response_entries_are_physical_and_mark_liftoff(full):
     """A* lies in (0, F/(eta k_b)] (k_Im >= 0); its frequency between the free f0 and the stuck
     damper's f0 sqrt(1 + 1e-3 r^2 k_Re,fs / k_b) (0 <= k_Re <= the stick stiffness)."""
@@ -386,7 +388,7 @@ def test_peak_response_entries_are_physical_and_mark_liftoff(full):
                     assert abs(r["psi_a_mrad"][i] - md["r"] * a) <= 1e-12 * a
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_gap_and_band_lines_say_what_they_mean(full):
     """The gap cells name the bound they pass and the units; the count of band bounds widened to a
     named state says of how many (was "982 (518.2 %, above)" and "Band bounds that the samples
@@ -404,7 +406,7 @@ def test_report_gap_and_band_lines_say_what_they_mean(full):
     assert f"), {missed} lay outside every sampled initial state" in md
 
 
-@pytest.mark.slow  # the whole-family study (fixture `full`): 121 worker-s
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_report_shows_the_gaps_and_the_peak_response(full):
     out, s = full
     report = (out / "report.md").read_text()

@@ -57,7 +57,7 @@ def test_each_sample_matches_the_per_design_peak_solver_at_its_own_contacts_and_
         assert int(dist.status[i]) == RESULTS.ok
 
 
-@pytest.mark.slow  # 65 worker-s (run of 2026-11-25)
+@pytest.mark.slow  # 130 worker-s (run of 2026-11-25)
 def test_band_is_the_larger_history_and_quantiles_agree_with_exceedance():
     scen = sample_scenarios(jax.random.PRNGKey(1), 16)
     g = peak_distribution(SHAPE, scen, BladeMode(), 3.0, history="gross_slip")
