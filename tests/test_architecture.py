@@ -228,8 +228,8 @@ PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "
 # (linalg, tract, cycle), the compiler options (runtime), the two-stage batching (batch) and the
 # Jacobian programs (gradients). Nothing in optimize/ may.
 MEASURED_INTERNALS = {"jaxdamp.linalg", "jaxdamp.runtime", "jaxdamp.tract", "jaxdamp.cycle",
-                      "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude", "jaxdamp.sequence",
-                      "jaxdamp.band"}
+                      "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude", "jaxdamp.curves",
+                      "jaxdamp.sequence", "jaxdamp.band"}
 
 
 def _public(target: str) -> bool:
