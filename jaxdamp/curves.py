@@ -21,7 +21,7 @@ from .runtime import batch_jit, padded_size
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
-__all__ = ["StiffnessCurves", "amplitude_curves", "curves_kernel", "check_curves_inputs",
+__all__ = ["StiffnessCurves", "amplitude_curves", "curves_kernel", "prepare_curves_inputs",
            "batch_size", "broadcast_designs", "flat_cycles", "stretched_curves", "padded_index",
            "STRETCH_MARGIN"]
 
@@ -119,9 +119,10 @@ def padded_index(index: np.ndarray) -> np.ndarray:
     return np.concatenate([index, np.full(size - index.size, first, dtype=index.dtype)])
 
 
-def check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stacklevel=4):
-    """The checks of a batch of curves (ValueError naming the parameter and its range), and the
-    small-rotation warning; returns the amplitudes as a float array (1-D shared or 2-D per design)."""
+def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stacklevel=4):
+    """A batch of curves checked (ValueError naming the parameter and its range; the
+    small-rotation warning) and broadcast: (the designs (shapes, mu, contacts, load) with a leading
+    axis of the batch's size, numpy, and the amplitudes (designs, amplitudes))."""
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
     validate_shape(shapes)
@@ -134,7 +135,9 @@ def check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stackle
     if psi.ndim not in (1, 2):
         raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
                          "(0, 10000] mrad")
-    return psi
+    args = (shapes, mu, contacts, load)
+    size = max(batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
+    return broadcast_designs(args, size, np), np.broadcast_to(psi, (size, psi.shape[-1]))
 
 
 def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
@@ -158,12 +161,8 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     if not all(is_concrete(x) for x in leaves):
         return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
                              max_tracts=max_tracts, max_pairs=max_pairs)
-    psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
-    args = (shapes, mu, contacts, load)
-    size = max(batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
-    designs = broadcast_designs(args, size, np)
-    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
-    n_amp = psi.shape[1]
+    designs, psi = prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
+    size, n_amp = psi.shape
     flat_psi = psi.reshape(-1)
     if initial == "gross_slip":
         k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in stretched_curves(

@@ -36,8 +36,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel
-from .curves import (StiffnessCurves, batch_size, broadcast_designs, check_curves_inputs,
-                     flat_cycles, padded_index, stretched_curves)
+from .curves import (StiffnessCurves, flat_cycles, padded_index, prepare_curves_inputs,
+                     stretched_curves)
 from .params import Contacts, LoadCase
 from .conventions import travel_mm
 from .fourier import half_fourier
@@ -416,12 +416,8 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
     tests/test_sequence.py). Concrete inputs only (host-driven); inside jit use `curves_kernel` or
     `refit_kernel` + `StiffnessCurve.at`. `cycles` is the pairs run by the probe of each point's
     piece. return_curve=True: (StiffnessCurves, the StiffnessCurve batch it was built from)."""
-    psi = check_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
-    args = (shapes, mu, contacts, load)
-    size = max(batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
-    designs = broadcast_designs(args, size, np)
-    psi = np.broadcast_to(psi, (size, psi.shape[-1]))
-    n_amp = psi.shape[1]
+    designs, psi = prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
+    size, n_amp = psi.shape
     order = np.argsort(psi, axis=1, kind="stable")
     grid = np.take_along_axis(psi, order, axis=1)
     use = None

@@ -80,17 +80,20 @@ def run(args) -> int:
     results = exported.call("cycle", _program(), prepare_inputs(shape, args.mu, contacts, load))
     status = C.status_name(results[0])
     p = cycle_payload(*results)
-    doc = C.document(status, p, reason=C.status_reason(status, contacts, load), shape=C.shape_echo(shape),
-                     mu=args.mu, contacts=C.contacts_echo(contacts), load=C.load_echo(load))
-    head = (f"Base-Cycle, mu = {args.mu:g}, kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm, "
-            f"F_D = {args.fd:g} N, q* = {args.q:g} mm")
+    doc = C.document(status, p, reason=C.status_reason(status, contacts, load),
+                     shape=C.shape_echo(shape), mu=args.mu, contacts=C.contacts_echo(contacts),
+                     load=C.load_echo(load))
+    head = (f"Base-Cycle, mu = {args.mu:g}, kn = {C.k_text(args.kn)} N/mm, "
+            f"kt = {C.k_text(args.kt)} N/mm, F_D = {args.fd:g} N, q* = {args.q:g} mm")
     if p["psi_bc_mrad"] is None:
         C.emit(args, doc, head + "\n  no cycle (the status above says why)")
         return 0
     fmt = lambda v, f: "n/a" if v is None else format(v, f)  # noqa: E731
     lines = [head,
-             f"  psi_fs = {fmt(p['psi_fs_mrad'], '.4f')} mrad   k_Re,fs = {fmt(p['k_re_fs'], '.1f')} N mm/mrad",
-             f"  psi_BC = {fmt(p['psi_bc_mrad'], '.4f')} mrad   k_Re,BC = {fmt(p['k_re_bc'], '.1f')}   "
+             f"  psi_fs = {fmt(p['psi_fs_mrad'], '.4f')} mrad   "
+             f"k_Re,fs = {fmt(p['k_re_fs'], '.1f')} N mm/mrad",
+             f"  psi_BC = {fmt(p['psi_bc_mrad'], '.4f')} mrad   "
+             f"k_Re,BC = {fmt(p['k_re_bc'], '.1f')}   "
              f"k_Im,BC = {fmt(p['k_im_bc'], '.1f')} N mm/mrad",
              f"  spans: forward {fmt(p['spans_mm']['forward'], '.5f')} mm, backward "
              f"{fmt(p['spans_mm']['backward'], '.5f')} mm, half-cycles run: {p['half_cycles']}",
@@ -98,8 +101,9 @@ def run(args) -> int:
              "  transitions:"]
     for half in ("forward", "backward"):
         for t in p["tracts"][half]:
-            lines.append(f"    {half:8} dv = {fmt(t['dv_mm'], '.5f')} mm   R1 {t['R1']:9} L1 {t['L1']:9} "
-                         f"L2 {t['L2']:9}" + ("  (full-slip stretch)" if t.get("stretch") else ""))
+            lines.append(f"    {half:8} dv = {fmt(t['dv_mm'], '.5f')} mm   R1 {t['R1']:9} "
+                         f"L1 {t['L1']:9} L2 {t['L2']:9}"
+                         + ("  (full-slip stretch)" if t.get("stretch") else ""))
     e = p["energy_Nmm"]
     lines.append("  energy per cycle (N mm): "
                  + "  ".join(f"{k} {fmt(e[k], '.3f')}" for k in ("R1", "L1", "L2", "moment")))
