@@ -136,6 +136,30 @@ def test_modules_stay_small_or_say_why():
     assert not bad, "\n".join(bad)
 
 
+def test_every_import_of_the_project_resolves():
+    """Every import of a project module names something that exists, at module level or inside a
+    function: a lazy import runs only in the tests that reach it, so a moved name can hide there
+    (plotting/amplitude.py's, after amplitude_curves moved to curves.py)."""
+    import importlib
+    import importlib.util
+
+    bad = []
+    for module, path in modules():
+        for target, names in imports(module, path):
+            if not own(target):
+                continue
+            try:
+                found = importlib.import_module(target)
+            except ImportError as exc:
+                bad.append(f"{module}: {target}: {exc}")
+                continue
+            submodule = lambda n: (hasattr(found, "__path__")  # noqa: E731  (a package's module)
+                                   and importlib.util.find_spec(f"{target}.{n}") is not None)
+            bad += [f"{module}: from {target} import {n}" for n in names
+                    if not hasattr(found, n) and not submodule(n)]
+    assert not bad, "\n".join(bad)
+
+
 def test_argparse_only_in_cli():
     bad = [module for module, path in modules()
            if not module.startswith(("jaxdamp.cli", "jaxdamp_optimize.cli"))
