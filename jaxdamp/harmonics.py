@@ -126,10 +126,13 @@ def _bucketed(kernel, bc, psi_a_mrad):
     flat = psi.reshape(-1)
     size = padded_size(flat.size, 8)
     padded = np.concatenate([flat, np.full(size - flat.size, flat[-1] if flat.size else 1.0)])
-    # Cut the padding off on the host: slicing the device arrays would compile a small program
-    # for every new number of amplitudes (tests/test_design.py counts the compiles).
-    return tuple(jnp.asarray(np.asarray(k)[: flat.size].reshape(psi.shape))
-                 for k in kernel(bc, padded))
+    out = kernel(bc, padded)
+    if any(isinstance(k, jax.core.Tracer) for k in out):  # a traced cycle: slice in the trace
+        return tuple(k[: flat.size].reshape(psi.shape) for k in out)
+    # Concrete results: cut the padding off on the host and transfer with device_put. Slicing the
+    # device arrays, or jnp.asarray of the host copy, compiles a small program for every new
+    # number of amplitudes (jax 0.10.2; tests/test_design.py counts the compiles).
+    return tuple(jax.device_put(np.asarray(k)[: flat.size].reshape(psi.shape)) for k in out)
 
 
 @batch_jit(static_argnames=("initial",))
