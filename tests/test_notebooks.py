@@ -83,7 +83,7 @@ def test_no_matplotlib_repr_in_outputs(path):
     for c in _code_cells(path):
         for o in c.get("outputs", []):
             text = "".join(o.get("data", {}).get("text/plain", "")) if "image/png" not in o.get("data", {}) else ""
-            assert not text.lstrip().startswith(("Text(", "[<matplotlib", "<matplotlib.", "<Figure size")), text
+            assert not text.lstrip().startswith(_execute_notebooks.CLUTTER), text
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.name for p in NOTEBOOKS])
