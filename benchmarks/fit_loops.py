@@ -138,7 +138,7 @@ def finish(info, first, warm, fit, params, solver):
                                         "offsets_nmm": OFFSETS, "samples_per_loop": 500,
                                         "periods_per_loop": 2.5, "noise": "0.5 % of the moment range"},
            "fit": {"first_call_s": first, "warm_s": warm, "target_warm_s": 10.0,
-                   "steps": fit.steps, "converged": fit.converged, "status": jd.RESULTS.name_of(fit.status),
+                   "steps": fit.steps, "status": jd.RESULTS.name_of(fit.status),
                    "sigma_nmm": fit.sigma, "parameters": params},
            "solver_comparison_plain_least_squares": solver}
     OUT.mkdir(exist_ok=True)

@@ -88,18 +88,18 @@ def direct_one(design: jd.Design):
     bc = jd.base_cycle_kernel(*design)
     nums = jd.five_numbers(bc)
     span = jnp.maximum(bc.forward.span, bc.backward.span)
-    ok = bc.converged & ~bc.liftoff & ~bc.failed
+    ok = bc.status == jd.RESULTS.ok
     return nums.k_re_bc, nums.k_im_bc, nums.psi_bc, span, ok
 
 
 def hbm_one(design: jd.Design, psi_bc, n_time: int):
     r = hbm_aft_kernel(*design, psi_bc, n_time=n_time)
-    return r.k_im, r.converged
+    return r.k_im, r.status == jd.RESULTS.ok
 
 
 def march_one(design: jd.Design, h, n_steps: int):
     r = time_march_kernel(*design, h, n_steps=int(n_steps * 1.02) + 4)
-    return r.k_im_bc, r.converged
+    return r.k_im_bc, r.status == jd.RESULTS.ok
 
 
 def batched(fn, **static):
@@ -120,7 +120,7 @@ def random_valid_designs(n: int, seed: int = 0) -> jd.Design:
                            np.full(m, 0.8))
     designs = jd.stack_designs(shape, rng.uniform(0.1, 0.9, m))
     s = jd.evaluate_designs(designs)
-    good = np.nonzero(s.converged & ~s.liftoff & ~s.failed)[0][:n]
+    good = np.nonzero(s.status == jd.RESULTS.ok)[0][:n]
     if good.size < n:
         raise RuntimeError(f"only {good.size} valid designs among {m}")
     return jax.tree_util.tree_map(lambda x: None if x is None else jnp.asarray(np.asarray(x)[good]),

@@ -170,7 +170,7 @@ def run(cfg, progress=print):
             reps = cfg["repeats"] if N <= 8000 else 3
             t, r = timed(fn, arrays(jd.family_shape(name)), jnp.asarray(float(mu)), jnp.asarray(h),
                          repeats=reps)
-            flagged = bool(r.liftoff | r.failed | ~r.converged)
+            flagged = jd.RESULTS.name_of(r.status) != "ok"
             case["time_marching"].append(dict(
                 N=N, h_mm=h, time_s=t, flagged=flagged, half_cycles=int(r.half_cycles),
                 **errors(case["exact"], r.k_re_bc, r.k_im_bc, r.psi_bc, r.psi_fs, r.k_re_fs)))
@@ -186,7 +186,7 @@ def run(cfg, progress=print):
                 t, r = timed(fn, arrays(jd.family_shape(name)), jnp.asarray(float(mu)),
                              jnp.asarray(case["exact"]["psi_bc"]), repeats=cfg["repeats"])
                 case["hbm_aft"].append(dict(
-                    Nt=nt, periods=periods, time_s=t, flagged=bool(~r.converged),
+                    Nt=nt, periods=periods, time_s=t, flagged=jd.RESULTS.name_of(r.status) != "ok",
                     periodicity=float(r.periodicity), **errors(case["exact"], r.k_re, r.k_im)))
             progress(f"HBM-AFT Nt={nt} P={periods} done")
 
@@ -199,7 +199,7 @@ def run(cfg, progress=print):
             t, r = timed(fn, arrays(jd.family_shape(name)), jnp.asarray(float(mu)),
                          jnp.asarray(case["exact"]["psi_bc"]), jnp.asarray(eps),
                          repeats=max(1, cfg["repeats"] // 2))
-            case["regularized"].append(dict(eps=eps, Nt=nt, time_s=t, flagged=bool(~r.converged),
+            case["regularized"].append(dict(eps=eps, Nt=nt, time_s=t, flagged=jd.RESULTS.name_of(r.status) != "ok",
                                             **errors(case["exact"], r.k_re, r.k_im)))
         progress(f"regularized eps={eps:g} done")
 
@@ -215,7 +215,7 @@ def run(cfg, progress=print):
         k_re, k_im = (float(x) for x in jd.complex_stiffness(bc, psi_m, method="interpolated"))
         case["microslip_midpoint"] = {
             "psi_a_mrad": psi_m, "direct_interpolated": [k_re, k_im],
-            "hbm_aft_Nt2048_P8": [float(r.k_re), float(r.k_im)], "hbm_converged": bool(r.converged),
+            "hbm_aft_Nt2048_P8": [float(r.k_re), float(r.k_im)], "hbm_status": jd.RESULTS.name_of(r.status),
             "rel_diff_k_re": abs(k_re - float(r.k_re)) / abs(float(r.k_re)),
             "rel_diff_k_im": abs(k_im - float(r.k_im)) / max(abs(float(r.k_im)), 1e-3 * abs(float(r.k_re)))}
     progress("microslip midpoint done")

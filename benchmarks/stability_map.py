@@ -55,10 +55,11 @@ EXACT, SLOW = 1e-6, 1e-2
 def liftoff_threshold(name="74L", lo=0.3, hi=0.9) -> float:
     """The mu above which the full-slip statics of a shape has a normal force <= 0 (bisection)."""
     shape = jd.family_shape(name)
-    assert not bool(jd.full_slip_statics(shape, lo).liftoff) and bool(jd.full_slip_statics(shape, hi).liftoff)
+    lifts = lambda mu: bool(jd.RESULTS.stopped(jd.full_slip_statics(shape, mu).status))  # noqa: E731
+    assert not lifts(lo) and lifts(hi)
     for _ in range(60):
         mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if bool(jd.full_slip_statics(shape, mid).liftoff) else (mid, hi)
+        lo, hi = (lo, mid) if lifts(mid) else (mid, hi)
     return lo
 
 
@@ -109,12 +110,18 @@ def direct_batch(cases) -> dict:
     bc = jax.vmap(lambda s, m, c: base_cycle_kernel(s, m, c, LOAD))(shape, mu, contacts)
     five = np.array(jax.vmap(jd.five_numbers)(bc).numbers()).T
     span = np.maximum(np.asarray(bc.forward.span), np.asarray(bc.backward.span))
-    return dict(five=five, span=span, liftoff=np.asarray(bc.liftoff), failed=np.asarray(bc.failed),
-                converged=np.asarray(bc.converged))
+    return dict(five=five, span=span, **outcome_masks(bc.status))
+
+
+def outcome_masks(status) -> dict:
+    """liftoff / failed / converged masks of a batch, read from its statuses (the one truth)."""
+    status = np.asarray(status)
+    return dict(liftoff=status == jd.RESULTS.liftoff, failed=status == jd.RESULTS.singular,
+                converged=status == jd.RESULTS.ok)
 
 
 def statics_liftoff(case) -> bool:
-    return bool(jd.full_slip_statics(jd.family_shape(case["shape"]), case["mu"]).liftoff)
+    return bool(jd.RESULTS.stopped(jd.full_slip_statics(jd.family_shape(case["shape"]), case["mu"]).status))
 
 
 def reference_batch(cases, direct, n1=4000, n2=8000, max_pairs=12) -> dict:
@@ -128,9 +135,7 @@ def reference_batch(cases, direct, n1=4000, n2=8000, max_pairs=12) -> dict:
     for key, n in (("coarse", n1), ("fine", n2)):
         h = span / (n + 0.5)
         r = run(shape, mu, contacts, jnp.asarray(h))
-        out[key] = dict(five=np.array(r[:5]).T, h=h, liftoff=np.asarray(r.liftoff),
-                        failed=np.asarray(r.failed), converged=np.asarray(r.converged),
-                        q_star=100.0)
+        out[key] = dict(five=np.array(r[:5]).T, h=h, **outcome_masks(r.status), q_star=100.0)
     return out
 
 
@@ -258,23 +263,23 @@ def evaluate(cases=None, progress=print) -> dict:
         span = 1.0 if truth_lift else float(direct["span"][i])
         h = span / (n_steps + 0.5)
         t, r = _timed(_TM[n_steps], shape, mu, contacts, jnp.asarray(h))
-        flag = bool(r.liftoff | r.failed | ~r.converged)
+        status = jd.RESULTS.name_of(r.status)
         errs = {} if truth_lift else rel_errors(truth, r[:5], FIVE)
-        row["cells"]["time marching"] = dict(outcome=classify(truth_lift, flag, bool(r.liftoff), errs),
+        row["cells"]["time marching"] = dict(outcome=classify(truth_lift, status != "ok",
+                                                              status == "liftoff", errs),
                                              time_s=t, errors=errs, setting=f"N={n_steps}",
-                                             flags=dict(liftoff=bool(r.liftoff), failed=bool(r.failed),
-                                                        converged=bool(r.converged)))
+                                             flags=dict(status=status))
         # HBM-AFT and the regularised law at psi_BC (3 mrad where the truth is liftoff)
         psi = jnp.asarray(3.0 if truth_lift else truth["psi_bc"])
         for label, fn, setting in (("HBM-AFT", _HBM[nt], f"Nt={nt}, 3 periods"),
                                    ("tanh-regularised", _REG[nt], f"eps=1e-3, Nt={nt}, 8 periods")):
             t, r = _timed(fn, shape, mu, contacts, psi)
-            flag = bool(~r.converged)
+            status = jd.RESULTS.name_of(r.status)
             errs = {} if truth_lift else rel_errors(truth, (r.k_re, r.k_im), ("k_re_bc", "k_im_bc"))
-            row["cells"][label] = dict(outcome=classify(truth_lift, flag, bool(r.liftoff), errs), time_s=t,
+            row["cells"][label] = dict(outcome=classify(truth_lift, status != "ok", status == "liftoff",
+                                                        errs), time_s=t,
                                        errors=errs, setting=setting,
-                                       flags=dict(liftoff=bool(r.liftoff), converged=bool(r.converged),
-                                                  periodicity=float(r.periodicity)))
+                                       flags=dict(status=status, periodicity=float(r.periodicity)))
         results.append(row)
         progress(f"{case['id']}: " + ", ".join(f"{m} {row['cells'][m]['outcome']}" for m in METHODS))
     return dict(rows=results, methods=METHODS, thresholds=dict(exact=EXACT, slow=SLOW))

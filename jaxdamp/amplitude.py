@@ -46,7 +46,7 @@ from .fourier import half_fourier
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
-from .status import RESULTS, number_repr, status_repr
+from .status import RESULTS, from_flags, number_repr, ok_status, status_repr
 from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
                     choose_states, next_event)
 
@@ -77,8 +77,9 @@ class TravelHalf(NamedTuple):
     N_end: jnp.ndarray  # (3,) forces at the end of the travel
     T_end: jnp.ndarray
     gross_slip: jnp.ndarray  # reached gross slip before the end of the travel
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray  # no consistent state set, or the tracts ran out before the travel
+    # RESULTS code (int32): ok, liftoff, or singular (no consistent state set, or the tracts ran
+    # out before the travel); the two problems exclude each other.
+    status: jnp.ndarray
     # (nt,) mm of travel by which the tract's end beat the nearest competing end (the next contact
     # event after the one taken, or the nearest event when the travel ended it); NO_EVENT-based
     # when there is none. Within one sequence it is affine in psi_a; where it reaches zero a new
@@ -126,9 +127,9 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
         T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
         at_event = advance & ~by_travel
         hit = jnp.arange(3) == ev.contact
-        T1 = jnp.where(at_event & ~ev.liftoff & hit, ev.side * mech.mu * N1, T1)
-        N1 = jnp.where(at_event & ev.liftoff & hit, 0.0, N1)
-        lifted = advance & ((at_event & ev.liftoff) | (jnp.min(N1) <= LIMIT_TOL))
+        T1 = jnp.where(at_event & ~ev.opens & hit, ev.side * mech.mu * N1, T1)
+        N1 = jnp.where(at_event & ev.opens & hit, 0.0, N1)
+        lifted = advance & ((at_event & ev.opens) | (jnp.min(N1) <= LIMIT_TOL))
         line = carry["line"] & choice.slipping & (choice.signs == start_sign)
         back = jnp.where(advance, line, carry["line"] & choice.slipping)
         state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
@@ -148,7 +149,7 @@ def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_
     end, tr = bounded_loop(step, init, max_tracts, loop, _travel_rows())
     return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                       tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
-                      end["liftoff"], end["failed"] | ~end["done"], tr["slack"])
+                      from_flags(end["liftoff"], end["failed"] | ~end["done"]), tr["slack"])
 
 
 class AmplitudeCycle(NamedTuple):
@@ -298,7 +299,7 @@ def _empty_half(max_tracts) -> TravelHalf:
     """A TravelHalf of zeros (the iteration's initial value)."""
     z3, b = jnp.zeros(3), jnp.array(False)
     return TravelHalf(**zeros_of(_travel_rows(), max_tracts), N_end=z3, T_end=z3, gross_slip=b,
-                      liftoff=b, failed=b)
+                      status=ok_status())
 
 
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
@@ -360,7 +361,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
         direction = jnp.where(forward, -1.0, 1.0)
         length = jnp.where(k == -2, a_dv, travel)
         half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts, loop)
-        bad = half.liftoff | half.failed
+        bad = half.status != RESULTS.ok
         in_pairs = k >= 0
         is_fwd = in_pairs & forward
         is_bwd = in_pairs & ~forward
@@ -376,7 +377,8 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                     fwd=pick(half, c["fwd"], is_fwd), bwd=pick(half, c["bwd"], is_bwd),
                     gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
                     stop=closed | bad, bad=c["bad"] | bad,
-                    liftoff=c["liftoff"] | half.liftoff, failed=c["failed"] | half.failed,
+                    liftoff=c["liftoff"] | (half.status == RESULTS.liftoff),
+                    failed=c["failed"] | (half.status == RESULTS.singular),
                     pairs=c["pairs"] + is_bwd.astype(jnp.int32),
                     hist=c["hist"].at[j].set(half.dv), slack=c["slack"].at[j].set(half.slack))
 
@@ -393,8 +395,9 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
 
     k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd)
     singular0 = statics_singular(shape, mech.mu)  # no full-slip statics: as the Base-Cycle says
-    liftoff = (pre_lift & ~singular0) | fwd.liftoff | bwd.liftoff
-    failed = singular0 | pre_fail | fwd.failed | bwd.failed
+    halves = jnp.stack([fwd.status, bwd.status])
+    liftoff = (pre_lift & ~singular0) | jnp.any(halves == RESULTS.liftoff)
+    failed = singular0 | pre_fail | jnp.any(halves == RESULTS.singular)
     slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
     status = jnp.zeros((), jnp.int32)
     status = RESULTS.promote(status, above_validated_range(mech.kn, mech.kt), RESULTS.ill_conditioned)

@@ -38,7 +38,7 @@ MIN_BATCH = 16  # smallest compiled batch: small batches are padded up to it
 
 class DesignSummary(NamedTuple):
     """Per-design results (numpy arrays with the batch shape). psi in mrad, k in N mm/mrad, w_*
-    dimensionless (Appendix C). Values of liftoff / failed designs are not a damper's: check flags."""
+    dimensionless (Appendix C). Values of designs whose status is not ok are not a damper's."""
 
     psi_fs: np.ndarray
     k_re_fs: np.ndarray
@@ -49,9 +49,6 @@ class DesignSummary(NamedTuple):
     w_L1: np.ndarray
     w_L2: np.ndarray
     w_M: np.ndarray
-    converged: np.ndarray
-    liftoff: np.ndarray
-    failed: np.ndarray
     half_cycles: np.ndarray
     status: np.ndarray  # jaxdamp.RESULTS codes
 
@@ -302,7 +299,10 @@ SECOND_STAGE_LOOP = "while"
 
 
 def _not_closed(r) -> np.ndarray:
-    return ~(np.asarray(r.converged) | np.asarray(r.liftoff) | np.asarray(r.failed))
+    """Rerun in the second stage: the Base-Cycle did not close within one pair of half-cycles
+    (ill-conditioned ones too: their rerun gives the same numbers, and the status cannot say
+    whether they closed)."""
+    return np.isin(np.asarray(r.status), (RESULTS.not_converged, RESULTS.ill_conditioned))
 
 
 def _cycle_one_pair(design: Design):
@@ -336,7 +336,7 @@ def summary_kernel(design: Design, max_pairs: int = MAX_PAIRS,
     bc = base_cycle_kernel(*design, max_pairs=max_pairs, max_tracts=max_tracts, loop=loop)
     nums = five_numbers(bc)
     w = work_shape_factors(bc)
-    return DesignSummary(*nums.numbers(), *w, bc.converged, bc.liftoff, bc.failed, bc.half_cycles, bc.status)
+    return DesignSummary(*nums.numbers(), *w, bc.half_cycles, bc.status)
 
 
 def first_stage_summary(design: Design) -> DesignSummary:
@@ -345,12 +345,12 @@ def first_stage_summary(design: Design) -> DesignSummary:
 
 
 def needs_second_stage(r) -> np.ndarray:
-    """Rerun in the second stage: not closed, or failed (which includes half-cycles that ran out of
-    the first stage's FIRST_STAGE_TRACTS; a half that continues from such an unfinished one may
-    even lift off spuriously, hence liftoff counts as finished only without failure). A design that
-    fails for good fails again there."""
-    failed = np.asarray(r.failed)
-    return ~(np.asarray(r.converged) | (np.asarray(r.liftoff) & ~failed))
+    """Rerun in the second stage: not closed, or failed (`singular`, which includes half-cycles
+    that ran out of the first stage's FIRST_STAGE_TRACTS; a half that continues from such an
+    unfinished one may even lift off spuriously, which is why the Base-Cycle reports `singular`
+    before `liftoff`), or ill-conditioned (the status cannot say whether it closed; a rerun gives
+    the same numbers). Finished: ok and liftoff. A design that fails for good fails again there."""
+    return ~np.isin(np.asarray(r.status), (RESULTS.ok, RESULTS.liftoff))
 
 
 def _summary_full(design: Design) -> DesignSummary:

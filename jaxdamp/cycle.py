@@ -16,7 +16,7 @@ import numpy as np
 
 from .design import Design, as_design
 from .geometry import CONTACT_NAMES, DamperShape
-from .status import from_flags, number_repr, status_repr
+from .status import RESULTS, from_flags, number_repr, ok_status, status_repr
 from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
@@ -49,8 +49,14 @@ class HalfCycle(NamedTuple):
     T_end: jnp.ndarray
     span: jnp.ndarray  # mm, total travel to gross slip
     gross_slip: jnp.ndarray  # bool: reached gross slip
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray  # no consistent state set / singular system / ran out of tracts
+    # RESULTS code (int32): ok, liftoff (a normal force reached zero) or singular (no consistent
+    # state set / singular system / ran out of tracts); the two problems exclude each other.
+    status: jnp.ndarray
+
+    def __repr__(self) -> str:
+        return (f"HalfCycle(status={status_repr(self.status)}, span={number_repr(self.span, 'mm')}, "
+                f"tracts={number_repr(jnp.sum(self.active), fmt='.0f')}, "
+                f"gross_slip={number_repr(self.gross_slip, fmt='.0f')})")
 
 
 def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mechanics:
@@ -91,11 +97,11 @@ def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS,
         T1 = T + lam * r.dT
         # Snap to the limit line: slipping contacts stay on it, the event contact lands on it.
         T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
-        on_cone = advance & ~ev.liftoff
+        on_cone = advance & ~ev.opens
         hit = jnp.arange(3) == ev.contact
         T1 = jnp.where(on_cone & hit, ev.side * mech.mu * N1, T1)
-        N1 = jnp.where(advance & ev.liftoff & hit, 0.0, N1)
-        lifted = advance & (ev.liftoff | (jnp.min(N1) <= LIMIT_TOL))
+        N1 = jnp.where(advance & ev.opens & hit, 0.0, N1)
+        lifted = advance & (ev.opens | (jnp.min(N1) <= LIMIT_TOL))
         line = carry["line"] & choice.slipping & (choice.signs == start_sign)
         back = jnp.where(advance, line, carry["line"] & choice.slipping)
         state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
@@ -116,7 +122,7 @@ def half_cycle(mech: Mechanics, N, T, direction, max_tracts: int = MAX_TRACTS,
     exhausted = ~end["done"]
     return HalfCycle(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
                      tr["active"], end["gross_dslip"], end["N"], end["T"], jnp.sum(tr["dv"]),
-                     end["gross"], end["liftoff"], end["failed"] | exhausted)
+                     end["gross"], from_flags(end["liftoff"], end["failed"] | exhausted))
 
 
 def tract_rows(**extra) -> dict:
@@ -211,11 +217,9 @@ class BaseCycle(NamedTuple):
     load: LoadCase
     forward: HalfCycle
     backward: HalfCycle
-    converged: jnp.ndarray
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray
     half_cycles: jnp.ndarray
-    status: jnp.ndarray  # RESULTS code; converged/liftoff/failed are the solver's raw flags
+    # RESULTS code: ok, ill_conditioned, singular, liftoff or not_converged (the first that applies)
+    status: jnp.ndarray
 
     def __repr__(self) -> str:
         f, b = self.forward, self.backward
@@ -259,7 +263,7 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
         N, T, conv, stop, fwd_s, bwd_s, nhalf, prev = carry
         fwd = half_cycle(mech, N, T, -1.0, max_tracts, loop)
         bwd = half_cycle(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts, loop)
-        bad = fwd.liftoff | bwd.liftoff | fwd.failed | bwd.failed
+        bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
         closed = (jnp.max(jnp.abs(bwd.N_end - N)) + jnp.max(jnp.abs(bwd.T_end - T))) <= CLOSE_TOL
         here = jnp.concatenate([N, T])
         nxt = _aitken(mech, prev, here, jnp.concatenate([bwd.N_end, bwd.T_end]), k > 0)
@@ -270,8 +274,9 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     # Once the cycle has closed (or failed) the remaining pairs change nothing.
     _, _, conv, _, fwd, bwd, nhalf, _ = repeat_until(run_pair, init, max_pairs, loop,
                                                      lambda c: c[3])
-    liftoff = (liftoff0 & ~singular0) | fwd.liftoff | bwd.liftoff
-    failed = singular0 | (~liftoff0 & (fwd.failed | bwd.failed))
+    halves = jnp.stack([fwd.status, bwd.status])
+    liftoff = (liftoff0 & ~singular0) | jnp.any(halves == RESULTS.liftoff)
+    failed = singular0 | (~liftoff0 & jnp.any(halves == RESULTS.singular))
     converged = conv & ~liftoff
     residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
     # A Base-Cycle of zero span means the contacts behave as rigid to working precision (their
@@ -279,15 +284,20 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
     ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
     ill = ill | above_validated_range(mech.kn, mech.kt)
-    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, converged, liftoff, failed, nhalf,
-                     from_flags(liftoff, failed, converged, ill))
+    # A failed half-cycle comes before liftoff: a half that continues from an unfinished one may
+    # lift off spuriously (so the two-stage batch reruns `singular`, and keeps `liftoff`).
+    status = RESULTS.promote(ok_status(), ill, RESULTS.ill_conditioned)
+    status = RESULTS.promote(status, failed, RESULTS.singular)
+    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
+    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, nhalf, status)
 
 
 def _empty_half(max_tracts: int) -> HalfCycle:
     """A HalfCycle of zeros (the pair iteration's initial value)."""
     z3, f, b = jnp.zeros(3), jnp.zeros(()), jnp.array(False)
     return HalfCycle(**zeros_of(tract_rows(), max_tracts), gross_dslip=z3, N_end=z3, T_end=z3,
-                     span=f, gross_slip=b, liftoff=b, failed=b)
+                     span=f, gross_slip=b, status=ok_status())
 
 
 def equilibrium_residual(mech: Mechanics, half: HalfCycle):

@@ -14,7 +14,7 @@ the derivatives are exact, finite, and agree with central differences. Where the
 sequence switches (a tract appears or vanishes, the longer half changes), the five numbers are
 continuous with a kink and the derivative is that of the sequence the solver took at the point.
 At liftoff or a failed cycle the numbers are not a damper's and the gradients are meaningless
-(finite, but check the flags).
+(finite, but check `status`).
 
 Cost (benchmarks/results/batch.json): the full forward-mode Jacobian of the five numbers costs about
 as much as one forward evaluation, reverse mode a few times more; reverse mode compiles slowest.
@@ -62,13 +62,6 @@ class Outputs(NamedTuple):
     k_im_at: jnp.ndarray
 
 
-class Flags(NamedTuple):
-    converged: jnp.ndarray
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray
-    status: jnp.ndarray
-
-
 def _derivative_repr(d, output: str, unit: str) -> str:
     """'d k_im_bc/d mu=12.5 N mm/mrad, d k_im_bc/d theta_l=-3.1 N mm/mrad per deg' from a Design
     of derivatives (a repr must not raise: anything else reads '<unavailable>')."""
@@ -85,10 +78,7 @@ class FiveNumbersJacobian(NamedTuple):
 
     values: FiveNumbers
     d: FiveNumbers
-    converged: jnp.ndarray
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray
-    status: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code of the Base-Cycle
 
     def __repr__(self) -> str:
         """Two lines at most: status by name, the five numbers with units, and two of the
@@ -108,10 +98,7 @@ class KImGradient(NamedTuple):
     psi_a: jnp.ndarray
     k_im: jnp.ndarray
     d: Design
-    converged: jnp.ndarray
-    liftoff: jnp.ndarray
-    failed: jnp.ndarray
-    status: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code of the Base-Cycle
 
     def __repr__(self) -> str:
         """One line: status by name, psi_a, k_Im with units and two of its derivatives."""
@@ -121,19 +108,19 @@ class KImGradient(NamedTuple):
 
 
 def outputs(design: Design, psi_a=0.0):
-    """Pure, traceable: (Outputs, Flags) of one prepared Design. Use inside your own
-    jit/vmap/grad; psi_a in mrad."""
+    """Pure, traceable: (Outputs, status) of one prepared Design, status the Base-Cycle's RESULTS
+    code. Use inside your own jit/vmap/grad; psi_a in mrad."""
     bc = base_cycle_kernel(*design)
     nums = five_numbers(bc)
     _, k_im = complex_stiffness(bc, jnp.asarray(psi_a, float), method="interpolated")
-    return Outputs(*nums.numbers(), k_im), Flags(bc.converged, bc.liftoff, bc.failed, bc.status)
+    return Outputs(*nums.numbers(), k_im), bc.status
 
 
 # Compiled once per mode and reused by every call (and by the tests): the five numbers and k_Im(psi_a)
 # share one program, so asking for either costs the same compile.
 def _with_values(design, psi_a):
-    out, flags = outputs(design, psi_a)
-    return out, (out, flags)
+    out, status = outputs(design, psi_a)
+    return out, (out, status)
 
 
 _value = jax.jit(outputs)
@@ -169,8 +156,8 @@ def _collapse(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
 
 
 def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
-             psi_a_mrad=0.0) -> tuple[Outputs, Flags]:
-    """The differentiated outputs and flags of one design (the same program the gradients trace)."""
+             psi_a_mrad=0.0) -> tuple[Outputs, jnp.ndarray]:
+    """The differentiated outputs and the status of one design (the same program the gradients trace)."""
     design = as_design(shape, mu, contacts, load).prepared()
     validate_psi_a(psi_a_mrad)
     return _value(design, jnp.asarray(psi_a_mrad, float))
@@ -182,9 +169,9 @@ def _jac(shape, mu, contacts, load, psi_a, mode, runner=None):
     design = given.prepared()
     validate_psi_a(psi_a)
     program, args = _jacobian[mode], (design, jnp.asarray(psi_a, float))
-    jac, (values, flags) = program(*args) if runner is None else runner(program, args)
+    jac, (values, status) = program(*args) if runner is None else runner(program, args)
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
-    return values, Outputs(*(_collapse(d, *shared) for d in jac)), flags
+    return values, Outputs(*(_collapse(d, *shared) for d in jac)), status
 
 
 def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contacts = Contacts(),
@@ -194,9 +181,9 @@ def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contac
     Design (angles per degree, kn/kt per N/mm, F_D per N, ...), by forward ("fwd", jax.jacfwd) or
     reverse ("rev", jax.jacrev) mode AD. runner(program, args) -> outputs runs the compiled
     Jacobian program instead of a plain call (the CLI's saved programs)."""
-    values, jac, flags = _jac(shape, mu, contacts, load, 0.0, mode, runner)
-    return FiveNumbersJacobian(FiveNumbers(*values[:5], flags.status),
-                               FiveNumbers(*jac[:5], flags.status), *flags)
+    values, jac, status = _jac(shape, mu, contacts, load, 0.0, mode, runner)
+    return FiveNumbersJacobian(FiveNumbers(*values[:5], status), FiveNumbers(*jac[:5], status),
+                               status)
 
 
 def k_im_gradient_at(psi_a_mrad, shape: DamperShape | Design, mu=None,
@@ -207,15 +194,15 @@ def k_im_gradient_at(psi_a_mrad, shape: DamperShape | Design, mu=None,
     Below psi_BC this is the paper's linear microslip interpolation (zero below psi_fs), above it
     the exact first harmonic of the stretched cycle (see `jaxdamp.complex_stiffness`). runner: as
     in `five_numbers_jacobian`."""
-    values, jac, flags = _jac(shape, mu, contacts, load, psi_a_mrad, mode, runner)
-    return KImGradient(jnp.asarray(psi_a_mrad, float), values.k_im_at, jac.k_im_at, *flags)
+    values, jac, status = _jac(shape, mu, contacts, load, psi_a_mrad, mode, runner)
+    return KImGradient(jnp.asarray(psi_a_mrad, float), values.k_im_at, jac.k_im_at, status)
 
 
 def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=None,
                    chunk_size: int | None = None, progress=None):
     """Jacobians of a batch of designs (a batched Design, e.g. from `jaxdamp.stack_designs`)
     through the one batching path (`jaxdamp.map_batched`): psi_a (mrad) is shared. Returns
-    (jacobian, (values, flags)) with Outputs-of-Design structure and a leading batch axis on every
+    (jacobian, (values, status)) with Outputs-of-Design structure and a leading batch axis on every
     leaf (numpy)."""
     _check_mode(mode)
     if not isinstance(designs, Design):
@@ -231,6 +218,6 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     return Outputs(*(_collapse(d, *shared) for d in jac)), aux
 
 
-__all__ = ["PARAMETERS", "MODES", "by_name", "Outputs", "Flags", "FiveNumbersJacobian",
+__all__ = ["PARAMETERS", "MODES", "by_name", "Outputs", "FiveNumbersJacobian",
            "KImGradient", "outputs", "validate_psi_a", "evaluate", "five_numbers_jacobian",
            "k_im_gradient_at", "batch_jacobian"]

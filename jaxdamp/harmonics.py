@@ -28,7 +28,7 @@ from .design import as_design
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
 from .runtime import batch_jit, padded_size
-from .status import number_repr, status_repr
+from .status import RESULTS, number_repr, status_repr
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
 # (which uses it above psi_BC); these names stay importable from here.
 from .stretch import MomentHalf as MomentHalf
@@ -45,7 +45,8 @@ UNITS = ("mrad", "N mm/mrad", "mrad", "N mm/mrad", "N mm/mrad")
 
 class FiveNumbers(NamedTuple):
     """The paper's characteristic numbers (psi in mrad, k in N mm/mrad) and the status (RESULTS)
-    of the Base-Cycle they come from: only `ok` numbers describe a damper (zero after liftoff)."""
+    of the Base-Cycle they come from: only `ok` numbers describe a damper (zero after liftoff or
+    a failed solve)."""
 
     psi_fs: jnp.ndarray
     k_re_fs: jnp.ndarray
@@ -84,8 +85,10 @@ def five_numbers_kernel(bc: BaseCycle) -> FiveNumbers:
     psi_bc = base_cycle_amplitude(bc)
     k_re_bc, k_im_bc, _ = gross_slip_stiffness(bc, psi_bc)
     nums = (psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc)
-    # A cycle that lifted off stopped part-way: its numbers would look valid but mean nothing.
-    return FiveNumbers(*(jnp.where(bc.liftoff, 0.0, v) for v in nums), bc.status)
+    # A cycle that lifted off (or failed) stopped part-way: its numbers would look valid but mean
+    # nothing.
+    stopped = RESULTS.stopped(bc.status)
+    return FiveNumbers(*(jnp.where(stopped, 0.0, v) for v in nums), bc.status)
 
 
 def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_slip"):
@@ -177,7 +180,7 @@ def cycle_work(bc: BaseCycle, psi_a_mrad=None):
 class CycleNumbers(NamedTuple):
     """The five numbers of one design's Base-Cycle and its status (Python floats, float64: psi in
     mrad, k in N mm/mrad; status a jaxdamp.RESULTS code; the numbers are zero where the damper lifts
-    off)."""
+    off or the solve failed)."""
 
     psi_fs: float
     k_re_fs: float

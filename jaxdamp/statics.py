@@ -35,11 +35,6 @@ class FullSlipStatics(NamedTuple):
     min_normal_over_fd: jnp.ndarray
     status: jnp.ndarray  # RESULTS code
 
-    @property
-    def liftoff(self):
-        """No valid full-slip state at one end (a normal force <= 0, or singular statics)."""
-        return self.status != RESULTS.ok
-
     def __repr__(self) -> str:
         return (f"FullSlipStatics(status={status_repr(self.status)}, "
                 f"min_normal_over_fd={number_repr(self.min_normal_over_fd)})")

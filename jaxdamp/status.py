@@ -2,8 +2,9 @@
 
 Inside jit/vmap a status is an int32 array; `RESULTS.promote(status, condition, code)` raises it to
 `code` where `condition` holds and it is still ok, so the first problem found is the one reported.
-Outside JAX, `RESULTS.name(s)` and `RESULTS.message(s)` say what a code means. Booleans such as
-`converged` or `liftoff` are derived from it.
+Outside JAX, `RESULTS.name_of(s)` and `RESULTS.message(s)` say what a code means, and masks come
+from it (`RESULTS.valid`, `RESULTS.stopped`, `status == RESULTS.liftoff`): no public result stores a
+flag beside its status.
 """
 
 from __future__ import annotations
@@ -43,6 +44,13 @@ class RESULTS(enum.IntEnum):
     def valid(status):
         """True where the numbers mean something (ok or shakedown)."""
         return (status == RESULTS.ok) | (status == RESULTS.shakedown)
+
+    @staticmethod
+    def stopped(status):
+        """True where the computation stopped part-way (liftoff, or a singular / failed solve), so
+        that it has no numbers at all; not_converged and ill_conditioned results have numbers that
+        are not to be trusted."""
+        return (status == RESULTS.liftoff) | (status == RESULTS.singular)
 
 
 _MESSAGES = {
@@ -101,7 +109,8 @@ def number_repr(value, unit: str = "", fmt: str = ".6g") -> str:
 
 
 def from_flags(liftoff, failed=False, converged=True, ill_conditioned=False):
-    """The status of a result that reports liftoff / failed / converged flags. Ill-conditioning
+    """The status of a solver's internal liftoff / failed / converged booleans (no result stores
+    them). Ill-conditioning
     comes first (it makes the other flags meaningless too), then liftoff, then a singular or failed
     solve, then non-convergence."""
     status = RESULTS.promote(ok_status(jnp.shape(liftoff)), ill_conditioned, RESULTS.ill_conditioned)
@@ -116,19 +125,11 @@ def ok_status(shape=()):
 
 
 def status_of(result) -> RESULTS:
-    """The RESULTS code of a concrete result: its `status` field where it has one, otherwise derived
-    from its flags (liftoff first, then failed -> singular, then not converged). Host-side only."""
+    """The RESULTS code of a concrete result (its `status` field). Host-side only."""
     status = getattr(result, "status", None)
-    if status is not None:
-        return RESULTS(int(np.asarray(status)))
-    flag = lambda name, default: bool(np.asarray(getattr(result, name, default)))  # noqa: E731
-    if flag("liftoff", False):
-        return RESULTS.liftoff
-    if flag("failed", False):
-        return RESULTS.singular
-    if not flag("converged", True):
-        return RESULTS.not_converged
-    return RESULTS.ok
+    if status is None:
+        raise TypeError(f"{type(result).__name__} has no status field")
+    return RESULTS(int(np.asarray(status)))
 
 
 __all__ = ["RESULTS", "status_repr", "number_repr", "from_flags", "ok_status", "status_of"]

@@ -19,6 +19,7 @@ from .geometry import DamperShape, section_geometry, validate_shape
 from .params import validate_mu
 from .harmonics import complex_stiffness, five_numbers, moment_half
 from .statics import statics_kernel
+from .status import RESULTS
 
 PSI_GRID_POINTS = 401
 PSI_MAX_MRAD = 20.0
@@ -78,9 +79,7 @@ class CycleSummary(NamedTuple):
     psi: np.ndarray  # amplitude grid of the stiffness curves, mrad
     k_re: np.ndarray
     k_im: np.ndarray
-    liftoff: bool
-    converged: bool
-    failed: bool
+    status: RESULTS  # the Base-Cycle's status (numbers exist where it is not liftoff)
 
 
 def analyse_cycle(bc, psi=None) -> CycleSummary:
@@ -92,7 +91,7 @@ def analyse_cycle(bc, psi=None) -> CycleSummary:
     ec = np.asarray(out["energy_contacts"])
     energy = {"R1": float(ec[0]), "L1": float(ec[1]), "L2": float(ec[2]), "M": float(out["energy_moment"])}
     return CycleSummary(numbers, energy, psi, np.asarray(out["k_re"]), np.asarray(out["k_im"]),
-                        bool(bc.liftoff), bool(bc.converged), bool(bc.failed))
+                        RESULTS(int(np.asarray(bc.status))))
 
 
 # ---------------------------------------------------------------- polylines (numpy, exact vertices)

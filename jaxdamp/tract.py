@@ -217,7 +217,7 @@ class TractEvent(NamedTuple):
     length: jnp.ndarray  # mm of travel to the event (NO_EVENT if none)
     contact: jnp.ndarray  # index of the contact that triggers it
     side: jnp.ndarray  # +-1: which limit line (cone events)
-    liftoff: jnp.ndarray  # True when the event is a normal force reaching zero
+    opens: jnp.ndarray  # True when the event is a normal force reaching zero (the contact opens)
     runner_up: jnp.ndarray = None  # mm of travel to the second-nearest event (NO_EVENT if none)
 
 

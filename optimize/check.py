@@ -11,6 +11,8 @@ from typing import NamedTuple
 import jax
 import numpy as np
 
+from jaxdamp import RESULTS
+
 from .constraints import KINDS, LOCATIONS, constraint_label, describe_violation, margins
 from .design import shape_of
 from .problem import Problem
@@ -26,7 +28,7 @@ class DesignCheck(NamedTuple):
     g: np.ndarray  # (n_mu, 3, 3) constraint values (F_D)
     dist_pct: np.ndarray  # (n_mu, 3, 2)
     normals: np.ndarray  # (n_mu, 3)
-    flags: list  # per mu: {"mu", "liftoff", "converged", "failed", "statics_liftoff"}
+    flags: list  # per mu: {"mu", "status", "statics_status"} (RESULTS names)
     vertex_deg: float  # vertex angle 180 - theta_l - theta_r
 
 
@@ -46,12 +48,11 @@ def check_design(problem: Problem, x) -> DesignCheck:
         gs.append(np.asarray(mg.g))
         ds.append(np.asarray(mg.dist_pct))
         ns.append(np.asarray(mg.min_normal))
-        flags.append({"mu": mu, "liftoff": bool(bc.liftoff), "converged": bool(bc.converged),
-                      "failed": bool(bc.failed), "statics_liftoff": bool(st.liftoff)})
+        flags.append({"mu": mu, "status": RESULTS.name_of(bc.status),
+                      "statics_status": RESULTS.name_of(st.status)})
         metrics.append([float(k_im), float(psi), float(w_m)])
     g, dist, normals = np.array(gs), np.array(ds), np.array(ns)
-    ok_flags = all(not f["liftoff"] and f["converged"] and not f["failed"]
-                   and not f["statics_liftoff"] for f in flags)
+    ok_flags = all(f["status"] == f["statics_status"] == "ok" for f in flags)
     vertex = 180.0 - shape.theta_l - shape.theta_r
     ok_vertex = vertex >= problem.min_vertex_deg
     dmin = float(np.min(dist))
@@ -112,10 +113,12 @@ def violations(problem: Problem, check: DesignCheck) -> list[str]:
                     out.append(describe_violation(mu, loc, kind, float(d),
                                                   float(check.normals[i, j]), problem.margin_pct))
         f = check.flags[i]
-        if f["failed"]:
+        if f["status"] == "singular":
             out.append(f"mu={mu:g}: the Base-Cycle solver found no consistent contact states")
-        elif not f["converged"] and not f["liftoff"]:
+        elif f["status"] == "not_converged":
             out.append(f"mu={mu:g}: the Base-Cycle did not close within its iteration bound")
+        elif f["status"] == "ill_conditioned":
+            out.append(f"mu={mu:g}: {RESULTS.message(RESULTS.ill_conditioned)}")
     return out
 
 

@@ -17,7 +17,7 @@ import numpy as np
 
 from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
                      five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
-from jaxdamp import validate_contacts, validate_load, validate_mu
+from jaxdamp import RESULTS, validate_contacts, validate_load, validate_mu
 
 from .constraints import Margins, margins
 from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit
@@ -81,9 +81,7 @@ class Evaluation(NamedTuple):
 
     metrics: np.ndarray  # (n_mu, 3): k_im_bc (N mm/mrad), psi_bc (mrad), w_m (-)
     margins: Margins  # g (n_mu, 3, 3), dist_pct (n_mu, 3, 2), min_normal (n_mu, 3)
-    liftoff: np.ndarray  # (n_mu,) Base-Cycle flags
-    converged: np.ndarray
-    failed: np.ndarray
+    status: np.ndarray  # (n_mu,) Base-Cycle RESULTS codes
     vertex: np.ndarray | None = None  # (1,) (180 - theta_l - theta_r - min_vertex_deg) / 100
 
 
@@ -93,7 +91,7 @@ def _one_mu(design: Design, margin_pct, min_normal):
     nums = five_numbers(bc)
     w_m = full_slip_work_shape_factors(design.shape, design.mu).w_M
     metrics = jnp.stack([nums.k_im_bc, nums.psi_bc, w_m])
-    return metrics, margins(st, bc, margin_pct, min_normal), bc.liftoff, bc.converged, bc.failed
+    return metrics, margins(st, bc, margin_pct, min_normal), bc.status
 
 
 def _evaluate_full(v, mus, kn, kt, load, margin_pct, min_normal) -> Evaluation:
@@ -187,12 +185,11 @@ def vertex_constraint(problem: Problem, V) -> np.ndarray:
 
 
 def is_feasible(ev: Evaluation):
-    """Strict feasibility per design (batch axis kept): every g >= 0, no liftoff, converged."""
+    """Strict feasibility per design (batch axis kept): every g >= 0, every Base-Cycle ok."""
     g = np.asarray(ev.margins.g)
     ok = np.all(g >= 0.0, axis=(-3, -2, -1)) & np.all(np.asarray(ev.vertex) >= 0.0, axis=-1)
-    flags = np.all(~np.asarray(ev.liftoff) & np.asarray(ev.converged) & ~np.asarray(ev.failed),
-                   axis=-1)
-    return ok & flags
+    cycles_ok = np.all(np.asarray(ev.status) == RESULTS.ok, axis=-1)
+    return ok & cycles_ok
 
 
 def max_violation(ev: Evaluation):

@@ -143,7 +143,7 @@ print(f"{'shape':7}{'worst A* @5N (paper)':>24}{'worst A* @20N (paper)':>25}{'mi
 for name in jd.FAMILY + ("45sym",):
     s = jd.family_shape(name)
     bcs = [jd.base_cycle(s, m) for m in mus]
-    if any(bool(bc.liftoff) for bc in bcs):
+    if any(jd.RESULTS.stopped(bc.status) for bc in bcs):
         print(f"{name:7}   liftoff in the mu range")
         continue
     a = np.array([[float(peak(s, m, jnp.asarray(f)).peak_amplitude_mm) for f in (5.0, 20.0)] for m in mus])

@@ -59,7 +59,7 @@ for row in paper["table_1_60sym_resultant_distance"]["rows"]:
     st = jd.full_slip_statics(shape, row["mu"])
     print(f"mu = {row['mu']}: from L1 {float(st.start.resultant_pos_pct):5.2f} % (paper {row['dist_L1']}), "
           f"from L2 {100 - float(st.mid.resultant_pos_pct):5.2f} % (paper {row['dist_L2']}), "
-          f"liftoff: {bool(st.liftoff)}")"""),
+          f"status: {jd.RESULTS.name_of(st.status)}")"""),
     new_code_cell("""\
 fig = P.plot_section(shape, 0.7)   # the paper's Fig. 7a (cycle start) and 7b (mid-cycle)"""),
     new_markdown_cell("""\
@@ -79,7 +79,7 @@ limit. The half-cycle ends at gross slip; the motion reverses and the cycle is r
 closes. The transitions chart below is the paper's Table 2."""),
     new_code_cell("""\
 bc = jd.base_cycle(shape, 0.7, contacts, load)
-print(f"converged: {bool(bc.converged)}, liftoff: {bool(bc.liftoff)}, half-cycles run: {int(bc.half_cycles)}")
+print(f"status: {jd.RESULTS.name_of(bc.status)}, half-cycles run: {int(bc.half_cycles)}")
 print(f"{'tract':8}{'dv (um)':>9}   R1         L1         L2")
 for row in jd.transitions_chart(bc):
     print(f"{row['tract']:8}{1e3 * row['dv_mm']:9.1f}   {row['R1']:10} {row['L1']:10} {row['L2']:10}")
@@ -201,8 +201,10 @@ print(f"15 Base-Cycles and their summaries in {time.perf_counter() - t0:.1f} s (
 keys = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc", "w_M")
 results = {}
 for (s, mu), cs in summ.items():
-    entry = {k: (None if cs.liftoff else cs.numbers[k]) for k in keys + ("w_R1", "w_L1", "w_L2")}
-    results.setdefault(s, {})[f"{mu:g}"] = entry | {"liftoff": cs.liftoff, "converged": cs.converged}
+    entry = {k: (None if jd.RESULTS.stopped(cs.status) else cs.numbers[k])
+             for k in keys + ("w_R1", "w_L1", "w_L2")}
+    results.setdefault(s, {})[f"{mu:g}"] = entry | {"liftoff": cs.status == jd.RESULTS.liftoff,
+                                                    "converged": cs.status == jd.RESULTS.ok}
 print(f"{'shape':7}{'mu':>5}" + "".join(f"{k:>13}" for k in keys))
 for s, per in results.items():
     for mu, e in per.items():
@@ -271,7 +273,7 @@ for pairs in (2, MAX_PAIRS):
     for mu in mus:
         b = jd.base_cycle(shape90, mu, contacts, load, max_pairs=pairs)
         k_im = float(jd.five_numbers(b).k_im_bc)
-        row.append(f"mu={mu}: k_Im,BC = {k_im if abs(k_im) > 0.05 else 0.0:6.1f} (converged: {bool(b.converged)})")
+        row.append(f"mu={mu}: k_Im,BC = {k_im if abs(k_im) > 0.05 else 0.0:6.1f} ({jd.RESULTS.name_of(b.status)})")
     print(f"max_pairs = {pairs:2}: " + ";  ".join(row))
 print("paper Table B5.1:", [r[5] for r in paper["table_B"]["90R"]])"""),
 ]

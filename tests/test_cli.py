@@ -203,7 +203,7 @@ def test_every_non_ok_status_says_its_cause():
     assert doc["warnings"] == ["psi_BC above the small-rotation limit", doc["status_reason"]]
 
 
-def test_status_from_result_fields_or_flags():
+def test_status_from_solver_flags_and_from_result_fields():
     from types import SimpleNamespace
 
     from jaxdamp.status import RESULTS, from_flags
@@ -214,7 +214,10 @@ def test_status_from_result_fields_or_flags():
     assert name(liftoff=False, failed=True) == "singular"
     assert name(liftoff=False, converged=False) == "not_converged"
     assert name(liftoff=True, ill_conditioned=True) == "ill_conditioned"
-    assert C.status_name(SimpleNamespace(status=RESULTS.ill_conditioned, converged=True)) == "ill_conditioned"
+    assert C.status_name(SimpleNamespace(status=RESULTS.ill_conditioned)) == "ill_conditioned"
+    # a result without a status has none to report: no status is rebuilt from flags
+    with pytest.raises(TypeError, match="no status"):
+        C.status_name(SimpleNamespace(liftoff=True))
 
 
 def test_a_broken_plugin_does_not_break_the_others(monkeypatch, capsys):

@@ -23,7 +23,7 @@ def test_cli_grad_json_contract(capsys):
     jac = G.five_numbers_jacobian(jd.family_shape("74R"), 0.5, jd.Contacts(17900.0, 3600.0))
     assert d["psi_bc_mrad"]["theta_l"] == pytest.approx(float(jac.d.psi_bc.shape.theta_l), rel=1e-12)
     assert d["k_im_bc"]["kt"] == pytest.approx(float(jac.d.k_im_bc.contacts.kt), rel=1e-12)
-    assert d["converged"] is True and d["liftoff"] is False and d["status"] == "ok"
+    assert d["status"] == "ok" and not {"converged", "liftoff", "failed"} & set(d)
     assert d["inputs"]["contacts"] == {"kn_n_per_mm": 17900.0, "kt_n_per_mm": 3600.0}
 
 

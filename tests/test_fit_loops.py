@@ -47,7 +47,7 @@ def noisy_fit():
 @pytest.mark.slow  # 108 worker-s (run of 2026-11-25)
 def test_synthetic_loops_recovered_inside_intervals(noisy_fit):
     _, fit, steps = noisy_fit
-    assert fit.converged and jd.RESULTS.name_of(fit.status) == "ok"
+    assert jd.RESULTS.name_of(fit.status) == "ok"
     assert fit.names[:3] == ["mu", "kn", "kt"] and all(fit.identifiable)
     for i, key in enumerate(("mu", "kn", "kt")):
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
@@ -86,7 +86,7 @@ def test_robust_loss_resists_outliers(noisy_fit):
 def _march_loop(a, n_steps=120):
     """Two periods of the time marcher's steady loop: psi uniform in travel, forward half first."""
     res = march_amplitude(SHAPE, TRUE["mu"], a, CONTACTS, n_steps=n_steps, max_pairs=4)
-    assert not bool(res.liftoff) and int(res.newton_failures) == 0
+    assert jd.RESULTS.name_of(res.status) == "ok" and int(res.newton_failures) == 0
     x = np.linspace(1.0, -1.0, n_steps + 1)
     fwd, bwd = np.asarray(res.M_forward), np.asarray(res.M_backward)
     psi = np.concatenate([a * x, -a * x[1:], a * x[1:], -a * x[1:]])
@@ -103,7 +103,7 @@ def test_loops_from_the_time_marcher():
         psi, m = _march_loop(a)
         loops.append((psi, m + rng.normal(0.0, 0.002 * np.ptp(m), m.size)))
     fit = jd.fit_loops(loops, SHAPE, start={"mu": 0.6, "kn": 5e3, "kt": 2e3})
-    assert fit.converged and all(fit.identifiable)
+    assert jd.RESULTS.name_of(fit.status) == "ok" and all(fit.identifiable)
     for i, key in enumerate(("mu", "kn", "kt")):
         assert fit.value[i] == pytest.approx(TRUE[key], rel=0.03), key
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i] or abs(fit.value[i] / TRUE[key] - 1) < 0.01
@@ -309,7 +309,7 @@ def test_contact_loops_recovered_inside_intervals():
     loops = [analyse_contact_loop(d, f, c, "tangential", a, name=f"c{c}")
              for (d, f), (a, c, _) in zip(_contact_loops(), CONTACT_CASES)]
     fit = jd.fit_loops(loops, SHAPE)
-    assert fit.converged and jd.RESULTS.name_of(fit.status) == "ok" and all(fit.monotone)
+    assert jd.RESULTS.name_of(fit.status) == "ok" and all(fit.monotone)
     assert fit.names == ["mu", "kn", "kt", "offset_0", "offset_1", "offset_2"] and all(fit.identifiable)
     for i, key in enumerate(("mu", "kn", "kt")):
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
@@ -371,7 +371,7 @@ def _march_contact_loop(a, contact, n_steps=120, pairs=4):
     kt = float(kt[contact])
     d = lambda s: np.asarray(s.T[-1, :, contact]) / kt - np.asarray(s.p[-1, :, contact])  # noqa: E731
     T = lambda s: np.asarray(s.T[-1, :, contact]) * float(F_D)  # noqa: E731
-    assert np.all(np.asarray(f.converged)) and np.all(np.asarray(b.converged))
+    assert np.all(np.asarray(f.newton_ok)) and np.all(np.asarray(b.newton_ok))
     return (np.concatenate([d(f), d(b)[1:], d(f)[1:], d(b)[1:]]),
             np.concatenate([T(f), T(b)[1:], T(f)[1:], T(b)[1:]]))
 
@@ -387,7 +387,7 @@ def test_contact_loops_from_the_time_marcher():
         loops.append(analyse_contact_loop(d, f + rng.normal(0.0, 0.002 * np.ptp(f), f.size), c,
                                           "tangential", a))
     fit = jd.fit_loops(loops, SHAPE, start={"mu": 0.6, "kn": 5e3, "kt": 2e3})
-    assert fit.converged and all(fit.identifiable)
+    assert jd.RESULTS.name_of(fit.status) == "ok" and all(fit.identifiable)
     for i, key in enumerate(("mu", "kn", "kt")):
         assert fit.value[i] == pytest.approx(TRUE[key], rel=0.03), key
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i] or abs(fit.value[i] / TRUE[key] - 1) < 0.01
@@ -462,7 +462,7 @@ def test_moment_and_contact_loops_fitted_together():
     (d, f), = _contact_loops(cases=CONTACT_CASES[2:])
     a, c, off = CONTACT_CASES[2]
     fit = jd.fit_loops(moment + [analyse_contact_loop(d, f, c, "tangential", a)], SHAPE)
-    assert fit.converged and all(fit.identifiable) and np.isnan(fit.sigma)
+    assert jd.RESULTS.name_of(fit.status) == "ok" and all(fit.identifiable) and np.isnan(fit.sigma)
     for i, key in enumerate(("mu", "kn", "kt")):
         assert fit.lo[i] <= TRUE[key] <= fit.hi[i], (key, fit.lo[i], fit.value[i], fit.hi[i])
     for j, o in enumerate(OFFSETS[:2] + (off,)):

@@ -28,7 +28,7 @@ def independent_check(shape, mus=MUS, margin=MARGIN):
             pos = float(end.resultant_pos_pct)
             ok &= bool(np.all(np.asarray(end.N) > 0)) and margin <= pos <= 100 - margin
         bc = jd.base_cycle(shape, mu)
-        ok &= (not bool(bc.liftoff)) and bool(bc.converged) and not bool(bc.failed)
+        ok &= jd.RESULTS.name_of(bc.status) == "ok"
         for half in (bc.forward, bc.backward):
             act = np.asarray(half.active)
             N0 = np.asarray(half.N0)[act]

@@ -41,6 +41,8 @@ def test_study_json_contract(full):
         for mu, e in per_mu.items():
             assert set(CONTRACT_KEYS) | {"liftoff", "converged"} <= set(e), (shape, mu)
             assert isinstance(e["liftoff"], bool) and isinstance(e["converged"], bool)
+            # the file's booleans are read from the status, the one truth
+            assert e["liftoff"] == (e["status"] == "liftoff") and e["converged"] == (e["status"] == "ok")
             for k in CONTRACT_KEYS:
                 assert (e[k] is None) == e["liftoff"], (shape, mu, k)
                 if not e["liftoff"]:

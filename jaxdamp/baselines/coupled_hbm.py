@@ -97,7 +97,7 @@ def aft_modal_force(model, mode: BladeMode, y, harmonics, n_time=N_TIME, n_perio
     _, smp = march(model, initial_state(model), dv)
     last = smp.M[-n_time:]
     M = last[(jnp.arange(n_time) - k0 - 1) % n_time]
-    ok = jnp.all(smp.converged) & ~jnp.any(smp.code == 3)
+    ok = jnp.all(smp.newton_ok) & ~jnp.any(smp.code == 3)
     return project(1e-3 * mode.r * M, harmonics, phase), ok
 
 

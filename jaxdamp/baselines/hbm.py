@@ -33,16 +33,16 @@ PERIODIC_TOL = 1e-9  # change of the moment between the last two periods, relati
 
 class HBMResult(NamedTuple):
     """HBM-AFT at one amplitude psi_a (mrad): first-harmonic k_Re, k_Im (N mm/mrad), the work per
-    cycle (N mm), the periodicity reached, flags and a `jaxdamp.RESULTS` status."""
+    cycle (N mm), the periodicity reached, Newton failures and a `jaxdamp.RESULTS` status."""
 
     k_re: jnp.ndarray  # N mm/mrad
     k_im: jnp.ndarray
     work: jnp.ndarray  # N mm per cycle, pi psi_a^2 k_Im
     periodicity: jnp.ndarray  # max |M(last period) - M(previous)| / max |M|
-    converged: jnp.ndarray  # periodic to PERIODIC_TOL, Newton converged at every sample
-    liftoff: jnp.ndarray
     newton_failures: jnp.ndarray
-    status: jnp.ndarray  # RESULTS code: liftoff, or not_converged (not periodic / Newton failed)
+    # RESULTS code: liftoff, else not_converged (not periodic to PERIODIC_TOL, or Newton failed at
+    # a sample), else ok
+    status: jnp.ndarray
 
 
 def first_harmonic(M, psi_a_mrad):
@@ -65,11 +65,10 @@ def hbm_aft_kernel(shape, mu, contacts, load, psi_a_mrad, n_time: int, n_periods
     k_re, k_im = first_harmonic(last, psi_a_mrad)
     periodicity = jnp.max(jnp.abs(last - prev)) / jnp.maximum(jnp.max(jnp.abs(last)), 1e-300)
     liftoff = lift0 | jnp.any(smp.code == 3)
-    fails = jnp.sum(~smp.converged)
+    fails = jnp.sum(~smp.newton_ok)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
     work = jnp.pi * psi_a_mrad ** 2 * k_im * 1e-3
-    return HBMResult(k_re, k_im, work, periodicity, converged, liftoff, fails,
-                     from_flags(liftoff, False, converged))
+    return HBMResult(k_re, k_im, work, periodicity, fails, from_flags(liftoff, False, converged))
 
 
 def hbm_aft(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

@@ -128,7 +128,7 @@ def regularized_aft_kernel(shape, mu, contacts, load, psi_a_mrad, eps, n_time: i
     fails = jnp.sum(~conv)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
     return HBMResult(k_re, k_im, jnp.pi * psi_a_mrad ** 2 * k_im / MRAD_PER_RAD, periodicity,
-                     converged, liftoff, fails, from_flags(liftoff, False, converged))
+                     fails, from_flags(liftoff, False, converged))
 
 
 def regularized_aft(shape: DamperShape, mu, psi_a_mrad, eps, contacts: Contacts = Contacts(),

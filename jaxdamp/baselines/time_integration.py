@@ -65,7 +65,7 @@ def _integrate(shape, mu, contacts, load, mode, force_n, frequency_hz, x0, v0, p
 
     def moment_at(s, x):
         _, smp = step(model, s, dv_of(x))
-        return smp.M, smp.converged & ~jnp.any(smp.code == 3)
+        return smp.M, smp.newton_ok & ~jnp.any(smp.code == 3)
 
     def rk4(carry, k):
         x, v, s, M, ok = carry
@@ -83,7 +83,7 @@ def _integrate(shape, mu, contacts, load, mode, force_n, frequency_hz, x0, v0, p
         xn = x + dt / 6.0 * (v + 2 * v2 + 2 * v3 + v4)
         vn = v + dt / 6.0 * (a1 + 2 * a2 + 2 * a3 + a4)
         sn, smp = step(model, s, dv_of(xn))
-        okn = ok & ok2 & ok3 & ok4 & smp.converged & ~jnp.any(smp.code == 3)
+        okn = ok & ok2 & ok3 & ok4 & smp.newton_ok & ~jnp.any(smp.code == 3)
         return (xn, vn, sn, smp.M, okn), xn
 
     s0 = initial_state(model)

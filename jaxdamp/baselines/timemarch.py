@@ -154,7 +154,7 @@ class Sample(NamedTuple):
     M: jnp.ndarray  # platform moment, N mm
     code: jnp.ndarray  # per contact: 0 stick, 1 slip up (+), 2 slip down (-), 3 open
     gross: jnp.ndarray  # incremental stiffness ~ 0 at the end of the step (gross slip)
-    converged: jnp.ndarray  # Newton reached the tolerance
+    newton_ok: jnp.ndarray  # Newton reached the tolerance
     iters: jnp.ndarray
 
 
@@ -268,12 +268,12 @@ class TimeMarchResult(NamedTuple):
     T_C: jnp.ndarray
     N_F: jnp.ndarray  # (3,) forces at the end of the backward half (point F)
     T_F: jnp.ndarray
-    converged: jnp.ndarray  # the cycle's end state repeated within max_pairs
-    liftoff: jnp.ndarray  # a contact opened (N = 0) or the start statics has N <= 0
-    failed: jnp.ndarray  # Newton did not converge, or gross slip was not reached in n_steps
     half_cycles: jnp.ndarray
     newton_failures: jnp.ndarray  # steps whose Newton iterations did not reach the tolerance
-    status: jnp.ndarray  # RESULTS code from liftoff / failed / converged
+    # RESULTS code: liftoff (a contact opened, N = 0, or the start statics has N <= 0), else
+    # singular (Newton did not converge, or gross slip was not reached in n_steps), else
+    # not_converged (the cycle's end state did not repeat within max_pairs), else ok
+    status: jnp.ndarray
 
 
 def loop_harmonics(M_fwd, M_bwd, K, psi_a_mrad):
@@ -333,7 +333,7 @@ def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int
     def bad_half(hm):
         smp = hm.samples
         lift = jnp.any(smp.code == 3)
-        fail = ~jnp.all(smp.converged) | (hm.gross_step > n_steps)
+        fail = ~jnp.all(smp.newton_ok) | (hm.gross_step > n_steps)
         return lift, fail
 
     def cond(c):
@@ -375,13 +375,13 @@ def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int
     M = fwd.samples.M
     k_re_fs = (M[1] - M[0]) / (-h) * travel_mm(1.0, m.q_star)
 
-    newton_fail = jnp.where(out["k"] > 0, jnp.sum(~fwd.samples.converged)
-                            + jnp.sum(~bwd.samples.converged), 0)
+    newton_fail = jnp.where(out["k"] > 0, jnp.sum(~fwd.samples.newton_ok)
+                            + jnp.sum(~bwd.samples.newton_ok), 0)
     failed = ~liftoff & out["fail"]
     return TimeMarchResult(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, k_im_energy, work_c, work_m,
                            span_f, span_b, fwd.samples.N[-1], fwd.samples.T[-1], bwd.samples.N[-1],
-                           bwd.samples.T[-1], out["closed"] & ~liftoff, liftoff, failed, 2 * out["k"],
-                           newton_fail, from_flags(liftoff, failed, out["closed"] & ~liftoff))
+                           bwd.samples.T[-1], 2 * out["k"], newton_fail,
+                           from_flags(liftoff, failed, out["closed"] & ~liftoff))
 
 
 def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
@@ -451,10 +451,12 @@ class AmplitudeMarch(NamedTuple):
     closure: jnp.ndarray  # (max_pairs,) max force change over each pair (units of F_D)
     N_start: jnp.ndarray  # forces at the forward extreme before the last pair
     T_start: jnp.ndarray
-    liftoff: jnp.ndarray
     newton_failures: jnp.ndarray
     M_forward: jnp.ndarray  # (n_steps + 1,) moment samples of the last pair, N mm
     M_backward: jnp.ndarray
+    # RESULTS code: liftoff (a contact opened), else not_converged (a Newton iteration failed), else
+    # ok; the cycle's closure is in `closure`
+    status: jnp.ndarray
 
 
 @partial(jax.jit, static_argnames=("initial", "n_steps", "max_pairs", "n_load", "max_newton"))
@@ -478,7 +480,7 @@ def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, init
         s, q1 = march_half(m, s, -1.0, h, n_steps // 2, max_newton)
         s, q2 = march_half(m, s, 1.0, h, n_steps, max_newton)
         for hm in (q1, q2):
-            fails = fails + jnp.sum(~hm.samples.converged)
+            fails = fails + jnp.sum(~hm.samples.newton_ok)
             lift = lift | jnp.any(hm.samples.code == 3)
 
     def pair(s, _):
@@ -493,10 +495,10 @@ def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, init
     fwd, bwd = last(fwd), last(bwd)
     k_re, k_im, work_m = loop_harmonics(fwd.samples.M, bwd.samples.M, float(n_steps), psi_a_mrad)
     work_c = _dissipated(fwd.samples, n_steps, m.F_D) + _dissipated(bwd.samples, n_steps, m.F_D)
-    fails = fails + jnp.sum(~fwd.samples.converged) + jnp.sum(~bwd.samples.converged)
+    fails = fails + jnp.sum(~fwd.samples.newton_ok) + jnp.sum(~bwd.samples.newton_ok)
     lift = lift | jnp.any(fwd.samples.code == 3) | jnp.any(bwd.samples.code == 3)
-    return AmplitudeMarch(k_re, k_im, work_c, work_m, gaps, Ns[-1], Ts[-1], lift, fails,
-                          fwd.samples.M, bwd.samples.M)
+    return AmplitudeMarch(k_re, k_im, work_c, work_m, gaps, Ns[-1], Ts[-1], fails,
+                          fwd.samples.M, bwd.samples.M, from_flags(lift, False, fails == 0))
 
 
 def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

@@ -36,7 +36,7 @@ def result_payload(res) -> dict:
 
     return {"kn": _k(res.kn), "kt": _k(res.kt), "residuals_pct": res.residuals,
             "residuals_90R_pct": res.reported, "iterations": res.iterations,
-            "converged": res.converged, "max_abs_residual_pct": res.max_abs_residual_pct,
+            "max_abs_residual_pct": res.max_abs_residual_pct,
             "loss": res.loss_history[-1], "grad_norm": res.grad_norm, "method": res.method,
             "split": res.split, "history": history_rows(res)}
 
@@ -63,7 +63,7 @@ def run(args) -> int:
                         callback=tick)
     finally:
         bar.close()
-    status = "ok" if res.converged else "not_converged"
+    status = res.status.name
     start_kn, start_kt = start
     doc = C.document(status, result_payload(res),
                      start={"kn_n_per_mm": start_kn, "kt_n_per_mm": start_kt},

@@ -393,7 +393,7 @@ def model_warnings():
 
 
 def status_name(result) -> str:
-    """The RESULTS name of a result (its `status` field, else its flags): see jaxdamp.status.status_of."""
+    """The RESULTS name of a result (its `status` field): see jaxdamp.status.status_of."""
     from ..status import status_of
 
     return status_of(result).name

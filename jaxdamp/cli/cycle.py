@@ -50,8 +50,7 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
     p["warnings"] = caught if exists else []
     p["spans_mm"] = {"forward": C.number(bc.forward.span) if exists else None,
                      "backward": C.number(bc.backward.span) if exists else None}
-    p.update(converged=bool(bc.converged), liftoff=bool(bc.liftoff), failed=bool(bc.failed),
-             half_cycles=int(bc.half_cycles))
+    p.update(half_cycles=int(bc.half_cycles))
     if exists:
         tracts = {"forward": [], "backward": []}
         for row in transitions_chart(bc):

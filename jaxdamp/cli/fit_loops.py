@@ -303,7 +303,7 @@ def run(args) -> int:
                "sigma_nmm": params["sigma_nmm"] if sigma_unit == "N mm" else None,
                "sigma": params["sigma_nmm"], "sigma_unit": sigma_unit,
                "loops": loop_rows,
-               "convergence": {"converged": fit.converged, "steps": fit.steps,
+               "convergence": {"steps": fit.steps,
                                "history": [{"stage": s + 1, "step": k, "loss": v} for s, k, v in fit.history]},
                "notes": notes}
     from ..params import Contacts
@@ -327,7 +327,7 @@ def run(args) -> int:
     lines.append("  units: mu -, kn and kt N/mm, offsets N mm for moment loops and N for per-contact loops "
                  "(offset_i: loop i's force offset)")
     lines.append(f"  residual sd {_fmt(fit.sigma, 3)} {sigma_unit}; LM steps {fit.steps}; "
-                 f"converged {fit.converged}")
+                 f"status {status}")
     for row in loop_rows:
         if row["kind"] == "contact":
             lines.append(f"  {row['file']}: {row['contact']} {row['component']} at psi_a "

@@ -70,8 +70,7 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
         payload["k_im_at_psi_a"] = _variables(g.d, exists)
         payload["values"]["k_im_at_psi_a"] = C.number(g.k_im) if exists else None
         payload["psi_a_mrad"] = float(psi_a_mrad)
-    payload.update(mode=mode, converged=bool(jac.converged), liftoff=bool(jac.liftoff),
-                   failed=bool(jac.failed), units=UNITS)
+    payload.update(mode=mode, units=UNITS)
     return status, payload
 
 

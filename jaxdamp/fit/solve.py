@@ -178,19 +178,19 @@ class LoopFit(NamedTuple):
     loops: list  # the MomentLoop or ContactLoop of each input
     fitted: list  # per loop, the model moment (N mm) or force (N), offset included, at each sample
     statuses: np.ndarray  # RESULTS code of each loop's model cycle at the optimum
-    converged: bool
     steps: list  # LM steps per stage
     history: list  # (stage, step, loss) as the solver went
     spec: FitSpec
     initial: str
-    status: int  # RESULTS code: ok, not_converged, liftoff, ... (the worst)
+    status: int  # RESULTS code: the first invalid model cycle's, else not_converged where the
+    # solver stopped short of its tolerance, else ok
     held: list  # the names not identified (their values are where the solver ended, no result)
     monotone: np.ndarray  # per loop: False for a tangential contact loop whose model displacement
     # is not monotone along a half at the optimum (its force is then not a function of it there)
 
     def __repr__(self) -> str:
         """One or two lines: status by name, each contact parameter with its unit and standard
-        error (or 'not identifiable'), the residual sd, the loops and whether the solve converged."""
+        error (or 'not identifiable'), the residual sd and the number of loops."""
         try:
             parts = []
             for n, v, se, ok in zip(self.names, np.asarray(self.value, float), np.asarray(self.se, float),
@@ -202,8 +202,7 @@ class LoopFit(NamedTuple):
             loops = list(self.loops)
             unit = "N mm" if all(isinstance(lp, MomentLoop) for lp in loops) else "N"
             mixed = not loops or not np.isfinite(float(self.sigma))  # moment and contact loops: no sd
-            tail = (f"sigma={number_repr(self.sigma, '' if mixed else unit)}, loops={len(loops)}, "
-                    f"converged={bool(np.asarray(self.converged))}")
+            tail = f"sigma={number_repr(self.sigma, '' if mixed else unit)}, loops={len(loops)}"
             body = ", ".join(parts + [tail])
         except Exception:  # noqa: BLE001 - a repr must not raise (a hand-built or traced LoopFit)
             body = "<unavailable>"
@@ -219,7 +218,7 @@ class LoopFit(NamedTuple):
                          "why": self.why[i] or None}
         return {"parameters": params, "correlation": [[f(v) for v in row] for row in self.correlation],
                 "sigma_nmm": f(self.sigma), "rms_nmm": [f(v) for v in self.rms],
-                "converged": self.converged, "steps": self.steps,
+                "steps": self.steps,
                 "status": RESULTS.name_of(self.status)}
 
 
@@ -458,5 +457,5 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     return LoopFit(pnames, value, se, lo, hi, corr, ident, why,
                    float(mu_v) if mu_v.ndim == 0 else mu_v, kn_v, kt_v, value[n_phys:] if np.all(
                        ident[n_phys:]) else theta[n_phys:] * scale, sigma,
-                   rms, loops, fitted_list, cyc_status, converged, steps, history, spec, initial,
+                   rms, loops, fitted_list, cyc_status, steps, history, spec, initial,
                    int(worst), held, np.asarray(mono, bool))

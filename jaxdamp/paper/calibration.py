@@ -23,6 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..cycle import MAX_PAIRS
+from ..status import RESULTS
 
 NUMBERS = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
 FITTED_TABLES = ("60sym", "74R")  # Tables B3.1 and B4.1
@@ -141,7 +142,7 @@ def _case_numbers(theta, shape_row, mu, split, max_pairs):
     shape = DamperShape(shape_row[0], shape_row[1], shape_row[2], shape_row[3], None)
     load = LoadCase(*(jnp.asarray(v, float) for v in LoadCase()))
     bc = base_cycle_kernel(shape, mu, _contacts(theta, split), load, max_pairs=max_pairs)
-    ok = bc.converged & ~bc.failed & ~bc.liftoff
+    ok = RESULTS.valid(bc.status)
     return jnp.stack(five_numbers(bc).numbers()), ok
 
 
@@ -290,7 +291,7 @@ class CalibrationResult(NamedTuple):
     kn, kt: floats (shared pair) or (3,) arrays ordered (R1, L1, L2) when split.
     residuals: {'shape/mu/number': 100 (ours/target - 1)} of the fitted targets.
     reported: the same for the report-only targets (by default Table B5.1 (90R) without k_Im).
-    converged: |grad| <= gtol with every target cycle converged (no liftoff, no failure).
+    status: RESULTS.ok where |grad| <= gtol with every target cycle ok, else not_converged.
     """
 
     kn: float | np.ndarray
@@ -299,7 +300,7 @@ class CalibrationResult(NamedTuple):
     reported: dict
     max_abs_residual_pct: float
     iterations: int
-    converged: bool
+    status: RESULTS
     loss_history: tuple
     grad_norm: float
     method: str
@@ -367,7 +368,8 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
 
     loss, grad, r, ok = problem.loss_parts(np.asarray(theta))
     gnorm = float(np.linalg.norm(grad))
-    converged = bool(gnorm <= gtol and np.isfinite(loss) and np.all(ok))
+    done = bool(gnorm <= gtol and np.isfinite(loss) and np.all(ok))
+    status = RESULTS.ok if done else RESULTS.not_converged
     kn, kt = _contacts(jnp.asarray(theta), split)
     kn = np.asarray(kn) if split else float(kn)
     kt = np.asarray(kt) if split else float(kt)
@@ -378,7 +380,7 @@ def calibrate(targets: CalibrationTargets | None = None, start=None, *, split: b
         vals = problem.values[problem.n_fit:]
         rep = _named_residuals(report, 100.0 * (nums / np.where(np.isfinite(vals), vals, 1.0) - 1.0))
     return CalibrationResult(kn, kt, res, rep, max(abs(v) for v in res.values()), iterations,
-                             converged, tuple(history), gnorm, method, bool(split), tuple(params), start_k)
+                             status, tuple(history), gnorm, method, bool(split), tuple(params), start_k)
 
 
 def _minimize(problem, theta0, method, max_iter, gtol, learning_rate, history, params,
@@ -510,7 +512,7 @@ def comparison_document(res: CalibrationResult) -> str:
         + (" (split: R1 and the L pads separately)" if res.split else "")
         + f": kn = {_fmt_k(res.kn)} N/mm, kt = {_fmt_k(res.kt)} N/mm "
         f"({res.method}, {res.iterations} iterations{start}, "
-        f"{'converged' if res.converged else 'NOT converged'}, |grad| = {res.grad_norm:.1e}). "
+        f"{'converged' if res.status == RESULTS.ok else 'NOT converged'}, |grad| = {res.grad_norm:.1e}). "
         f"Largest |deviation| over B3.1 and B4.1: {res.max_abs_residual_pct:.2f} %. "
         "Table B5.1 (90R) is not fitted.", "",
         "The paper prints psi to two or three digits, so deviations of a few tenths of a percent in "

@@ -2,8 +2,9 @@
 
 Writes into the output directory:
 - `study.json`: {"results": {shape: {mu: {psi_fs_mrad, k_re_fs, psi_bc_mrad, k_re_bc, k_im_bc, w_R1,
-  w_L1, w_L2, w_M, liftoff, converged}}}, "contacts": {kn, kt}, ...} with mu keys "0.7", "0.5", "0.3"
-  (numbers are null for a case that lifts off: it has no cycle), plus the load case, the paper
+  w_L1, w_L2, w_M, status, liftoff, converged}}}, "contacts": {kn, kt}, ...} with mu keys "0.7",
+  "0.5", "0.3" (numbers are null for a case that lifts off: it has no cycle; liftoff and converged
+  are read from status), plus the load case, the paper
   comparison, the Table 11 scores, the checked findings and the run time; "stiffness_band":
   {shape: {mu: exact k(psi_a) from both named initial states, the band over all admissible initial
   states, the paper's interpolation and its largest gap to the band}}; "peak_response": the peak
@@ -24,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..status import status_of
+from ..status import RESULTS
 from .files import atomic_file, write_text
 
 SCHEMA_VERSION = 2  # study.json: 2 adds "status", "schema_version", "jaxdamp_version"
@@ -135,8 +136,8 @@ def compute_cases(shapes, mus, contacts, load, progress=None):
             _, st = section_data(shape, float(mu))
             statics.setdefault(name, {})[m] = {
                 "dist_L1": float(st.start.resultant_pos_pct), "dist_L2": 100.0 - float(st.mid.resultant_pos_pct),
-                "liftoff": bool(st.liftoff), "paper": table1.get(m) if name == "60sym" else None}
-            transitions.setdefault(name, {})[m] = None if bool(bc.liftoff) else [
+                "liftoff": bool(RESULTS.stopped(st.status)), "paper": table1.get(m) if name == "60sym" else None}
+            transitions.setdefault(name, {})[m] = None if RESULTS.stopped(bc.status) else [
                 {"tract": r["tract"], "slip": _state_text(r), "dv_um": 1e3 * r["dv_mm"]}
                 for r in transitions_chart(bc)]
             if progress is not None:
@@ -152,11 +153,13 @@ def _tables():
 
 def result_entry(s) -> dict:
     """One study.json entry (the contract: psi in mrad, k in N mm/mrad, w_* dimensionless work
-    shape factors); numbers are null when the case lifts off."""
-    entry = {k: (None if s.liftoff else s.numbers[k]) for k in CONTRACT_KEYS}
-    entry["liftoff"] = s.liftoff
-    entry["converged"] = s.converged and not s.liftoff
-    entry["status"] = status_of(s).name
+    shape factors); numbers are null when the cycle stopped part-way (liftoff, a failed solve).
+    `status` is the truth; the file's `liftoff` and `converged` (a valid, periodic cycle) are read
+    from it for the report's tables."""
+    entry = {k: (None if RESULTS.stopped(s.status) else s.numbers[k]) for k in CONTRACT_KEYS}
+    entry["liftoff"] = bool(s.status == RESULTS.liftoff)
+    entry["converged"] = bool(RESULTS.valid(s.status))
+    entry["status"] = RESULTS(s.status).name
     return entry
 
 
@@ -263,7 +266,6 @@ def exact_curves(shapes, mus, psi, contacts, load) -> dict:
     import jax
 
     from ..curves import amplitude_curves
-    from ..status import RESULTS
 
     stacked = jax.tree_util.tree_map(lambda *x: np.stack([np.asarray(v, float) for v in x]), *shapes)
     out = {}
@@ -289,10 +291,9 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
     report read this entry."""
     from ..band import amplitude_bands
     from ..harmonics import complex_stiffness
-    from ..status import RESULTS
 
-    if bool(bc.liftoff):
-        return {"status": RESULTS.liftoff.name}
+    if RESULTS.stopped(bc.status):
+        return {"status": RESULTS.name_of(bc.status)}
     psi_fs, psi_bc, psi, grid = amplitude_grids(bc, n_amplitudes)
     if curves is None:
         curves = {k: tuple(x[0] for x in v)
@@ -341,7 +342,7 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
     curves of all designs that do not lift off computed in one batch."""
     from ..geometry import family_shape
 
-    live = [(s, m) for s, per in cycles.items() for m, bc in per.items() if not bool(bc.liftoff)]
+    live = [(s, m) for s, per in cycles.items() for m, bc in per.items() if not RESULTS.stopped(bc.status)]
     curves = {}
     if live:
         psi = np.stack([amplitude_grids(cycles[s][m], n_amplitudes)[2] for s, m in live])
@@ -364,19 +365,19 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
 PEAK_FORCES_N = (5.0, 20.0)  # modal excitation forces of the shape comparison on peak response
 
 
-def peak_response_entry(shape, mu, contacts, load, liftoff, forces=PEAK_FORCES_N) -> dict:
+def peak_response_entry(shape, mu, contacts, load, status, forces=PEAK_FORCES_N) -> dict:
     """Peak tip amplitude A* (mm), its frequency (Hz) and psi_a = r A* (mrad) of the default
     BladeMode with this damper at each force (N), from the exact k(psi_a) (gross-slip history) and,
     for comparison, the paper's interpolation. One compiled kernel per method, shared by all
-    designs. A design that lifts off has no damper curve: numbers null, status liftoff."""
+    designs. status: the design's Base-Cycle status; one that stopped part-way (liftoff, a failed
+    solve) has no damper curve: numbers null, that status."""
     import jax.numpy as jnp
 
     from ..params import prepare_inputs
     from ..response import BladeMode, peak_program
-    from ..status import RESULTS
 
-    if liftoff:
-        return {"status": RESULTS.liftoff.name, "liftoff": True}
+    if RESULTS.stopped(status):
+        return {"status": RESULTS.name_of(status), "liftoff": bool(status == RESULTS.liftoff)}
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     mode = BladeMode(*(jnp.asarray(v, float) for v in BladeMode()))
     entry = {"status": "ok", "liftoff": False, "forces_n": [float(f) for f in forces]}
@@ -452,7 +453,7 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
     for name, per in cycles.items():
         for m, bc in per.items():
             peaks.setdefault(name, {})[m] = peak_response_entry(
-                family_shape(name), float(m), contacts, load, bool(bc.liftoff), peak_forces)
+                family_shape(name), float(m), contacts, load, bc.status, peak_forces)
             if progress is not None:
                 progress.update(1)
     t_peaks = time.perf_counter() - t0 - t_cases - t_band

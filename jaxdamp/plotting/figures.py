@@ -18,6 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from ..geometry import CONTACT_NAMES
+from ..status import RESULTS
 from .labels import mark_coincident_lines, point_label
 from .style import (CONTACT_COLORS, PSI_LABEL, as_cycles, as_numpy, axes_row, cycle_panel,
                     finish_figure, legend_below, mu_color, shape_name)
@@ -118,8 +119,9 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
         ax.set_aspect("equal", adjustable="box")
         ax.grid(alpha=0.25)
         legend_below(ax, fontsize=7.5)
-        if not bool(bc.converged):
-            ax.text(0.02, 0.02, "NOT CONVERGED", transform=ax.transAxes, color="firebrick")
+        if not RESULTS.valid(bc.status):
+            ax.text(0.02, 0.02, RESULTS.name_of(bc.status).upper().replace("_", " "),
+                    transform=ax.transAxes, color="firebrick")
     return finish_figure(fig)
 
 
@@ -166,12 +168,12 @@ def plot_moment_cycles(cycles, ax=None, label_points=True, labels=None):
     q = None
     for k, bc in enumerate(cycles):
         name, c = _style(bc, k, labels)
-        if bool(bc.liftoff):
+        if RESULTS.stopped(bc.status):
             skipped.append(name)
             continue
         q = float(bc.load.q_star)
         psi, M, names = moment_polyline(bc)
-        flag = "" if bool(bc.converged) else " (not converged)"
+        flag = "" if RESULTS.valid(bc.status) else f" ({RESULTS.name_of(bc.status)})"
         ax.plot(psi, M, "-o", color=c, lw=2, ms=3.5, label=f"{name}: ψ_BC = {psi.max():.3f} mrad{flag}")
         if label_points:
             _label_vertices(ax, psi, M, names, c)
@@ -243,7 +245,7 @@ def plot_stretched_cycles(bc, psi_a_mrad=None, ax=None):
 def _stiffness_curves(ax, cycles, summaries, labels, legend_entries):
     for k, (bc, s) in enumerate(zip(cycles, summaries)):
         name, c = _style(bc, k, labels)
-        if s.liftoff:
+        if RESULTS.stopped(s.status):
             if legend_entries:
                 ax.plot([], [], " ", label=f"{name}: LIFTOFF, no cycle")
             continue
@@ -286,12 +288,12 @@ def plot_complex_stiffness(cycles, psi_max=20.0, ax=None, summaries=None, labels
     ax.set_title(f"{', '.join(names)}: complex stiffness of the platform")
     ax.set_xlim(0, psi_max)
     ax.legend(loc="upper right", fontsize=8, ncol=1)
-    valid = [s.numbers["psi_bc_mrad"] for s in summaries if not s.liftoff]
+    valid = [s.numbers["psi_bc_mrad"] for s in summaries if not RESULTS.stopped(s.status)]
     if zoom:
         z = axes[1]
         z_max = 1.6 * max(valid) if valid else psi_max
         # The same grid length as the full panel: the jit-compiled analysis is reused.
-        fine = [analyse_cycle(bc, psi_grid(z_max, len(s.psi))) if not s.liftoff else s
+        fine = [s if RESULTS.stopped(s.status) else analyse_cycle(bc, psi_grid(z_max, len(s.psi)))
                 for bc, s in zip(cycles, summaries)]
         _stiffness_curves(z, cycles, fine, labels, False)
         z.set_xlim(0, z_max)

@@ -9,6 +9,8 @@ from collections.abc import Mapping
 import matplotlib.pyplot as plt
 import numpy as np
 
+from ..status import RESULTS
+
 __all__ = ["PSI_LABEL", "MU_COLORS", "CONTACT_COLORS", "mu_color", "as_numpy", "as_cycles",
            "axes_row", "finish_figure", "legend_below", "liftoff_panel", "cycle_panel",
            "shape_name"]
@@ -83,8 +85,8 @@ def cycle_panel(ax, bc, title_suffix, xlabel, ylabel) -> bool:
     ax.set_title(f"{shape_name(bc.shape)}, μ = {mu:g}{title_suffix}")
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    if bool(bc.liftoff):
-        liftoff_panel(ax, f"μ = {mu:g}: LIFTOFF\nno Base-Cycle")
+    if RESULTS.stopped(bc.status):
+        liftoff_panel(ax, f"μ = {mu:g}: {RESULTS.name_of(bc.status).upper()}\nno Base-Cycle")
         return True
     return False
 
