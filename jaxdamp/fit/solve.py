@@ -384,7 +384,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     (`response.prepare_scene`, checked already: its shape and load are used, unchecked, and load=
     is not); load: F_D, q*, r sin(beta) of the test. initial: the history of the model's steady
     cycle, "gross_slip" or "assembly". mu: "shared" or "contact"; kn, kt: "shared", "side"
-    (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"} (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
+    (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"} (numbers; default DEFAULT_START, a
+    generic guess). robust: a second, pseudo-Huber stage.
     callback(stage, step, loss): called as the solver goes (from the compiled solve).
 
     Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
