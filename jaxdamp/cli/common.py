@@ -125,9 +125,9 @@ def shape_from_args(args, *, need_br: bool = True, check: bool = True):
     input (design-br computes it); the returned shape has b_R/h_R = 0, a placeholder. check=False:
     not validated here (the command checks it once later, e.g. in `response.prepare_scene`; with
     --br centred the shape the rule needs is validated anyway)."""
-    keep = validate_shape if check else (lambda s: s)  # noqa: E731
     from ..geometry import DamperShape, family_shape, validate_shape
 
+    keep = validate_shape if check else (lambda s: s)  # noqa: E731
     br = parse_br(getattr(args, "br", None))
     x_d = getattr(args, "x_d", None)
     angles = {"--theta-l": args.theta_l, "--theta-r": args.theta_r}
