@@ -6,6 +6,8 @@ reports problems through status flags instead.
 
 from __future__ import annotations
 
+from collections import Counter
+
 import jax
 import numpy as np
 from jax.core import Tracer
@@ -60,5 +62,44 @@ def check_int(name, value, lo):
     return int(value)
 
 
+# The one table of the checked inputs' ranges, for Python, the CLI and fit (public as
+# `params.RANGES`): name -> (lower, upper, lower bound open, upper bound open, unit). Every check of
+# these inputs goes through `check_param` (the fast path of `params.prepare_inputs` reads the same
+# table), so each message is one line naming the parameter and this range.
+INF = np.inf
+RANGES = {
+    "theta_l": (0.0, 90.0, True, False, "deg"),
+    "theta_r": (0.0, 90.0, True, False, "deg"),
+    "br_over_hr": (-0.5, 0.5, False, False, ""),
+    "bl2_over_hl": (0.0, 1.0, True, False, ""),
+    "x_d": (-1e6, 1e6, False, False, ""),
+    "mu": (0.0, 5.0, True, False, ""),
+    "kn": (0.0, INF, True, True, "N/mm"),
+    "kt": (0.0, INF, True, True, "N/mm"),
+    "F_D": (0.0, INF, True, True, "N"),
+    "q_star": (0.0, INF, True, True, "mm"),
+    "r_sin_beta": (-1e9, 1e9, False, False, "mm"),
+    "f0_hz": (0.0, INF, True, True, "Hz"),
+    "k_b": (0.0, INF, True, True, "N/mm"),
+    "eta": (0.0, 1.0, False, False, ""),
+    "r": (0.0, 1e6, True, False, "mrad/mm"),
+    "force_n": (0.0, INF, True, True, "N"),
+}
+
+# How many times each parameter of RANGES has been checked in this process (by `check_param`, or
+# accepted by the fast path of `params.prepare_inputs`): the tests read it to show that a command
+# checks each input once. Clear it with RANGE_CHECKS.clear().
+RANGE_CHECKS: Counter = Counter()
+
+
+def check_param(name: str, value, label: str | None = None):
+    """Check value (concrete; traced values pass) against RANGES[name]: ValueError in one line
+    naming label (default name) and the range. Returns value."""
+    lo, hi, lo_open, hi_open, unit = RANGES[name]
+    RANGE_CHECKS[name] += 1
+    check_range(label or name, value, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+    return value
+
+
 __all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range",
-           "check_positive", "check_int"]
+           "check_positive", "check_int", "RANGES", "RANGE_CHECKS", "check_param"]

@@ -377,7 +377,16 @@ def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) in one batched program
     (`bands_program`); runner(program, args) -> outputs runs it instead of a plain call (the CLI
     passes its saved-program cache)."""
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    design = prepare_inputs(shape, mu, contacts, load)
+    return amplitude_bands_kernel(*design, psi_a_mrad, n_samples=n_samples, refine=refine,
+                                  steps=steps, starts=starts, seed=seed, runner=runner)
+
+
+def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad,
+                           *, n_samples: int = 64, refine: bool = True, steps: int = 6,
+                           starts: int = 2, seed: int = 0, runner=None) -> list:
+    """`amplitude_bands` on a design prepared already (`params.prepare_inputs`, or a
+    `response.Scene`'s fields): the design is NOT checked here; the amplitudes and counts are."""
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
     if psi.ndim != 1 or psi.size == 0:
@@ -416,5 +425,6 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
                            refine=refine, steps=steps, starts=starts, seed=seed)[0]
 
 
-__all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "band_kernel", "bands_program",
+__all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_kernel",
+           "band_kernel", "bands_program",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

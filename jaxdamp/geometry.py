@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 import jax.numpy as jnp
 
-from ._validate import check_range
+from ._validate import check_param
 from .conventions import moment_coefficients
 from .linalg import rowdot
 
@@ -39,13 +39,12 @@ class DamperShape(NamedTuple):
 
 
 def validate_shape(shape: DamperShape) -> DamperShape:
-    """Raise ValueError naming the parameter and its valid range (concrete values only)."""
-    check_range("theta_l", shape.theta_l, 0.0, 90.0, lo_open=True, unit="deg")
-    check_range("theta_r", shape.theta_r, 0.0, 90.0, lo_open=True, unit="deg")
-    check_range("br_over_hr", shape.br_over_hr, -0.5, 0.5)
-    check_range("bl2_over_hl", shape.bl2_over_hl, 0.0, 1.0, lo_open=True)
+    """Raise ValueError naming the parameter and its valid range (concrete values only; the ranges
+    are `params.RANGES`)."""
+    for name in ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl"):
+        check_param(name, getattr(shape, name))
     if shape.x_d is not None:
-        check_range("x_d", shape.x_d, -1e6, 1e6)
+        check_param("x_d", shape.x_d)
     return shape
 
 

@@ -10,7 +10,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_positive, check_range, require_x64
+# The one table of the inputs' ranges and its check live in _validate (below geometry, which checks
+# the shape with them); they are public here.
+from ._validate import RANGE_CHECKS, RANGES, check_param, require_x64
 from .geometry import DamperShape, validate_shape
 
 # The paper's reference contact pair: the least-squares fit of `jaxdamp calibrate` to Tables B3.1
@@ -109,28 +111,24 @@ class LoadCase(NamedTuple):
 
 def validate_mu(mu, name="mu"):
     """name: how the error names the coefficient (mu, mu_max, mu_set, ...)."""
-    check_range(name, mu, 0.0, 5.0, lo_open=True)
-    return mu
+    return check_param("mu", mu, name)
 
 
 def validate_contacts(contacts: Contacts) -> Contacts:
-    check_positive("kn", contacts.kn, unit="N/mm")
-    check_positive("kt", contacts.kt, unit="N/mm")
+    check_param("kn", contacts.kn)
+    check_param("kt", contacts.kt)
     return contacts
 
 
 def validate_load(load: LoadCase) -> LoadCase:
-    check_positive("F_D", load.F_D, unit="N")
-    check_positive("q_star", load.q_star, unit="mm")
-    check_range("r_sin_beta", load.r_sin_beta, -1e9, 1e9, unit="mm")
+    check_param("F_D", load.F_D)
+    check_param("q_star", load.q_star)
+    check_param("r_sin_beta", load.r_sin_beta)
     return load
 
 
-# (lower, upper, lower bound open) of the scalar inputs in fast_ok's order: theta_l, theta_r,
-# br_over_hr, bl2_over_hl, mu, F_D, q_star, r_sin_beta. The same ranges as the per-parameter
-# checks, whose messages are used when this fast path fails.
-_RANGES = ((0.0, 90.0, True), (0.0, 90.0, True), (-0.5, 0.5, False), (0.0, 1.0, True),
-           (0.0, 5.0, True), (0.0, math.inf, True), (0.0, math.inf, True), (-1e9, 1e9, False))
+# The scalar inputs in fast_ok's order (their ranges from RANGES).
+_FAST_NAMES = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "mu", "F_D", "q_star", "r_sin_beta")
 
 
 def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
@@ -139,9 +137,10 @@ def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
     vals = (shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl, mu, *load)
     if shape.x_d is not None:
         return False
-    for v, (lo, hi, lo_open) in zip(vals, _RANGES):
-        if type(v) not in (float, int) or not ((v > lo) if lo_open else (v >= lo)) or not v <= hi \
-                or v == math.inf:
+    for v, name in zip(vals, _FAST_NAMES):
+        lo, hi, lo_open, hi_open, _ = RANGES[name]
+        if type(v) not in (float, int) or not ((v > lo) if lo_open else (v >= lo)) \
+                or not ((v < hi) if hi_open else (v <= hi)) or v == math.inf:
             return False
     for k in contacts:
         if type(k) in (float, int):
@@ -150,6 +149,7 @@ def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
         elif not (isinstance(k, np.ndarray) and k.shape == (3,) and bool(np.all(k > 0.0))
                   and bool(np.all(np.isfinite(k)))):
             return False
+    RANGE_CHECKS.update(_FAST_NAMES + ("kn", "kt"))
     return True
 
 
@@ -188,4 +188,5 @@ def _per_contact(k):
 
 __all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
            "VALIDATED_KT_OVER_KN", "above_validated_range", "validated_range_violations", "Contacts",
-           "LoadCase", "validate_mu", "validate_contacts", "validate_load", "fast_ok", "prepare_inputs"]
+           "LoadCase", "RANGES", "RANGE_CHECKS", "check_param", "validate_mu", "validate_contacts",
+           "validate_load", "fast_ok", "prepare_inputs"]

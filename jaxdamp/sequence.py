@@ -35,10 +35,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel
+from .amplitude import INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, amplitude_kernel
 from .curves import (StiffnessCurves, flat_cycles, padded_index, prepare_curves_inputs,
                      stretched_curves)
-from .params import Contacts, LoadCase
+from ._validate import check_int, check_range, require_x64
+from .geometry import validate_shape
+from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .conventions import travel_mm
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -46,8 +48,8 @@ from .runtime import batch_jit
 from .status import RESULTS, number_repr, status_repr
 from .tract import NO_EVENT
 
-__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "sequence_curves", "curve_at", "loop_stiffness",
-           "corner_rows",
+__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "stiffness_curve_kernel",
+           "sequence_curves", "curve_at", "loop_stiffness", "corner_rows",
            "probe_kernel", "refit_kernel", "SAME_TOL", "MAX_ROUNDS"]
 
 SAME_TOL = 1e-10  # k (relative to the larger |k| of two probes) within which two models agree
@@ -223,7 +225,80 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
     needs no resolving (every grid point is then covered, and no curve costs more cycles than its
     grid has points). Host-driven rounds of batched probes (one jit call per round for all
     designs). Returns a batch of StiffnessCurve (leading design axis; pieces padded to a common
-    count)."""
+    count).
+
+    Every input is checked here (ValueError naming the parameter and its range; Float64Required
+    in float32); `stiffness_curve_kernel` takes inputs checked already."""
+    require_x64()
+    if initial not in INITIAL_STATES + ("explicit",):
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}, explicit; "
+                         f"got {initial!r}")
+    shapes, mu, contacts, load = designs
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    if grid is None:
+        if psi_lo is None or psi_hi is None:
+            raise ValueError("give psi_lo and psi_hi (mrad), or grid")
+        check_range("psi_lo", psi_lo, 0.0, 1e4, lo_open=True, unit="mrad")
+        check_range("psi_hi", psi_hi, 0.0, 1e4, lo_open=True, unit="mrad")
+    else:
+        check_range("grid", grid, 0.0, 1e4, lo_open=True, unit="mrad")
+    if initial == "explicit" and (N_init is None or T_init is None):
+        raise ValueError('initial="explicit" needs N_init and T_init, (designs, 3) each')
+    check_int("n_probes", n_probes, 1)
+    check_int("max_rounds", max_rounds, 0)
+    check_int("max_probes", max_probes, 2)
+    return stiffness_curve_kernel(designs, psi_lo, psi_hi, grid=grid, initial=initial,
+                                  N_init=N_init, T_init=T_init, n_probes=n_probes,
+                                  max_rounds=max_rounds, max_probes=max_probes,
+                                  max_tracts=max_tracts, max_pairs=max_pairs)
+
+
+class _Prober(NamedTuple):
+    """The batched probes of one `stiffness_curve_kernel` call: the designs (numpy, leading design
+    axis), their start states and q*, and the cycle options."""
+
+    designs: tuple
+    N0: np.ndarray
+    T0: np.ndarray
+    q_star: np.ndarray
+    initial: str
+    max_tracts: int
+    max_pairs: int
+
+    def run(self, design_idx, psi):
+        """Probe records (numpy) for (design, psi) pairs, one batched call."""
+        if design_idx.size == 0:
+            return None
+        idx = padded_index(np.arange(design_idx.size))
+        d = design_idx[idx]
+        sub = jax.tree_util.tree_map(lambda x: np.asarray(x)[d], self.designs)
+        pr = _probes(*sub, jnp.asarray(psi[idx]), jnp.asarray(self.N0[d]),
+                     jnp.asarray(self.T0[d]), self.initial, self.max_tracts, self.max_pairs)
+        return {f: np.asarray(getattr(pr, f))[: design_idx.size] for f in Probe._fields}
+
+    def model_k(self, recs, which, psi, designs_of):
+        """k of the models of probes `which` (indices into recs) at psi."""
+        if which.size == 0:
+            return np.zeros(0), np.zeros(0)
+        idx = padded_index(np.arange(which.size))
+        w = which[idx]
+        k_re, k_im = _model_k(jnp.asarray(recs["corners"][w]), jnp.asarray(recs["slopes"][w]),
+                              jnp.asarray(recs["psi"][w]), jnp.asarray(psi[idx]),
+                              jnp.asarray(self.q_star[designs_of[idx]]))
+        return np.asarray(k_re)[: which.size], np.asarray(k_im)[: which.size]
+
+
+def stiffness_curve_kernel(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gross_slip",
+                           N_init=None, T_init=None, n_probes: int = 5,
+                           max_rounds: int = MAX_ROUNDS, max_probes: int = 64,
+                           max_tracts: int = MAX_TRACTS,
+                           max_pairs: int = MAX_PAIRS) -> StiffnessCurve:
+    """`stiffness_curve` on inputs checked already (`curves.prepare_curves_inputs`): NOT checked
+    here. The steps: the first probes of every design, rounds that resolve each gap between
+    neighbouring probes (one piece, a break, or a new probe inside), then the pieces."""
     shapes, mu, contacts, load = designs
     n = int(np.shape(np.asarray(mu))[0])
     if grid is not None:
@@ -238,117 +313,128 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
         T0 = np.asarray(T_init, float).reshape(n, 3)
     else:
         N0 = T0 = np.zeros((n, 3))
-
-    def run_probes(design_idx, psi):
-        """Probe records (numpy) for (design, psi) pairs, one batched call."""
-        if design_idx.size == 0:
-            return None
-        idx = padded_index(np.arange(design_idx.size))
-        d = design_idx[idx]
-        sub = jax.tree_util.tree_map(lambda x: np.asarray(x)[d], (shapes, mu, contacts, load))
-        pr = _probes(*sub, jnp.asarray(psi[idx]), jnp.asarray(N0[d]), jnp.asarray(T0[d]),
-                     initial, max_tracts, max_pairs)
-        return {f: np.asarray(getattr(pr, f))[: design_idx.size] for f in Probe._fields}
-
-    def model_k(recs, which, psi, designs_of):
-        """k of the models of probes `which` (indices into recs) at psi."""
-        if which.size == 0:
-            return np.zeros(0), np.zeros(0)
-        idx = padded_index(np.arange(which.size))
-        w = which[idx]
-        k_re, k_im = _model_k(jnp.asarray(recs["corners"][w]), jnp.asarray(recs["slopes"][w]),
-                              jnp.asarray(recs["psi"][w]), jnp.asarray(psi[idx]),
-                              jnp.asarray(q_star[designs_of[idx]]))
-        return np.asarray(k_re)[: which.size], np.asarray(k_im)[: which.size]
-
-    # All probes in flat arrays (append per round); per design a sorted list of probe indices.
-    frac = np.geomspace(1.0, 2.0, n_probes) - 1.0 if n_probes > 1 else np.zeros(1)
-    if grid is None:
-        per = [lo[i] + (hi[i] - lo[i]) * frac for i in range(n)]
-    else:
-        # on the distinct amplitudes (a grid may repeat its last value: no probe is wasted there)
-        m_eff = np.sum(grid < grid[:, -1:], axis=1) + 1
-        per = [grid[i, np.unique(np.round(frac * (m_eff[i] - 1)).astype(int))] for i in range(n)]
-    d0 = np.concatenate([np.full(len(p), i) for i, p in enumerate(per)])
-    p0 = np.concatenate(per)
-    recs = run_probes(d0, p0)
-    recs["psi"] = p0
-    recs["design"] = d0
-    ends = np.cumsum([len(p) for p in per])
-    order = [list(range(e - len(p), e)) for e, p in zip(ends, per)]
+    prober = _Prober((shapes, mu, contacts, load), N0, T0, q_star, initial, max_tracts, max_pairs)
+    recs, order = _first_probes(prober, _first_amplitudes(n, lo, hi, grid, n_probes))
     # gap state per design: dict (left probe index) -> ("same" | ("break", b) | "open")
     resolved = [dict() for _ in range(n)]
-
     for rnd in range(max_rounds + 1):
         # the open gaps
         gaps = [(i, a, b) for i in range(n) for a, b in zip(order[i][:-1], order[i][1:])
                 if a not in resolved[i]]
         if not gaps:
             break
-        gi = np.array([g[0] for g in gaps])
-        ga = np.array([g[1] for g in gaps])
-        gb = np.array([g[2] for g in gaps])
-        pa, pb = recs["psi"][ga], recs["psi"][gb]
-        kscale = np.maximum.reduce([np.abs(recs["k_re"][ga]), np.abs(recs["k_im"][ga]),
-                                    np.abs(recs["k_re"][gb]), np.abs(recs["k_im"][gb])])
-        tol = SAME_TOL * np.maximum(kscale, 1e-300)
-        st_a, st_b = recs["status"][ga], recs["status"][gb]
-        valid_a, valid_b = RESULTS.valid(st_a), RESULTS.valid(st_b)
-        # 1. one piece: each model reproduces the other probe
-        ra, ia = model_k(recs, ga, pb, gi)
-        rb, ib = model_k(recs, gb, pa, gi)
-        seq_ok = (recs["seq_hi"][ga] >= pb * (1 - 1e-12)) & (recs["seq_lo"][gb] <= pa * (1 + 1e-12))
-        same = (st_a == st_b) & seq_ok & valid_a & (
-            ~valid_a | ((np.abs(ra - recs["k_re"][gb]) <= tol) & (np.abs(ia - recs["k_im"][gb]) <= tol)
-                        & (np.abs(rb - recs["k_re"][ga]) <= tol) & (np.abs(ib - recs["k_im"][ga]) <= tol)))
-        # 2. a break where a tract's affine length reaches zero
-        cand = np.full(len(gaps), np.nan)
-        both = valid_a & valid_b & ~same
-        if np.any(both):
-            left = np.where(recs["seq_hi"][ga] < pb, recs["seq_hi"][ga], np.inf)
-            right = np.where(recs["seq_lo"][gb] > pa, recs["seq_lo"][gb], -np.inf)
-            for c in (left, right):
-                use = both & np.isfinite(c) & np.isnan(cand)
-                # the break must lie where both models still hold
-                use &= (c <= left + 1e-12 * pb) & (c >= right - 1e-12 * pb)
-                if not np.any(use):
-                    continue
-                cc = np.where(use, c, pa)
-                ka_r, ka_i = model_k(recs, ga, cc, gi)
-                kb_r, kb_i = model_k(recs, gb, cc, gi)
-                ok = use & (np.abs(ka_r - kb_r) <= tol) & (np.abs(ka_i - kb_i) <= tol)
-                cand = np.where(ok, c, cand)
-        new_d, new_p = [], []
-        last = rnd == max_rounds
-        for g, (i, a, b) in enumerate(gaps):
-            if same[g]:
-                resolved[i][a] = ("same",)
-            elif np.isfinite(cand[g]):
-                resolved[i][a] = ("break", float(cand[g]))
-            elif last or not (pb[g] - pa[g] > 1e-13 * pb[g]) or len(order[i]) >= max_probes:
+        same, cand, pa, pb = _classify_gaps(prober, recs, gaps)
+        new_d, new_p = _resolve_gaps(gaps, same, cand, pa, pb, resolved, order, grid,
+                                     rnd == max_rounds, max_probes)
+        if new_d:
+            recs = _add_probes(prober, recs, order, new_d, new_p)
+    return _assemble(recs, order, resolved, q_star, lo, hi)
+
+
+def _first_amplitudes(n, lo, hi, grid, n_probes) -> list:
+    """Per design the amplitudes of its first probes."""
+    frac = np.geomspace(1.0, 2.0, n_probes) - 1.0 if n_probes > 1 else np.zeros(1)
+    if grid is None:
+        return [lo[i] + (hi[i] - lo[i]) * frac for i in range(n)]
+    # on the distinct amplitudes (a grid may repeat its last value: no probe is wasted there)
+    m_eff = np.sum(grid < grid[:, -1:], axis=1) + 1
+    return [grid[i, np.unique(np.round(frac * (m_eff[i] - 1)).astype(int))] for i in range(n)]
+
+
+def _first_probes(prober: _Prober, per: list):
+    """All probes in flat arrays (appended per round), and per design a sorted list of probe
+    indices."""
+    d0 = np.concatenate([np.full(len(p), i) for i, p in enumerate(per)])
+    p0 = np.concatenate(per)
+    recs = prober.run(d0, p0)
+    recs["psi"] = p0
+    recs["design"] = d0
+    ends = np.cumsum([len(p) for p in per])
+    order = [list(range(e - len(p), e)) for e, p in zip(ends, per)]
+    return recs, order
+
+
+def _classify_gaps(prober: _Prober, recs, gaps):
+    """(same: one piece spans the gap, cand: the break inside it (NaN where none), and the
+    amplitudes of its ends) of every open gap (design, left probe, right probe)."""
+    gi = np.array([g[0] for g in gaps])
+    ga = np.array([g[1] for g in gaps])
+    gb = np.array([g[2] for g in gaps])
+    pa, pb = recs["psi"][ga], recs["psi"][gb]
+    kscale = np.maximum.reduce([np.abs(recs["k_re"][ga]), np.abs(recs["k_im"][ga]),
+                                np.abs(recs["k_re"][gb]), np.abs(recs["k_im"][gb])])
+    tol = SAME_TOL * np.maximum(kscale, 1e-300)
+    st_a, st_b = recs["status"][ga], recs["status"][gb]
+    valid_a, valid_b = RESULTS.valid(st_a), RESULTS.valid(st_b)
+    # 1. one piece: each model reproduces the other probe
+    ra, ia = prober.model_k(recs, ga, pb, gi)
+    rb, ib = prober.model_k(recs, gb, pa, gi)
+    seq_ok = (recs["seq_hi"][ga] >= pb * (1 - 1e-12)) & (recs["seq_lo"][gb] <= pa * (1 + 1e-12))
+    same = (st_a == st_b) & seq_ok & valid_a & (
+        ~valid_a | ((np.abs(ra - recs["k_re"][gb]) <= tol) & (np.abs(ia - recs["k_im"][gb]) <= tol)
+                    & (np.abs(rb - recs["k_re"][ga]) <= tol) & (np.abs(ib - recs["k_im"][ga]) <= tol)))
+    # 2. a break where a tract's affine length reaches zero
+    cand = np.full(len(gaps), np.nan)
+    both = valid_a & valid_b & ~same
+    if np.any(both):
+        left = np.where(recs["seq_hi"][ga] < pb, recs["seq_hi"][ga], np.inf)
+        right = np.where(recs["seq_lo"][gb] > pa, recs["seq_lo"][gb], -np.inf)
+        for c in (left, right):
+            use = both & np.isfinite(c) & np.isnan(cand)
+            # the break must lie where both models still hold
+            use &= (c <= left + 1e-12 * pb) & (c >= right - 1e-12 * pb)
+            if not np.any(use):
+                continue
+            cc = np.where(use, c, pa)
+            ka_r, ka_i = prober.model_k(recs, ga, cc, gi)
+            kb_r, kb_i = prober.model_k(recs, gb, cc, gi)
+            ok = use & (np.abs(ka_r - kb_r) <= tol) & (np.abs(ka_i - kb_i) <= tol)
+            cand = np.where(ok, c, cand)
+    return same, cand, pa, pb
+
+
+def _resolve_gaps(gaps, same, cand, pa, pb, resolved, order, grid, last, max_probes):
+    """Mark each gap one piece, a break or open (in `resolved`); (designs, amplitudes) of the new
+    probes inside the others."""
+    new_d, new_p = [], []
+    for g, (i, a, b) in enumerate(gaps):
+        if same[g]:
+            resolved[i][a] = ("same",)
+        elif np.isfinite(cand[g]):
+            resolved[i][a] = ("break", float(cand[g]))
+        elif last or not (pb[g] - pa[g] > 1e-13 * pb[g]) or len(order[i]) >= max_probes:
+            resolved[i][a] = ("open",)
+        elif grid is not None:
+            inner = np.nonzero((grid[i] > pa[g]) & (grid[i] < pb[g]))[0]
+            if inner.size == 0:
                 resolved[i][a] = ("open",)
-            elif grid is not None:
-                inner = np.nonzero((grid[i] > pa[g]) & (grid[i] < pb[g]))[0]
-                if inner.size == 0:
-                    resolved[i][a] = ("open",)
-                else:
-                    new_d.append(i)
-                    new_p.append(grid[i, inner[inner.size // 2]])
             else:
                 new_d.append(i)
-                new_p.append(0.5 * (pa[g] + pb[g]))
-        if new_d:
-            nd, npsi = np.array(new_d), np.array(new_p)
-            more = run_probes(nd, npsi)
-            base = recs["psi"].size
-            more["psi"], more["design"] = npsi, nd
-            recs = {f: np.concatenate([recs[f], more[f]]) for f in recs}
-            for j, (i, p) in enumerate(zip(new_d, new_p)):
-                lst = order[i]
-                pos = int(np.searchsorted(recs["psi"][lst], p))
-                lst.insert(pos, base + j)
+                new_p.append(grid[i, inner[inner.size // 2]])
+        else:
+            new_d.append(i)
+            new_p.append(0.5 * (pa[g] + pb[g]))
+    return new_d, new_p
 
-    # pieces
+
+def _add_probes(prober: _Prober, recs, order, new_d, new_p):
+    """The records with the new probes appended, each inserted in its design's sorted order."""
+    nd, npsi = np.array(new_d), np.array(new_p)
+    more = prober.run(nd, npsi)
+    base = recs["psi"].size
+    more["psi"], more["design"] = npsi, nd
+    recs = {f: np.concatenate([recs[f], more[f]]) for f in recs}
+    for j, (i, p) in enumerate(zip(new_d, new_p)):
+        lst = order[i]
+        pos = int(np.searchsorted(recs["psi"][lst], p))
+        lst.insert(pos, base + j)
+    return recs
+
+
+def _assemble(recs, order, resolved, q_star, lo, hi) -> StiffnessCurve:
+    """The batch of StiffnessCurve from the probes and the resolved gaps (pieces padded to a
+    common count, a multiple of 4)."""
+    n = len(order)
     pieces = []
     for i in range(n):
         lst = order[i]
@@ -431,8 +517,8 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
         last = np.maximum(np.sum(~use_s, axis=1) - 1, 0)
         cap = np.take_along_axis(grid, last[:, None], axis=1)
         grid = np.where(use_s, cap, grid)
-    cur = stiffness_curve(designs, grid=grid, initial=initial, n_probes=n_probes,
-                          max_tracts=max_tracts, max_pairs=max_pairs)
+    cur = stiffness_curve_kernel(designs, grid=grid, initial=initial, n_probes=n_probes,
+                                 max_tracts=max_tracts, max_pairs=max_pairs)
     pt, j = _evaluate(cur, jnp.asarray(grid))
     pairs = np.take_along_axis(np.asarray(cur.pairs), np.asarray(j), axis=1)
     out = {f: np.empty((size, n_amp), dt) for f, dt in (("k_re", float), ("k_im", float),

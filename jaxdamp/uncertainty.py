@@ -25,8 +25,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .batch import map_batched
-from .params import Contacts, LoadCase
-from .response import BladeMode, damper_stiffness_kernel, peak_response, prepare_scene
+from .params import RANGES, Contacts, LoadCase
+from .response import BladeMode, Scene, damper_stiffness_kernel, peak_response, prepare_scene
 from .status import RESULTS, number_repr, status_repr
 
 HISTORIES = ("gross_slip", "assembly")
@@ -94,8 +94,9 @@ class PeakDistribution(NamedTuple):
 
 def validate_uncertainty(u: Uncertainty) -> Uncertainty:
     """ValueError naming the field and its valid range."""
-    if not 0.0 < u.mu_low <= u.mu_high <= 5.0:
-        raise ValueError(f"mu range must satisfy 0 < mu_low <= mu_high <= 5; got "
+    mu_hi = RANGES["mu"][1]
+    if not 0.0 < u.mu_low <= u.mu_high <= mu_hi:
+        raise ValueError(f"mu range must satisfy 0 < mu_low <= mu_high <= {mu_hi:g}; got "
                          f"{u.mu_low}:{u.mu_high}")
     if not 0.0 <= u.fd_spread < 1.0:
         raise ValueError(f"fd_spread must be in [0, 1); got {u.fd_spread}")
@@ -148,20 +149,26 @@ def _assembly(scenario, shape, load, mode, forces):
 _BY_HISTORY = {"gross_slip": _gross_slip, "assembly": _assembly}
 
 
-def peak_distribution(shape, scenarios: Scenarios, mode: BladeMode = BladeMode(), force_n=5.0,
-                      load: LoadCase = LoadCase(), *, history: str = "gross_slip",
+def peak_distribution(shape, scenarios: Scenarios, mode: BladeMode | None = None, force_n=5.0,
+                      load: LoadCase | None = None, *, history: str = "gross_slip",
                       levels=(0.05, 0.5, 0.95), limit_mm_per_n=None,
                       progress=None) -> PeakDistribution:
     """The distribution of A*/F of one design over the scenarios (see module doc). history:
     "gross_slip", "assembly" or "band" (the larger A*/F of the two histories per sample, the cheap
-    upper edge of the history band)."""
+    upper edge of the history band). shape may be a Scene (`prepare_scene`, checked already: its
+    load and mode are used, its mu and contacts are not: every sample brings its own); mode and
+    load default to BladeMode() and LoadCase()."""
     if history not in HISTORIES + ("band",):
         raise ValueError(f"history must be one of gross_slip, assembly, band; got {history!r}")
     forces = np.atleast_1d(np.asarray(force_n, float))
     if forces.ndim != 1 or not np.all(forces > 0):
         raise ValueError(f"force_n must be one or more forces > 0 N; got {force_n!r}")
-    # the nominal mu only validates the scene; every sample brings its own
-    shape, _, _, load, mode = prepare_scene(shape, 0.5, Contacts(), load, mode)
+    if not isinstance(shape, Scene):
+        # the nominal mu only validates the scene; every sample brings its own
+        shape = prepare_scene(shape, 0.5, Contacts(), load, mode)
+    else:
+        shape = prepare_scene(shape, None, None, load, mode)  # a Scene alone: taken as it is
+    shape, _, _, load, mode = shape
     runs = [_BY_HISTORY[h] for h in (HISTORIES if history == "band" else (history,))]
     mags, stats = zip(*(map_batched(fn, scenarios, shape, load, mode, jnp.asarray(forces),
                                     progress=progress) for fn in runs))

@@ -157,3 +157,20 @@ def test_band_is_reported_in_json_and_text(capsys):
                         "--band")
     assert code == 0 and "band over every admissible contact history" in text
     assert f"{d['peaks'][0]['band']['peak_amplitude_min_mm']:.5g}" in text
+
+
+@pytest.mark.slow  # 146 worker-s (run of 2026-11-26)
+def test_band_and_diagram_check_every_input_once(capsys):
+    """On the path of `response --band --diagram` each input is checked once: the CLI builds one
+    Scene (`prepare_scene`) and the band and the diagram take it as it is (counted by
+    jaxdamp.params.RANGE_CHECKS, which every range check of params.RANGES goes through)."""
+    from jaxdamp.params import RANGE_CHECKS, RANGES
+
+    RANGE_CHECKS.clear()
+    code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--force-n", "20",
+                       "--stiffness", "interpolated", "--band", "--diagram", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["designer_diagram"] is not None and "band" in d["peaks"][0]
+    inputs = set(RANGES) - {"x_d"}  # no --x-d given: the shape has none to check
+    assert dict(RANGE_CHECKS) == {name: 1 for name in inputs}

@@ -278,3 +278,24 @@ def test_peak_response_of_a_damper_stiffness_runs_one_compiled_program():
     # A curve replaced by another (here scaled) is no longer the one its source describes.
     scaled = scaled_stiffness(d, 1000.0, 1200.0)
     assert scaled.source is None or not scaled.source.matches(scaled)
+
+
+def test_a_scene_is_checked_once_and_taken_as_it_is():
+    """`prepare_scene` checks every input once (each range of params.RANGES counted once) and
+    returns a Scene of float64 arrays; a Scene given again is returned as it is, unchecked."""
+    from jaxdamp.params import RANGE_CHECKS, RANGES
+    from jaxdamp.response import Scene, prepare_scene
+
+    RANGE_CHECKS.clear()
+    scene = prepare_scene(SHAPE, 0.5, Contacts(), LoadCase(), MODE)
+    assert isinstance(scene, Scene)
+    assert dict(RANGE_CHECKS) == {n: 1 for n in set(RANGES) - {"x_d", "force_n"}}
+    assert all(np.asarray(v).dtype == np.float64 for v in jax.tree_util.tree_leaves(scene))
+    assert np.shape(scene.contacts.kn) == (3,)
+    RANGE_CHECKS.clear()
+    assert prepare_scene(scene) is scene and not RANGE_CHECKS
+    with pytest.raises(ValueError, match="not both"):
+        prepare_scene(scene, 0.5)
+    with pytest.raises(ValueError, match="^eta must be in \\[0, 1\\]; got 2$"):
+        prepare_scene(SHAPE, 0.5, mode=MODE._replace(eta=2.0))
+

@@ -143,3 +143,22 @@ def test_gradients_psi_and_design_match_finite_differences():
     fd = (k_ref(psi0, 0.5 + h) - k_ref(psi0, 0.5 - h)) / (2 * h)
     assert np.all(np.isfinite(np.asarray(g)))
     np.testing.assert_allclose(np.asarray(g), np.asarray(fd), rtol=1e-5, atol=1e-3)
+
+
+@pytest.mark.parametrize("change,says", [
+    ({"mu": 0.0}, "mu must be in (0, 5]"),
+    ({"kn": -1.0}, "kn must be in (0, inf) N/mm"),
+    ({"psi_hi": 2e4}, "psi_hi must be in (0, 10000] mrad"),
+    ({"initial": "sideways"}, "initial must be one of"),
+])
+def test_stiffness_curve_checks_its_inputs(change, says):
+    """The exported builder checks every input before any work (one-line ValueError naming the
+    parameter and its range); stiffness_curve_kernel is the unchecked one."""
+    shape, mu = _stack(["60sym"], [change.get("mu", 0.5)])
+    contacts = jd.Contacts(np.array([change.get("kn", 2e4)]), np.array([3.5e3]))
+    load = jd.LoadCase(np.array([1000.0]), np.array([100.0]), np.array([0.0]))
+    with pytest.raises(ValueError) as e:
+        stiffness_curve((shape, mu, contacts, load), 0.1, change.get("psi_hi", 3.0),
+                        initial=change.get("initial", "gross_slip"))
+    assert str(e.value).startswith(says) and "\n" not in str(e.value)
+

@@ -30,7 +30,8 @@ FLAG_OF = {"theta_l": "--theta-l", "theta_r": "--theta-r", "br_over_hr": "--br",
            "q_star": "--q", "r_sin_beta": "--r-sin-beta", "psi_a_mrad": "--psi-a", "psi_a": "--psi-a",
            "eta": "--loss-factor", "f0_hz": "--f0-hz", "k_b": "--modal-stiffness-n-per-mm",
            "r": "--psi-per-mm", "max_iter": "--max-iter", "shape": "--shape", "initial": "--initial",
-           "force_n": "--force-n", "start_kn": "--start-kn", "start_kt": "--start-kt"}
+           "force_n": "--force-n", "start_mu": "--start-mu", "start_kn": "--start-kn",
+           "start_kt": "--start-kt"}
 
 
 def flag_message(message: str) -> str:
@@ -119,11 +120,14 @@ def centred_br(shape, mu_max: float, flag: str = "--br") -> float:
     return float(res.br_over_hr)
 
 
-def shape_from_args(args, *, need_br: bool = True):
+def shape_from_args(args, *, need_br: bool = True, check: bool = True):
     """The DamperShape of the arguments (validated by the library). need_br=False: b_R/h_R is not an
-    input (design-br computes it); the returned shape has b_R/h_R = 0, a placeholder."""
+    input (design-br computes it); the returned shape has b_R/h_R = 0, a placeholder. check=False:
+    not validated here (the command checks it once later, e.g. in `response.prepare_scene`; with
+    --br centred the shape the rule needs is validated anyway)."""
     from ..geometry import DamperShape, family_shape, validate_shape
 
+    keep = validate_shape if check else (lambda s: s)  # noqa: E731
     br = parse_br(getattr(args, "br", None))
     x_d = getattr(args, "x_d", None)
     angles = {"--theta-l": args.theta_l, "--theta-r": args.theta_r}
@@ -137,7 +141,7 @@ def shape_from_args(args, *, need_br: bool = True):
         if args.bl2 is not None:
             raise CliError("--bl2 applies to a custom shape (--theta-l/--theta-r); the paper shape "
                            f"{name} fixes 2b_L/h_L")
-        return validate_shape(family_shape(name)._replace(x_d=x_d))
+        return keep(family_shape(name)._replace(x_d=x_d))
     missing = [k for k, v in angles.items() if v is None]
     if missing:
         raise CliError(f"a shape needs --shape NAME or all of {', '.join(angles)} (missing "
@@ -146,7 +150,7 @@ def shape_from_args(args, *, need_br: bool = True):
     if need_br and br == "centred":
         validate_shape(shape)
         return shape._replace(br_over_hr=centred_br(shape, resolve_mu(args)))
-    return validate_shape(shape._replace(br_over_hr=br if need_br else 0.0))
+    return keep(shape._replace(br_over_hr=br if need_br else 0.0))
 
 
 def add_contact_args(p, required: bool = False) -> None:
@@ -239,15 +243,17 @@ def read_contacts_file(path, flag: str = "--contacts-from") -> dict:
     return out
 
 
-def contacts_from_args(args, shared: bool = False):
+def contacts_from_args(args, shared: bool = False, check: bool = True):
     """The Contacts of --kn/--kt over --contacts-from over the reference pair (validated; the
     error names the flag). Sets args.kn, args.kt (and args.mu where the file gives it and --mu
     does not) to what is used, so that every later line of the command shows them. shared: the
-    command runs one pair for all three contacts (sweep, optimize): three values are an error."""
+    command runs one pair for all three contacts (sweep, optimize): three values are an error.
+    check=False: neither the stiffnesses nor mu are validated here (the command checks them once
+    later, e.g. in `response.prepare_scene`)."""
     from ..params import REFERENCE_KN, REFERENCE_KT, Contacts, validate_contacts
 
     given = _contacts_file(args)
-    resolve_mu(args)
+    resolve_mu(args, check=check)
     kn, kt = stiffness(args.kn, "--kn"), stiffness(args.kt, "--kt")
     kn = given.get("kn") if kn is None else kn
     kt = given.get("kt") if kt is None else kt
@@ -260,7 +266,8 @@ def contacts_from_args(args, shared: bool = False):
             if not isinstance(k, float):
                 raise CliError(f"{flag} takes one value here (one pair for all three contacts), e.g. "
                                f"{flag} 2e4; got {k_text(k)}")
-    return validate_contacts(Contacts(args.kn, args.kt))
+    contacts = Contacts(args.kn, args.kt)
+    return validate_contacts(contacts) if check else contacts
 
 
 def _contacts_file(args) -> dict:
@@ -272,9 +279,10 @@ def _contacts_file(args) -> dict:
     return args._contacts_given
 
 
-def resolve_mu(args):
+def resolve_mu(args, check: bool = True):
     """args.mu: --mu, else the --contacts-from file's mu, else the command's default; CliError when
-    none is given and the command has no default. Validated (the error names --mu)."""
+    none is given and the command has no default. Validated (the error names --mu) unless
+    check=False."""
     from ..params import validate_mu
 
     if hasattr(args, "mu_default") and args.mu is None:
@@ -282,7 +290,7 @@ def resolve_mu(args):
         if args.mu is None:
             raise CliError("--mu is required (the friction coefficient, in (0, 5], e.g. --mu 0.5), "
                            "or a --contacts-from FILE that gives mu")
-    if hasattr(args, "mu_default"):  # a command of one design (sweep's --mu is a list)
+    if check and hasattr(args, "mu_default"):  # a command of one design (sweep's --mu is a list)
         validate_mu(args.mu)
     return getattr(args, "mu", None)
 
@@ -295,10 +303,12 @@ def k_text(k) -> str:
     return f"{float(a):g}" if a.ndim == 0 else "(" + ", ".join(f"{v:g}" for v in a) + ")"
 
 
-def load_from_args(args):
+def load_from_args(args, check: bool = True):
+    """The LoadCase of --fd, --q, --r-sin-beta; validated unless check=False (checked later)."""
     from ..params import LoadCase, validate_load
 
-    return validate_load(LoadCase(args.fd, args.q, args.r_sin_beta))
+    load = LoadCase(args.fd, args.q, args.r_sin_beta)
+    return validate_load(load) if check else load
 
 
 def float_list(text: str, flag: str, example: str = "0.7,0.5,0.3") -> tuple:

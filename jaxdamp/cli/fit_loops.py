@@ -195,20 +195,40 @@ def _check_direction(loop, name: str, args, kind: str) -> None:
 
 
 def run(args) -> int:
-    from ..fit import DEFAULT_START, ContactLoop, LoopError, analyse_contact_loop, analyse_loop, fit_loops
-
     groups = _groups(args)
     shape = C.shape_from_args(args)
     load = C.load_from_args(args)
-    start = {"mu": args.start_mu, "kn": args.start_kn, "kt": args.start_kt}
-    start = {k: (DEFAULT_START[k] if v is None else v) for k, v in start.items()}
+    start = _start(args)  # checked once, by the library (fit_problem)
     if args.max_steps < 1:
         raise C.CliError(f"--max-steps must be an integer >= 1; got {args.max_steps}")
-    for flag, key, hi in (("--start-mu", "mu", 5.0), ("--start-kn", "kn", 1e12), ("--start-kt", "kt", 1e12)):
-        if not 0.0 < start[key] <= hi:
-            raise C.CliError(f"{flag} must be in (0, {hi:g}]; got {start[key]:g}")
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     out = None if args.out is None else C.check_output_file("--out", args.out, suffixes=(".json",))
+    loops = read_loops(args)
+    fit = _fit(args, loops, shape, load, start, groups)
+    doc, notes, loop_rows, sigma_unit = _document(args, fit, shape, load, start, groups)
+    lines = _text(args, fit, groups, loops, notes, loop_rows, sigma_unit)
+    if plot_dir is not None:
+        lines += _write_plots(args, fit, shape, load, plot_dir)
+    if out is not None:
+        C.write_text(out, C.dumps(doc) + "\n")
+        lines.append(f"wrote {out}")
+    C.emit(args, doc, "\n".join(lines))
+    return 0
+
+
+def _start(args) -> dict:
+    """The start values of the flags, DEFAULT_START where not given (checked by fit_problem)."""
+    from ..fit import DEFAULT_START
+
+    start = {"mu": args.start_mu, "kn": args.start_kn, "kt": args.start_kt}
+    return {k: (DEFAULT_START[k] if v is None else v) for k, v in start.items()}
+
+
+def read_loops(args) -> list:
+    """Every file's loop, read, flipped as the flags say, analysed and checked for its direction
+    (CliError in one line naming the file or the flag)."""
+    from ..fit import LoopError, analyse_contact_loop, analyse_loop
+
     read = [read_loop(f) for f in args.files]
     flip = {"moment": args.flip_moment, "contact": args.flip_force}
     read = [(kind, x, -y if flip[kind] else y) for kind, x, y in read]
@@ -242,6 +262,12 @@ def run(args) -> int:
         except LoopError as exc:
             raise C.CliError(str(exc)) from None
         _check_direction(loops[-1], repr(str(f)), args, kind)
+    return loops
+
+
+def _fit(args, loops, shape, load, start, groups):
+    """fit_loops on the loops, its progress lines on stderr unless --no-progress."""
+    from ..fit import fit_loops
 
     progress = not args.no_progress
 
@@ -251,9 +277,14 @@ def run(args) -> int:
             print(f"fit-loops: stage {stage + 1} ({what}) step {step:3d}  loss {loss:.6e}",
                   file=sys.stderr, flush=True)
 
-    fit = fit_loops(loops, shape, load=load, initial=args.history, start=start,
-                    robust=not args.no_robust, max_steps=args.max_steps, callback=tick,
-                    names=[repr(str(f)) for f in args.files], **groups)
+    return fit_loops(loops, shape, load=load, initial=args.history, start=start,
+                     robust=not args.no_robust, max_steps=args.max_steps, callback=tick,
+                     names=[repr(str(f)) for f in args.files], **groups)
+
+
+def _document(args, fit, shape, load, start, groups):
+    """(the JSON document, the notes, one row per loop, the residual's unit)."""
+    from ..fit import ContactLoop
     from ..status import RESULTS
 
     status = RESULTS.name_of(fit.status)
@@ -315,6 +346,12 @@ def run(args) -> int:
                      start={"mu": start["mu"], "kn_n_per_mm": start["kn"], "kt_n_per_mm": start["kt"]},
                      robust=not args.no_robust, max_steps=args.max_steps,
                      flip_moment=bool(args.flip_moment), flip_force=bool(args.flip_force))
+    return doc, notes, loop_rows, sigma_unit
+
+
+def _text(args, fit, groups, loops, notes, loop_rows, sigma_unit) -> list:
+    """The text report's lines."""
+    names = fit.names
     lines = [f"Contact parameters from {len(loops)} loop{'s' if len(loops) != 1 else ''} "
              f"({args.history} history; mu {groups['mu']}, kn {groups['kn']}, kt {groups['kt']})",
              f"  {'parameter':12} {'value':>12} {'std err':>10}   95 % interval"]
@@ -345,32 +382,34 @@ def run(args) -> int:
     for a, b, c in big:
         lines.append(f"  strongly correlated: {a} and {b} ({c:+.3f})")
     lines += [f"  note: {n}" for n in notes[1:]]
-    if plot_dir is not None:
-        from ..plotting.fit import plot_loop_fit
-        import matplotlib.pyplot as plt
+    return lines
 
-        for i, f in enumerate(args.files):
-            lp = fit.loops[i]
-            what = (f"{CONTACT_NAMES[lp.contact]} {lp.component}, " if isinstance(lp, ContactLoop) else "")
-            fig = plot_loop_fit(fit, i, shape, load, title=f"{Path(f).name}: {what}psi_a = "
-                                f"{lp.psi_a:.4g} mrad")
-            path = plot_dir / f"loop_{i + 1}_{Path(f).stem}.png"
-            C.save_figure(fig, path, dpi=110)
-            plt.close(fig)
-            lines.append(f"wrote {path}")
-        rows = ["parameter,value,std_err,lo_95,hi_95,identifiable,why"]
-        for i, n in enumerate(names):
-            rows.append(",".join([n, _fmt(fit.value[i], 10), _fmt(fit.se[i], 6), _fmt(fit.lo[i], 10),
-                                  _fmt(fit.hi[i], 10), str(bool(fit.identifiable[i])).lower(),
-                                  '"' + fit.why[i].replace('"', "'") + '"']))
-        C.write_text(plot_dir / "parameters.csv", "\n".join(rows) + "\n")
-        lines.append(f"wrote {plot_dir / 'parameters.csv'}")
-    if out is not None:
-        C.write_text(out, C.dumps(doc) + "\n")
-        lines.append(f"wrote {out}")
-    C.emit(args, doc, "\n".join(lines))
-    return 0
+
+def _write_plots(args, fit, shape, load, plot_dir) -> list:
+    """--plot: a figure per loop and parameters.csv; the lines that say so."""
+    from ..fit import ContactLoop
+    from ..plotting.fit import plot_loop_fit
+    import matplotlib.pyplot as plt
+
+    lines, names = [], fit.names
+    for i, f in enumerate(args.files):
+        lp = fit.loops[i]
+        what = (f"{CONTACT_NAMES[lp.contact]} {lp.component}, " if isinstance(lp, ContactLoop) else "")
+        fig = plot_loop_fit(fit, i, shape, load, title=f"{Path(f).name}: {what}psi_a = "
+                            f"{lp.psi_a:.4g} mrad")
+        path = plot_dir / f"loop_{i + 1}_{Path(f).stem}.png"
+        C.save_figure(fig, path, dpi=110)
+        plt.close(fig)
+        lines.append(f"wrote {path}")
+    rows = ["parameter,value,std_err,lo_95,hi_95,identifiable,why"]
+    for i, n in enumerate(names):
+        rows.append(",".join([n, _fmt(fit.value[i], 10), _fmt(fit.se[i], 6), _fmt(fit.lo[i], 10),
+                              _fmt(fit.hi[i], 10), str(bool(fit.identifiable[i])).lower(),
+                              '"' + fit.why[i].replace('"', "'") + '"']))
+    C.write_text(plot_dir / "parameters.csv", "\n".join(rows) + "\n")
+    lines.append(f"wrote {plot_dir / 'parameters.csv'}")
+    return lines
 
 
 __all__ = ["MOMENT_COLUMNS", "CONTACT_COLUMNS", "CONTACT_NAMES", "COMPONENTS", "register",
-           "read_loop", "run"]
+           "read_loop", "read_loops", "run"]

@@ -9,13 +9,15 @@ neither traces nor compiles them.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._validate import check_positive
-from ..response import (BladeMode, curves_program, designer_diagram, peak_band, prepare_scene,
-                        validate_mode)
+from ..params import check_param
+from ..response import (BladeMode, curves_program, designer_diagram, peak_band_kernel,
+                        prepare_scene)
 from ..status import RESULTS
 from . import common as C
 from . import exported
@@ -63,7 +65,7 @@ def register(sub) -> None:
 
 def _forces(text):
     vals = list(C.float_list(str(text), "--force-n"))
-    check_positive("force_n", vals, unit="N")
+    check_param("force_n", vals)
     return vals
 
 
@@ -120,21 +122,30 @@ def _diagram_json(dd):
         "stuck_frequency_hz": [_num(v) for v in dd.stuck_frequency_hz]}
 
 
-def run(args) -> int:
-    # Every check before any work, once: the compiled programs take the prepared inputs.
-    shape = C.shape_from_args(args)
+class Computed(NamedTuple):
+    """What `compute` returns: the curves (host numbers), the band's (highest, lowest) peaks or
+    None, and the designer's diagram or None."""
+
+    curves: object
+    band: tuple | None
+    diagram: object
+
+
+def prepare(args):
+    """Every check before any work, once: (the Scene, the forces, the shape, contacts and load as
+    the flags give them, for the echo). The library checks each input once (`prepare_scene`); the
+    compiled programs take the Scene as it is."""
+    shape = C.shape_from_args(args, check=False)
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
-    validate_mode(mode)
-    contacts, load = C.contacts_from_args(args), C.load_from_args(args)
+    contacts, load = C.contacts_from_args(args, check=False), C.load_from_args(args, check=False)
     scene = prepare_scene(shape, args.mu, contacts, load, mode)
-    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
-    options = {"initial": args.initial} if args.stiffness == "exact" else {}
-    if args.uncertainty:  # the Monte Carlo peak distribution instead of one design's peaks
-        return uncertainty_report(args, shape, forces, mode, contacts, load)
+    return scene, forces, shape, contacts, load
 
-    stages = 1 + bool(args.band) + bool(args.diagram)
-    bar = C.progress_bar(args, total=stages, desc="peaks and FRFs", unit="stage")
+
+def compute(args, scene, forces, bar) -> Computed:
+    """The curves, and with --band and --diagram the band and the diagram, on the Scene."""
+    options = {"initial": args.initial} if args.stiffness == "exact" else {}
     options_key = tuple(sorted(options.items()))
     variant = repr((args.stiffness, options_key))
     res = exported.call("response_curves", curves_program(args.stiffness, options_key),
@@ -142,7 +153,27 @@ def run(args) -> int:
     # Numbers on the host once: indexing device arrays below would compile a small program each.
     res = jax.device_get(res)
     bar.update(1)
-    peaks = [_peak_entry(f, res.peaks, i) for i, f in enumerate(forces)]
+    band = None
+    if args.band:
+        bar.set_description("band over histories")
+        highest, lowest, _, _ = peak_band_kernel(
+            scene, jnp.asarray(forces), runner=lambda prog, a: exported.call("band_grid", prog, a))
+        band = (highest, lowest)
+        bar.update(1)
+    dd = None
+    if args.diagram and RESULTS.valid(res.status):
+        bar.set_description("designer's diagram")
+        # 21 levels per decade-spanning sweep: enough for a readable diagram at half the cost.
+        dd = designer_diagram(scene, force_at_fd_n=float(np.median(forces)),
+                              force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
+                                  float(args.fd) / 30.0, float(args.fd) * 30.0, 21),
+                              method=args.stiffness, runner=lambda prog, a: exported.call(
+                                  "designer_diagram", prog, a, variant), **options)
+        bar.update(1)
+    return Computed(res, band, dd)
+
+
+def _frf_json(res, forces, peaks):
     frf_json = {"forces": []}
     for i, force in enumerate(forces):
         valid = bool(RESULTS.valid(res.peaks.status[i]))
@@ -153,31 +184,18 @@ def run(args) -> int:
             "free": _branches(res.free, i), "stuck": _branches(res.stuck, i),
             "free_peak_amplitude_mm": _num(free_top),
             "peak_reduction": (_num(free_top / damped_top) if valid and damped_top else None)})
+    return frf_json
 
-    if args.band:
-        bar.set_description("band over histories")
-        highest, lowest, _, _ = peak_band(
-            shape, args.mu, contacts, load, mode, jnp.asarray(forces),
-            runner=lambda prog, a: exported.call("band_grid", prog, a))
-        for i, p in enumerate(peaks):
-            ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
-            p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
-                         "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
-        bar.update(1)
 
-    dd = None
-    if args.diagram and RESULTS.valid(res.status):
-        bar.set_description("designer's diagram")
-        # 21 levels per decade-spanning sweep: enough for a readable diagram at half the cost.
-        dd = designer_diagram(shape, mode, contacts, load, force_at_fd_n=float(np.median(forces)),
-                              force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
-                                  float(load.F_D) / 30.0, float(load.F_D) * 30.0, 21),
-                              method=args.stiffness, runner=lambda prog, a: exported.call(
-                                  "designer_diagram", prog, a, variant), **options)
-        bar.update(1)
-    bar.close()
+def _band_json(peaks, band) -> None:
+    highest, lowest = band
+    for i, p in enumerate(peaks):
+        ok = bool(RESULTS.valid(highest.status[i])) and bool(RESULTS.valid(lowest.status[i]))
+        p["band"] = {"peak_amplitude_min_mm": _num(lowest.peak_amplitude_mm[i]) if ok else None,
+                     "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
 
-    worst = max((RESULTS[p["status"]] for p in peaks), default=RESULTS.ok)
+
+def _inputs_json(args, shape, forces) -> dict:
     inputs = {"shape": shape._asdict(), "mu": args.mu, "kn": args.kn, "kt": args.kt,
               "fd": args.fd, "q": args.q, "r_sin_beta": args.r_sin_beta,
               "f0_hz": args.f0_hz, "modal_stiffness_n_per_mm": args.modal_stiffness_n_per_mm,
@@ -186,28 +204,47 @@ def run(args) -> int:
               "diagram": bool(args.diagram),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
+    return inputs
+
+
+def to_json(args, out: Computed, forces, shape, contacts, load) -> dict:
+    """The JSON document of a run (its "peaks" and "frf" are what `to_text` prints)."""
+    res = out.curves
+    peaks = [_peak_entry(f, res.peaks, i) for i, f in enumerate(forces)]
+    frf_json = _frf_json(res, forces, peaks)
+    if out.band is not None:
+        _band_json(peaks, out.band)
+    worst = max((RESULTS[p["status"]] for p in peaks), default=RESULTS.ok)
     status = RESULTS(int(worst)).name
-    doc = C.document(status, {
-        "inputs": inputs, "damper_status": RESULTS.name_of(res.status), "peaks": peaks,
-        "frf": frf_json, "designer_diagram": None if dd is None else _diagram_json(dd)},
+    dd = out.diagram
+    return C.document(status, {
+        "inputs": _inputs_json(args, shape, forces), "damper_status": RESULTS.name_of(res.status),
+        "peaks": peaks, "frf": frf_json,
+        "designer_diagram": None if dd is None else _diagram_json(dd)},
         reason=C.status_reason(status, contacts, load))
 
-    if args.plot:
-        from ..plotting.response import designer_diagram_figure, response_figure
 
-        plot_dir.mkdir(parents=True, exist_ok=True)
-        fig = response_figure(res, forces)
-        C.save_figure(fig, plot_dir / "frf.png", dpi=120)
-        if dd is not None:
-            fig = designer_diagram_figure(dd)
-            C.save_figure(fig, plot_dir / "designer_diagram.png", dpi=120)
+def write_plots(args, plot_dir, out: Computed, forces) -> None:
+    """--plot: frf.png, and designer_diagram.png where the diagram was drawn."""
+    from ..plotting.response import designer_diagram_figure, response_figure
 
+    plot_dir.mkdir(parents=True, exist_ok=True)
+    fig = response_figure(out.curves, forces)
+    C.save_figure(fig, plot_dir / "frf.png", dpi=120)
+    if out.diagram is not None:
+        fig = designer_diagram_figure(out.diagram)
+        C.save_figure(fig, plot_dir / "designer_diagram.png", dpi=120)
+
+
+def to_text(args, doc: dict) -> str:
+    """The text report of a run's document."""
+    peaks, frf_json = doc["peaks"], doc["frf"]
     lines = [f"Blade response, mu = {args.mu:g}, F_D = {args.fd:g} N; f0 = {args.f0_hz:g} Hz, "
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "
              f"r = {args.psi_per_mm:g} mrad/mm",
              f"  damper stiffness: {args.stiffness}"
              + (f" (history: {args.initial})" if args.stiffness == "exact" else "")
-             + f", status {RESULTS.name_of(res.status)}",
+             + f", status {doc['damper_status']}",
              f"  {'F, N':>8} {'A*, mm':>11} {'f*, Hz':>10} {'psi_a, mrad':>12} "
              f"{'A*_free/A*':>11}  status"]
     for p, e in zip(peaks, frf_json["forces"]):
@@ -228,8 +265,25 @@ def run(args) -> int:
                                                      and hi is not None else "- (no valid band)"))
     if args.plot:
         lines.append(f"  figures written to {args.plot}")
-    C.emit(args, doc, "\n".join(lines))
+    return "\n".join(lines)
+
+
+def run(args) -> int:
+    scene, forces, shape, contacts, load = prepare(args)
+    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
+    if args.uncertainty:  # the Monte Carlo peak distribution instead of one design's peaks
+        return uncertainty_report(args, scene, forces)
+
+    stages = 1 + bool(args.band) + bool(args.diagram)
+    bar = C.progress_bar(args, total=stages, desc="peaks and FRFs", unit="stage")
+    out = compute(args, scene, forces, bar)
+    bar.close()
+    doc = to_json(args, out, forces, shape, contacts, load)
+    if args.plot:
+        write_plots(args, plot_dir, out, forces)
+    C.emit(args, doc, to_text(args, doc))
     return 0
 
 
-__all__ = ["STIFFNESS_NOTE", "register", "FORCE_BUCKET", "run"]
+__all__ = ["STIFFNESS_NOTE", "register", "FORCE_BUCKET", "Computed", "prepare", "compute",
+           "to_json", "write_plots", "to_text", "run"]

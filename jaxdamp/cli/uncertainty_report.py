@@ -37,8 +37,9 @@ def _mu_range(text):
     return lo, hi
 
 
-def report(args, shape, forces, mode, contacts, load) -> int:
-    """Check the flags, sample, print or emit the document; exit code."""
+def report(args, scene, forces) -> int:
+    """Check the flags, sample around the Scene (`response.prepare_scene`: checked already, and not
+    again), print or emit the document; exit code."""
     import jax
     import numpy as np
 
@@ -60,11 +61,12 @@ def report(args, shape, forces, mode, contacts, load) -> int:
         for k, v in flag.items():
             msg = msg.replace(k, v, 1) if msg.startswith(k) else msg
         raise C.CliError(msg) from None
-    scen = sample_scenarios(jax.random.PRNGKey(args.seed), args.samples, u, contacts, load)
+    scen = sample_scenarios(jax.random.PRNGKey(args.seed), args.samples, u, scene.contacts,
+                            scene.load)
     history = "gross_slip" if args.initial == "gross_slip" else "assembly"
     bar = C.progress_bar(args, desc="samples", unit="chunk")
     try:
-        d = peak_distribution(shape, scen, mode, np.asarray(forces), load, history=history,
+        d = peak_distribution(scene, scen, force_n=np.asarray(forces), history=history,
                               levels=(0.05, 0.5, 0.95), limit_mm_per_n=limit,
                               progress=lambda k: bar.update(1))
     finally:

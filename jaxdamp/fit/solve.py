@@ -17,7 +17,8 @@ import numpy as np
 from .._validate import check_range, require_x64
 from ..amplitude import INITIAL_STATES, amplitude_kernel
 from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
-from ..params import Contacts, LoadCase, validate_load
+from ..params import VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_param, validate_load
+from ..response.scene import Scene
 from ..status import RESULTS, number_repr, status_repr
 from .loops import COMPONENTS, ContactLoop, MomentLoop, analyse_loop
 from .model import contact_loop_force, loop_model_moment
@@ -319,17 +320,23 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
                 names=None) -> FitProblem:
     """The checked, analysed and stacked problem that `fit_loops` solves (same arguments)."""
     require_x64()
-    validate_shape(shape)
-    validate_load(load)
+    if isinstance(shape, Scene):  # checked already (`prepare_scene`): its shape and load
+        shape, load = shape.shape, shape.load
+    else:
+        validate_shape(shape)
+        validate_load(load)
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
     for key, g in (("mu", mu), ("kn", kn), ("kt", kt)):
         if g not in GROUPINGS[key]:
             raise ValueError(f"{key} grouping must be one of {', '.join(GROUPINGS[key])}; got {g!r}")
     st = dict(DEFAULT_START, **(start or {}))
-    check_range("mu", st["mu"], 0.0, 5.0, lo_open=True)
-    check_range("kn", st["kn"], 0.0, 1e12, lo_open=True, unit="N/mm")
-    check_range("kt", st["kt"], 0.0, 1e12, lo_open=True, unit="N/mm")
+    # the start: mu in its range (params.RANGES), kn and kt inside the validated stiffness range
+    # (at most VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] F_D per mm: above it no cycle is trustworthy)
+    check_param("mu", st["mu"], "start_mu")
+    k_hi = VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] * float(np.max(np.asarray(load.F_D, float)))
+    check_range("start_kn", st["kn"], 0.0, k_hi, lo_open=True, unit="N/mm")
+    check_range("start_kt", st["kt"], 0.0, k_hi, lo_open=True, unit="N/mm")
     loops = list(loops)
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
@@ -372,10 +379,12 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
 
     loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
-    sampling) or of MomentLoop; shape: the damper's DamperShape; load: F_D, q*, r sin(beta) of the
-    test. initial: the history of the model's steady cycle, "gross_slip" or "assembly". mu: "shared"
-    or "contact"; kn, kt: "shared", "side" (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"}
-    (numbers; default DEFAULT_START, a generic guess). robust: a second, pseudo-Huber stage.
+    sampling) or of MomentLoop; shape: the damper's DamperShape, or a Scene
+    (`response.prepare_scene`, checked already: its shape and load are used, unchecked, and load=
+    is not); load: F_D, q*, r sin(beta) of the test. initial: the history of the model's steady
+    cycle, "gross_slip" or "assembly". mu: "shared" or "contact"; kn, kt: "shared", "side"
+    (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"} (numbers; default DEFAULT_START, a
+    generic guess). robust: a second, pseudo-Huber stage.
     callback(stage, step, loss): called as the solver goes (from the compiled solve).
 
     Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which

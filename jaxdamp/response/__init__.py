@@ -27,6 +27,7 @@ spring), `frf` (closed-form FRFs), `peaks` (the peak response and its compiled p
 """
 
 from .scene import BladeMode as BladeMode
+from .scene import Scene as Scene
 from .scene import prepare_scene as prepare_scene
 from .scene import validate_mode as validate_mode
 from .stiffness import DamperStiffness as DamperStiffness
@@ -53,16 +54,17 @@ from .peaks import peak_residual as peak_residual
 from .peaks import peak_response as peak_response
 from .peaks import response_curves as response_curves
 from .peak_band import peak_band as peak_band
+from .peak_band import peak_band_kernel as peak_band_kernel
 from .diagram import DIAGRAM_MUS as DIAGRAM_MUS
 from .diagram import DesignerDiagram as DesignerDiagram
 from .diagram import designer_diagram as designer_diagram
 from .diagram import diagram_program as diagram_program
 
-__all__ = ["BladeMode", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
+__all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
            "no_damper", "frf", "frf_amplitude_grid", "response_amplitude_linear", "peak_residual",
            "peak_frequency_hz",
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
            "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
-           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band",
+           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band", "peak_band_kernel",
            "tabulated_stiffness"]

@@ -10,11 +10,11 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..params import LoadCase, validate_mu
+from ..params import validate_mu
 from ..runtime import batch_jit
 from ..status import number_repr, status_repr
 from .peaks import peak_frequency_hz, peak_response
-from .scene import BladeMode, prepare_scene
+from .scene import BladeMode, Scene, prepare_scene
 from .stiffness import damper_stiffness_kernel, scaled_stiffness, stuck_damper
 
 __all__ = ["DesignerDiagram", "DIAGRAM_MUS", "designer_diagram", "diagram_program"]
@@ -54,7 +54,7 @@ class DesignerDiagram(NamedTuple):
 DIAGRAM_MUS = (0.3, 0.4, 0.5, 0.6, 0.7)
 
 
-def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=None, *,
+def designer_diagram(shape, mode: BladeMode | None = None, contacts=None, load=None, *,
                      force_n=None, fd_n=None, force_at_fd_n=None, mu=DIAGRAM_MUS,
                      method: str = "exact", runner=None, **options) -> DesignerDiagram:
     """The designer's diagram of one shape: peak A* against F (log-log) and against F_D at fixed
@@ -63,19 +63,26 @@ def designer_diagram(shape, mode: BladeMode = BladeMode(), contacts=None, load=N
     The F_D sweep uses `scaled_stiffness`: one damper curve per mu for every F_D. One compiled
     program (`diagram_program`), vmapped over mu; runner(program, args) -> outputs runs it
     (default program(*args); the CLI passes one that reuses a saved export of the program).
+
+    shape may be a Scene (`prepare_scene`, checked already: mode, contacts and load are then its
+    own, and its mu is not used: the diagram runs over `mu`). The friction range mu is checked
+    unless it is DIAGRAM_MUS.
     """
-    load = LoadCase() if load is None else load
+    mus = np.asarray(mu, float)
+    if isinstance(shape, Scene):
+        scene = prepare_scene(shape, None, contacts, load, mode)
+        if mu is not DIAGRAM_MUS:
+            validate_mu(mus)
+    else:
+        scene = prepare_scene(shape, float(mus[0]), contacts, load, mode)
+        for m in mus[1:]:
+            validate_mu(float(m))
+    shape, _, contacts, load, mode = scene
     fd0 = float(load.F_D)
     force = np.asarray(np.geomspace(0.05, 100.0, 41) if force_n is None else force_n, float)
     fds = np.asarray(np.geomspace(fd0 / 30.0, fd0 * 30.0, 41) if fd_n is None else fd_n, float)
     f_fd = float(np.median(force) if force_at_fd_n is None else force_at_fd_n)
-    mus = np.asarray(mu, float)
-
-    scene = prepare_scene(shape, mus[0], contacts, load, mode)
-    for m in mus[1:]:
-        validate_mu(float(m))
     program = diagram_program(method, tuple(sorted(options.items())))
-    shape, _, contacts, load, mode = scene
     args = (shape, jnp.asarray(mus), contacts, load, mode, jnp.asarray(force), jnp.asarray(fds),
             jnp.asarray(fd0), jnp.asarray(f_fd))
     outs = program(*args) if runner is None else runner(program, args)

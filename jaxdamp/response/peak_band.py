@@ -7,17 +7,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..band import amplitude_bands
+from ..band import amplitude_bands_kernel
+from ..params import check_param
 from ..runtime import batch_jit
 from ..status import RESULTS
 from .peaks import peak_response
-from .scene import BladeMode, prepare_scene
+from .scene import BladeMode, Scene, prepare_scene
 from .stiffness import DamperStiffness, interpolated_damper, tabulated_stiffness
 
-__all__ = ["peak_band"]
+__all__ = ["peak_band", "peak_band_kernel"]
 
 
-def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
+def peak_band(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None, force_n=1.0,
               psi_grid_mrad=None, n_samples: int = 64, steps: int = 6, runner=None):
     """Bounds of the peak amplitude A* (mm) over every admissible contact history.
 
@@ -28,16 +29,25 @@ def peak_band(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()
     0.05 psi_BC to 3 psi_BC, one batched program: `band.amplitude_bands`; runner as there) and
     interpolated linearly between them. Returns (Peaks with the band's
     lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
-    bound curves)."""
-    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    bound curves). shape may be a Scene (`prepare_scene`), checked already."""
+    scene = prepare_scene(shape, mu, contacts, load, mode)
+    force = check_param("force_n", jnp.asarray(force_n, float))
+    return peak_band_kernel(scene, force, psi_grid_mrad, n_samples, steps, runner)
+
+
+def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int = 64,
+                     steps: int = 6, runner=None):
+    """`peak_band` of a Scene (`prepare_scene`) at forces checked already: neither is checked
+    here (the amplitude grid and the counts are)."""
+    shape, mu, contacts, load, mode = scene
     base = interpolated_damper(shape, mu, contacts, load)
     if psi_grid_mrad is None:
         psi_ref = float(base.psi_ref_mrad)
         psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
     grid = np.asarray(psi_grid_mrad, float)
     # every amplitude's band in one batched program (sampling plus the trust-region refinement)
-    bands = amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples, steps=steps,
-                            runner=runner)
+    bands = amplitude_bands_kernel(shape, mu, contacts, load, grid, n_samples=n_samples,
+                                   steps=steps, runner=runner)
     # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
     k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).

@@ -13,9 +13,9 @@ import numpy as np
 
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
-from .._validate import check_positive
+from ..params import check_param
 from .frf import FRF, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
-from .scene import BladeMode, prepare_scene, validate_mode
+from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import DamperStiffness, damper_stiffness_kernel, is_traced
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
@@ -147,7 +147,12 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     method's point): SHARED_GRID_FACTOR * n_grid points from GRID_DECADES below the smallest
     force's bound to the largest's, as fine as one force's grid for forces within 10^3.5 of each
     other (coarser beyond). The damper curve is evaluated once on it instead of once per force.
+
+    mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
+    (`prepare_scene`: its mode, checked already).
     """
+    checked = isinstance(mode, Scene)
+    mode = mode.mode if checked else mode
     f = jnp.asarray(force_n, float)
     if f.ndim > 1:
         raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
@@ -156,7 +161,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         # A curve that `damper_stiffness` built from concrete inputs, called from plain Python:
         # the compiled peak program of its method (the same function, jitted), not op by op.
         src = damper.source
-        mode = BladeMode(*(jnp.asarray(v, float) for v in validate_mode(mode)))
+        if not checked:
+            mode = BladeMode(*(jnp.asarray(v, float) for v in validate_mode(mode)))
         return peak_program(src.method, src.options)(*src.design, mode, f)
     forces = f.reshape(-1)
     damped = mode.eta * mode.k_b > 0
@@ -258,22 +264,23 @@ def curves_program(method: str, options: tuple = ()):
     return batch_jit(run)
 
 
-def response_curves(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(),
+def response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None,
                     force_n=(1.0,), method: str = "exact", **options) -> ResponseCurves:
     """Peaks and FRFs (damper, free, stuck) of one design at the forces force_n (N, 1-D): inputs
-    checked once here, then one compiled program (`curves_program`)."""
-    shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
+    checked once here (shape may be a Scene, checked already: `prepare_scene`), then one compiled
+    program (`curves_program`)."""
+    scene = prepare_scene(shape, mu, contacts, load, mode)
     forces = jnp.asarray(force_n, float).reshape(-1)
-    check_positive("force_n", np.asarray(forces), unit="N")
-    return curves_program(method, tuple(sorted(options.items())))(shape, mu, contacts, load, mode,
-                                                                  forces)
+    check_param("force_n", np.asarray(forces))
+    return curves_program(method, tuple(sorted(options.items())))(*scene, forces)
 
 
-def design_peaks(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=1.0,
-                 method: str = "exact", **options) -> Peaks:
-    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it)."""
+def design_peaks(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None,
+                 force_n=1.0, method: str = "exact", **options) -> Peaks:
+    """`peak_response` of one design, compiled (force_n may be an array: vmapped over it; shape
+    may be a Scene, checked already: `prepare_scene`)."""
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
-    force = jnp.asarray(force_n, float)
+    force = check_param("force_n", jnp.asarray(force_n, float))
     run = peak_program(method, tuple(sorted(options.items())))
     if force.ndim == 0:
         return run(shape, mu, contacts, load, mode, force)

@@ -8,10 +8,10 @@ from typing import NamedTuple
 
 import jax.numpy as jnp
 
-from .._validate import check_positive, check_range
-from ..params import Contacts, LoadCase, prepare_inputs
+from ..geometry import DamperShape
+from ..params import Contacts, LoadCase, check_param, prepare_inputs
 
-__all__ = ["BladeMode", "validate_mode", "prepare_scene"]
+__all__ = ["BladeMode", "Scene", "validate_mode", "prepare_scene"]
 
 
 class BladeMode(NamedTuple):
@@ -41,20 +41,42 @@ class BladeMode(NamedTuple):
 
 
 def validate_mode(mode: BladeMode) -> BladeMode:
-    """ValueError naming the parameter and its range (concrete values only)."""
-    check_positive("f0_hz", mode.f0_hz, unit="Hz")
-    check_positive("k_b", mode.k_b, unit="N/mm")
-    check_range("eta", mode.eta, 0.0, 1.0)
-    check_range("r", mode.r, 0.0, 1e6, lo_open=True, unit="mrad/mm")
+    """ValueError naming the parameter and its range (concrete values only; `params.RANGES`)."""
+    for name in BladeMode._fields:
+        check_param(name, getattr(mode, name))
     return mode
 
 
+class Scene(NamedTuple):
+    """One design and blade mode, checked once and converted to float64 arrays (kn, kt per
+    contact): what `prepare_scene` returns. `peak_band`, `designer_diagram`, `response_curves`,
+    `design_peaks`, `uncertainty.peak_distribution` and `fit.fit_loops` take it in place of their
+    shape argument and check it no more; `peak_response` takes its mode. A pytree (unpack it into
+    the compiled programs: `program(*scene, forces)`). Build it with `prepare_scene`: a Scene made
+    by hand is taken as checked."""
 
-def prepare_scene(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode()):
-    """Validated design (`params.prepare_inputs`) and blade mode (`validate_mode`) as float arrays:
-    what every compiled response, HBM and time-integration entry point takes."""
+    shape: DamperShape
+    mu: jnp.ndarray
+    contacts: Contacts
+    load: LoadCase
+    mode: BladeMode
+
+
+def prepare_scene(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None) -> Scene:
+    """The Scene of a design (`params.prepare_inputs`) and blade mode (`validate_mode`): every
+    input checked once here (ValueError naming the parameter and its range), as float arrays; what
+    every compiled response, HBM and time-integration entry point takes. A Scene given as shape
+    (with nothing else) is returned as it is. mode: default BladeMode()."""
+    if isinstance(shape, Scene):
+        if mu is not None or contacts is not None or load is not None or mode is not None:
+            raise ValueError("give a Scene alone, or shape, mu, contacts, load and mode; not both")
+        return shape
+    if mu is None:
+        raise ValueError("mu is required (the friction coefficient, in (0, 5]) unless shape is a "
+                         "Scene")
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
+    mode = BladeMode() if mode is None else mode
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     validate_mode(mode)
-    return shape, mu, contacts, load, BladeMode(*(jnp.asarray(v, float) for v in mode))
+    return Scene(shape, mu, contacts, load, BladeMode(*(jnp.asarray(v, float) for v in mode)))
