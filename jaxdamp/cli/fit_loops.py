@@ -364,7 +364,7 @@ def _text(args, fit, groups, loops, notes, loop_rows, sigma_unit) -> list:
     lines.append("  units: mu -, kn and kt N/mm, offsets N mm for moment loops and N for per-contact loops "
                  "(offset_i: loop i's force offset)")
     lines.append(f"  residual sd {_fmt(fit.sigma, 3)} {sigma_unit}; LM steps {fit.steps}; "
-                 f"status {status}")
+                 f"status {RESULTS.name_of(fit.status)}")
     for row in loop_rows:
         if row["kind"] == "contact":
             lines.append(f"  {row['file']}: {row['contact']} {row['component']} at psi_a "
