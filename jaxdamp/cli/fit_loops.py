@@ -351,6 +351,8 @@ def _document(args, fit, shape, load, start, groups):
 
 def _text(args, fit, groups, loops, notes, loop_rows, sigma_unit) -> list:
     """The text report's lines."""
+    from ..status import RESULTS
+
     names = fit.names
     lines = [f"Contact parameters from {len(loops)} loop{'s' if len(loops) != 1 else ''} "
              f"({args.history} history; mu {groups['mu']}, kn {groups['kn']}, kt {groups['kt']})",
