@@ -76,7 +76,9 @@ class Band(NamedTuple):
 
 
 def admissible_polytope(shape: DamperShape, mu):
-    """(P, n0, G, h): N = P T + n0 and the constraints G T + h >= 0 (9,), for T (3,)."""
+    """(P, n0, G, h): N = P T + n0 and the constraints G T + h >= 0 (9,), for T (3,).
+    Unchecked, traceable (jit, vmap, grad): the band kernel's building block (`amplitude_band`
+    checks its inputs)."""
     a, c, _ = contact_columns(shape)
     mu = jnp.asarray(mu, float)
     # A^T N = C^T T + e_y  ->  N = A^-T C^T T + A^-T e_y (A^T is invertible for a real damper).
@@ -91,7 +93,8 @@ def admissible_polytope(shape: DamperShape, mu):
 
 def polytope_vertices(G, h, tol=1e-12):
     """Vertices (84, 3) of {T: G T + h >= 0} from every triple of active constraints, and a mask of
-    the feasible, non-degenerate ones."""
+    the feasible, non-degenerate ones. Unchecked, traceable (jit, vmap, grad): G, h as
+    `admissible_polytope` returns them."""
     G, h = jnp.asarray(G, float), jnp.asarray(h, float)
 
     def one(idx):

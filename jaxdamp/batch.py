@@ -317,7 +317,10 @@ def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase
                 devices=None, chunk_size: int | None = None) -> BaseCycle:
     """Base-Cycles of a batch of designs (a batched Design, or shapes/mu/contacts/load whose leaves
     have a leading batch axis or are shared scalars). The same numbers as calling `base_cycle`
-    design by design; numpy leaves."""
+    design by design; numpy leaves. Float64Required in float32; shapes/mu/contacts/load are
+    checked by `stack_designs`, and a batched Design given is taken as checked (stack_designs made
+    it)."""
+    require_x64()
     designs = shapes if isinstance(shapes, Design) else stack_designs(shapes, mu, contacts, load)
     chunk = values_chunk(devices) if chunk_size is None else chunk_size
     return two_stage(_cycle_one_pair, _cycle_full, designs, unfinished=_not_closed,
@@ -415,7 +418,9 @@ def _centring(theta_l, theta_r, bl2_over_hl, mu_max):
 
 
 def centred_br(theta_l, theta_r, mu_max=0.7, bl2_over_hl=0.8):
-    """The paper's centring rule (jaxdamp.design_br) for arrays of angles: (br, found, inside)."""
+    """The paper's centring rule (jaxdamp.design_br) for arrays of angles: (br, found, inside).
+    Checked (ValueError naming the parameter and its range; Float64Required in float32)."""
+    require_x64()
     tl, tr = np.broadcast_arrays(np.asarray(theta_l, float), np.asarray(theta_r, float))
     validate_shape(DamperShape(tl, tr, 0.0, bl2_over_hl))
     validate_mu(mu_max, "mu_max")
@@ -428,7 +433,9 @@ def check_sweep_inputs(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=Non
                        bl2_over_hl=0.8, contacts: Contacts = Contacts(),
                        load: LoadCase = LoadCase()):
     """Validate a sweep's inputs without computing anything (ValueError naming the parameter and
-    its range); returns (theta_l, theta_r, mu) as 1-D float arrays. `sweep` calls it first."""
+    its range; Float64Required in float32); returns (theta_l, theta_r, mu) as 1-D float arrays.
+    `sweep` calls it first."""
+    require_x64()
     try:
         tl, tr, mus = (np.atleast_1d(np.asarray(v, float)) for v in (theta_l, theta_r, mu))
     except (TypeError, ValueError):

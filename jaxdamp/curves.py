@@ -11,7 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_range, is_concrete
+from ._validate import check_range, is_concrete, require_x64
 from .amplitude import INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, amplitude_kernel
 from .conventions import warn_small_rotation
 from .cycle import base_cycle_kernel
@@ -121,8 +121,10 @@ def padded_index(index: np.ndarray) -> np.ndarray:
 
 def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stacklevel=4):
     """A batch of curves checked (ValueError naming the parameter and its range; the
-    small-rotation warning) and broadcast: (the designs (shapes, mu, contacts, load) with a leading
-    axis of the batch's size, numpy, and the amplitudes (designs, amplitudes))."""
+    small-rotation warning; Float64Required in float32) and broadcast: (the designs (shapes, mu,
+    contacts, load) with a leading axis of the batch's size, numpy, and the amplitudes (designs,
+    amplitudes))."""
+    require_x64()
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
     validate_shape(shapes)

@@ -35,7 +35,8 @@ class CycleEnergy(NamedTuple):
 @jax.jit
 def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     """Energy dissipated per cycle (N mm) at each contact and by the platform moment, at amplitude
-    psi_a >= psi_BC (default: the Base-Cycle)."""
+    psi_a >= psi_BC (default: the Base-Cycle; a smaller psi_a is read as psi_BC).
+    Unchecked, traceable (jit, vmap, grad): takes a BaseCycle (checked when it was made)."""
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else jnp.maximum(
         psi_a_mrad, base_cycle_amplitude(bc))
     total = 2.0 * travel_mm(psi, bc.load.q_star)
@@ -47,7 +48,8 @@ def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
 def work_shape_factors(bc: BaseCycle) -> WorkShapeFactors:
     """Work shape factors of the Base-Cycle, from its own gross-slip end states (see
     `WorkShapeFactors`: equal to `full_slip_work_shape_factors` when gross slip is full slip; they
-    differ for frozen mechanisms such as 90L)."""
+    differ for frozen mechanisms such as 90L). Unchecked, traceable (jit, vmap, grad): takes a
+    BaseCycle (checked when it was made)."""
     f, b = bc.forward, bc.backward
     # Energy per mm of relative travel in the two gross-slip states, times 2 for the per-platform dv.
     w = -2.0 * (f.T_end * f.gross_dslip + b.T_end * b.gross_dslip)

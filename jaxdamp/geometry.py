@@ -83,7 +83,9 @@ class SectionGeometry(NamedTuple):
 
 
 def section_geometry(shape: DamperShape) -> SectionGeometry:
-    """Pads, reference points, normals and tangents; differentiable, valid at vertical flanks."""
+    """Pads, reference points, normals and tangents; differentiable, valid at vertical flanks.
+    Unchecked, traceable (jit, vmap, grad): a building block of the kernels (the entry points, e.g.
+    `base_cycle`, check the shape)."""
     tl = jnp.deg2rad(jnp.asarray(shape.theta_l, dtype=float))
     tr = jnp.deg2rad(jnp.asarray(shape.theta_r, dtype=float))
     sl, cl, sr, cr = jnp.sin(tl), jnp.cos(tl), jnp.sin(tr), jnp.cos(tr)
@@ -129,7 +131,8 @@ def full_slip_slide_rates(shape: DamperShape) -> jnp.ndarray:
 
 def platform_moment(shape: DamperShape, load, N, T):
     """Platform moment M_P (N mm) of contact forces N, T (units of F_D, last axis = contact) for a
-    shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta))."""
+    shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta)).
+    Unchecked, traceable (jit, vmap, grad): a building block of the kernels."""
     geo = section_geometry(shape)
     fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
                                  load.r_sin_beta)

@@ -172,7 +172,9 @@ def _interpolated_stiffness(bc: BaseCycle, psi_a_mrad):
 
 @jax.jit
 def cycle_work(bc: BaseCycle, psi_a_mrad=None):
-    """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle)."""
+    """oint M dpsi (N mm) of the (stretched) cycle at psi_a (default: the Base-Cycle).
+    Unchecked, traceable (jit, vmap, grad): takes a BaseCycle (checked when it was made); psi_a
+    (>= psi_BC) is not checked."""
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else psi_a_mrad
     return gross_slip_stiffness(bc, psi)[2]
 

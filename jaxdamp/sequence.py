@@ -111,7 +111,7 @@ class StiffnessCurve(NamedTuple):
 
 def curve_at(curve: StiffnessCurve, psi_a) -> CurvePoint:
     """`StiffnessCurve.at` of a batch of curves (leading design axis) at psi_a: (amplitudes,)
-    shared or (designs, amplitudes)."""
+    shared or (designs, amplitudes). Unchecked, traceable: takes a `stiffness_curve` curve."""
     psi = jnp.asarray(psi_a, float)
     n = curve.start.shape[0]
     psi = jnp.broadcast_to(psi, (n,) + psi.shape[-1:])

@@ -48,7 +48,8 @@ def contact_columns(shape: DamperShape):
 
 
 def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
-    """Statics with every contact at its friction limit T_i = s_i mu N_i (pure function, jit-able)."""
+    """Statics with every contact at its friction limit T_i = s_i mu N_i.
+    Unchecked, traceable (jit, vmap, grad); the checked form is `full_slip_statics`."""
     a, c, _ = contact_columns(shape)
     # Force on the damper per unit N: -n_i + s_i mu t_i; plus F_D = 1 upward at D.
     cols = -a + (friction_signs * mu)[:, None] * c
@@ -110,13 +111,23 @@ class WorkShapeFactors(NamedTuple):
         return f"WorkShapeFactors({parts})"
 
 
-@jax.jit
 def full_slip_work_shape_factors(shape: DamperShape, mu) -> WorkShapeFactors:
     """Work shape factors (w_R1, w_L1, w_L2, w_M) from the full-slip forces (Appendix C, C.11-C.14).
 
     W_i = F_D * dpsi * q*/2 * w_i for a full-slip stretch of platform rotation dpsi traversed forward
     and back; w_M = |(f_Lv - f_R1v)^+ - (f_Lv - f_R1v)^-| and the identity w_M = sum w_i holds.
+    Concrete inputs are checked (ValueError naming the parameter and its range; Float64Required in
+    float32); traced ones pass to `full_slip_work_shape_factors_kernel`, the unchecked form.
     """
+    require_x64()
+    validate_shape(shape)
+    validate_mu(mu)
+    return full_slip_work_shape_factors_kernel(shape, mu)
+
+
+@jax.jit
+def full_slip_work_shape_factors_kernel(shape: DamperShape, mu) -> WorkShapeFactors:
+    """`full_slip_work_shape_factors` without input checks (traceable: jit, vmap, grad)."""
     st = statics_kernel(shape, mu)
     rates = full_slip_slide_rates(shape)
     # Appendix C's dv is the displacement of each platform end, half the relative one (C.10).
@@ -190,4 +201,5 @@ def design_br_kernel(shape, mu_max, lo, hi) -> DesignResult:
 
 __all__ = ["FullSlipState", "FullSlipStatics", "contact_columns", "full_slip_state",
            "statics_singular", "statics_kernel", "full_slip_statics", "WorkShapeFactors",
-           "full_slip_work_shape_factors", "DesignResult", "design_br", "design_br_kernel"]
+           "full_slip_work_shape_factors", "full_slip_work_shape_factors_kernel", "DesignResult",
+           "design_br", "design_br_kernel"]

@@ -25,7 +25,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .batch import map_batched
-from .params import RANGES, Contacts, LoadCase
+from ._validate import require_x64
+from .params import RANGES, Contacts, LoadCase, validate_contacts, validate_load
 from .response import BladeMode, Scene, damper_stiffness_kernel, peak_response, prepare_scene
 from .status import RESULTS, number_repr, status_repr
 
@@ -109,10 +110,16 @@ def validate_uncertainty(u: Uncertainty) -> Uncertainty:
 
 def sample_scenarios(key, n: int, uncertainty: Uncertainty = Uncertainty(),
                      contacts: Contacts = Contacts(), load: LoadCase = LoadCase()) -> Scenarios:
-    """n independent scenarios drawn from `uncertainty` around the nominal contacts and load."""
+    """n independent scenarios drawn from `uncertainty` around the nominal contacts and load.
+
+    Every input is checked before any sampling (ValueError naming the parameter and its range:
+    the uncertainty, n, the nominal kn, kt and F_D, q*, r sin beta; Float64Required in float32)."""
+    require_x64()
     u = validate_uncertainty(uncertainty)
     if int(n) < 1:
         raise ValueError(f"n must be an integer >= 1; got {n}")
+    validate_contacts(contacts)
+    validate_load(load)
     kn0, kt0 = contacts.per_contact()
     k_mu, k_fd, k_kn, k_kt = jax.random.split(key, 4)
     mu = jax.random.uniform(k_mu, (n,), minval=u.mu_low, maxval=u.mu_high)

@@ -47,7 +47,8 @@ class HBMResult(NamedTuple):
 
 def first_harmonic(M, psi_a_mrad):
     """(k_Re, k_Im) in N mm/mrad from one period of moment samples M (..., Nt) in N mm at
-    tau_k = 2 pi k / Nt, k = 0..Nt-1, by FFT; psi_a_mrad: the amplitude (mrad)."""
+    tau_k = 2 pi k / Nt, k = 0..Nt-1, by FFT; psi_a_mrad: the amplitude (mrad).
+    Unchecked, traceable (jit, vmap, grad)."""
     return stiffness_from_rfft(jnp.fft.rfft(M, axis=-1)[..., 1], M.shape[-1], psi_a_mrad)
 
 

@@ -68,7 +68,7 @@ class MarchModel(NamedTuple):
 def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
     """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip.
     Inputs as `jaxdamp.base_cycle` (angles in degrees, kn, kt in N/mm, F_D in N, q* in mm); the
-    model holds forces in units of F_D and stiffness per F_D (1/mm)."""
+    model holds forces in units of F_D and stiffness per F_D (1/mm). Unchecked, traceable."""
     a, c, geo = contact_columns(shape)
     kn, kt = contacts.per_contact()
     F_D = jnp.asarray(load.F_D, float)
@@ -224,7 +224,7 @@ def step(m: MarchModel, s: MarchState, dv_new, max_newton: int = MAX_NEWTON):
 
 
 def march(m: MarchModel, s: MarchState, dv_path, max_newton: int = MAX_NEWTON):
-    """March along the prescribed platform motions dv_path (n,), returning the end state and samples."""
+    """March along dv_path (n,): (end state, samples). Unchecked, traceable (jit, vmap, grad)."""
     return jax.lax.scan(lambda c, dv: step(m, c, dv, max_newton), s, dv_path)
 
 

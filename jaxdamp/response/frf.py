@@ -49,6 +49,8 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
 
     k_b (1 - W) + K_re = +/- sqrt((F/A)^2 - K_im'^2) with W = (omega/omega0)^2 and
     K_im' = eta k_b + 1e-3 r^2 k_Im: W = (k_b + K_re -/+ s) / k_b, s = sqrt(...).
+    Unchecked, traceable (jit, vmap, grad): a building block of the compiled response programs; the
+    checked path is `response_curves` (or `prepare_scene` for the mode).
     """
     a = jnp.asarray(amplitude_mm, float)
     re, im = dynamic_stiffness(mode, damper.k_of_psi, a)
@@ -68,7 +70,8 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
 
 def frf_amplitude_grid(top_mm, n: int = 200, low: float = 1e-2):
     """Amplitudes (mm) for an FRF up to the peak top_mm: log-spaced from low * top, then dense
-    towards the top where the two branches meet (1 - A/top from 1e-2 down to 1e-7)."""
+    towards the top where the two branches meet (1 - A/top from 1e-2 down to 1e-7).
+    Unchecked, traceable (jit, vmap, grad)."""
     top = jnp.asarray(top_mm, float)
     m = n // 2
     base = top * jnp.geomspace(low, 0.99, n - m)
@@ -90,7 +93,7 @@ def linear_frf(mode: BladeMode, k_re, force_n, n: int = 200) -> FRF:
     """The FRF of the blade with a damper frozen as a real spring k_re (N mm/mrad; 0: free, k_Re,fs:
     stuck) across its own resonance: amplitudes up to its own peak F / (eta k_b), at
     f0 sqrt(1 + 1e-3 r^2 k_re / k_b). Without structural damping (eta = 0) the peak is unbounded:
-    the grid then stops at 1e3 F / k_b."""
+    the grid then stops at 1e3 F / k_b. Unchecked, traceable (jit, vmap, grad), as `frf`."""
     damped = mode.eta * mode.k_b > 0
     force = jnp.asarray(force_n, float)
     top = jnp.where(damped, force / jnp.where(damped, mode.eta * mode.k_b, 1.0),

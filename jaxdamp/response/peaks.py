@@ -149,7 +149,9 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     other (coarser beyond). The damper curve is evaluated once on it instead of once per force.
 
     mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
-    (`prepare_scene`: its mode, checked already).
+    (`prepare_scene`: its mode, checked already). damper: a DamperStiffness (checked when
+    `damper_stiffness` made it). Otherwise unchecked, traceable (jit, vmap, grad): a damper built
+    by hand or traced, with its mode and force_n, is taken as given.
     """
     checked = isinstance(mode, Scene)
     mode = mode.mode if checked else mode

@@ -144,7 +144,9 @@ def tabulated_stiffness(psi_grid_mrad, k_re, k_im, base: DamperStiffness,
     """A damper curve known on an amplitude grid (mrad); status, stuck limit and amplitude scale
     from `base`. Between grid points k_Im is linear (envelope="linear"), or the larger ("upper") or
     smaller ("lower") of the two neighbouring values: a conservative envelope of a bound curve that
-    is monotone between grid points. Beyond the ends the end values hold."""
+    is monotone between grid points. Beyond the ends the end values hold.
+    Unchecked, traceable (jit, vmap, grad): the grid (increasing, mrad) and values are taken as
+    given."""
     grid = jnp.asarray(psi_grid_mrad, float)
     k_re, k_im = jnp.asarray(k_re, float), jnp.asarray(k_im, float)
     pick = {"upper": jnp.maximum, "lower": jnp.minimum}.get(envelope)
@@ -168,6 +170,8 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
     M(psi; F_D, c) = (F_D/F_D0) M0(psi / s) with s = (F_D/F_D0) / c, and k = M / psi gives
     k(psi; F_D, c) = c k0(psi c F_D0 / F_D). At fixed contact stiffness (c = 1) an F_D change only
     stretches the psi axis: the stick stiffness is independent of F_D. An F_D sweep costs one curve.
+    Unchecked, traceable (jit, vmap, grad): fd_ref_n, fd_n (> 0 N) and contact_scale (> 0) are taken
+    as given (traced in the designer's diagram); `ref` comes from `damper_stiffness` (checked).
     """
     s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
 
@@ -184,12 +188,13 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
 
 
 def stuck_damper(k_re_stuck) -> DamperStiffness:
-    """The stuck limit: a real spring k_Re,fs at every amplitude (no dissipation)."""
+    """The stuck limit: a real spring k_Re,fs at every amplitude (no dissipation).
+    Unchecked, traceable (jit, vmap, grad)."""
     k = jnp.asarray(k_re_stuck, float)
     return DamperStiffness(lambda psi: (jnp.zeros_like(psi) + k, jnp.zeros_like(psi)),
                            jnp.int32(RESULTS.ok), k, jnp.asarray(1.0))
 
 
 def no_damper() -> DamperStiffness:
-    """The free limit: platforms without a damper."""
+    """The free limit: platforms without a damper (no inputs)."""
     return stuck_damper(0.0)
