@@ -63,3 +63,22 @@ def test_assert_leaf_close_scales_by_the_array():
         assert_leaf_close("x", np.array([1.0, 2.0]), np.array([1.0, 2.1]), rtol=1e-3)
     with pytest.raises(AssertionError):
         assert_leaf_close("n", np.array([1, 2]), np.array([1, 3]))
+
+
+def test_no_test_file_compares_with_a_raw_allclose_unless_the_docs_say_why():
+    """docs/architecture.md ("Comparisons") lists the test files that keep np.allclose,
+    jnp.allclose or np.testing.assert_allclose, each with its reason; every other file compares
+    through the helpers above."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    raw = re.compile(r"\b(?:np|jnp|numpy)\.(?:testing\.assert_allclose|allclose)\(|"
+                     r"^from numpy\.testing import .*assert_allclose", re.M)
+    calls = {f"tests/{p.name}" for p in sorted((root / "tests").glob("test_*.py"))
+             if raw.search(p.read_text())}
+    doc = (root / "docs" / "architecture.md").read_text()
+    section = doc.split("- **Comparisons**", 1)[1].split("\n- **", 1)[0]
+    kept = section.split("Files that keep raw calls:", 1)[1]
+    listed = set(re.findall(r"`(tests/test_\w+\.py)`", kept))
+    assert calls == listed, (sorted(calls - listed), sorted(listed - calls))
