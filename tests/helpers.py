@@ -1,4 +1,5 @@
-"""Shared test helpers: pytree comparison and finite-difference JVPs for gradient checks."""
+"""Shared test helpers: pytree comparison (structure, shape, dtype, values), finite-difference JVPs
+for gradient checks, compile counting and CLI runs."""
 
 import contextlib
 
@@ -10,21 +11,49 @@ import numpy as np
 _BACKEND_COMPILE_EVENT = "/jax/core/compile/backend_compile_duration"
 
 
-def tree_allclose(a, b, rtol=1e-12, atol=0.0) -> bool:
-    """True when two pytrees have the same structure and every pair of leaves has the same shape,
-    the same dtype kind (bool, integer, float) and close values (no broadcasting: a (3,) never
-    equals a (1,) or a scalar). None leaves must match None."""
-    la, ta = jax.tree_util.tree_flatten(a)
+def tree_difference(a, b, rtol=1e-12, atol=0.0, equal_nan=False):
+    """None when two pytrees have the same structure and every pair of leaves has the same shape,
+    the same dtype and close values (|a - b| <= atol + rtol |b| elementwise, b the reference, as in
+    np.allclose); else a line saying where and how they first differ. No broadcasting: a (3,) never
+    equals a (1,) or a scalar, and a float32 never equals a float64. None leaves must match None."""
+    la, ta = jax.tree_util.tree_flatten_with_path(a)
     lb, tb = jax.tree_util.tree_flatten(b)
     if ta != tb:
-        return False
-    for x, y in zip(la, lb):
+        return f"structure differs: {ta} vs {tb}"
+    for (path, x), y in zip(la, lb):
+        where = jax.tree_util.keystr(path) or "the leaf"
         x, y = np.asarray(x), np.asarray(y)
-        if x.shape != y.shape or x.dtype.kind != y.dtype.kind:
-            return False
-        if not np.allclose(x, y, rtol=rtol, atol=atol):
-            return False
-    return True
+        if x.shape != y.shape:
+            return f"{where}: shape {x.shape} vs {y.shape}"
+        if x.dtype != y.dtype:
+            return f"{where}: dtype {x.dtype} vs {y.dtype}"
+        close = np.isclose(x, y, rtol=rtol, atol=atol, equal_nan=equal_nan)
+        if not close.all():
+            bad = ~close
+            first = tuple(int(i) for i in np.argwhere(bad)[0])
+            wide = np.result_type(x, float)  # bool and int as float64, complex kept
+            with np.errstate(all="ignore"):
+                err = np.abs(x.astype(wide) - y.astype(wide))
+                rel = err / np.abs(y.astype(wide))
+            return (f"{where}: {int(bad.sum())} of {x.size} elements differ (first at {first}: "
+                    f"{x[first]} vs {y[first]}); max abs error {np.max(err[bad]):.3g}, "
+                    f"max rel error {np.max(rel[bad]):.3g} (rtol={rtol}, atol={atol})")
+    return None
+
+
+def tree_allclose(a, b, rtol=1e-12, atol=0.0, equal_nan=False) -> bool:
+    """True when tree_difference finds none: same structure, and per leaf the same shape, the same
+    dtype and close values."""
+    return tree_difference(a, b, rtol, atol, equal_nan) is None
+
+
+def assert_tree_allclose(actual, expected, *, rtol, atol, equal_nan=False, err_msg=""):
+    """tree_allclose as an assertion whose message names the first leaf that differs and its
+    largest errors. The tolerances are required (np.allclose's defaults are rtol=1e-5,
+    atol=1e-8, np.testing.assert_allclose's rtol=1e-7, atol=0): a test says what it accepts."""
+    diff = tree_difference(actual, expected, rtol, atol, equal_nan)
+    if diff is not None:
+        raise AssertionError(f"{err_msg}: {diff}" if err_msg else diff)
 
 
 def fd_jvp(f, x, v, h=1e-6):

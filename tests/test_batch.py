@@ -18,7 +18,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from helpers import assert_leaf_close, count_compiles
+from helpers import assert_leaf_close, assert_tree_allclose, count_compiles
 from jaxdamp import batch as B
 
 EXACT_FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -156,8 +156,7 @@ def test_no_nan_over_10000_random_designs():
     assert (out.status == jd.RESULTS.singular).mean() < 0.01
     ok = out.status == jd.RESULTS.ok
     assert np.all(out.psi_bc[ok] >= out.psi_fs[ok]) and np.all(out.k_im_bc[ok] >= -1e-9)
-    np.testing.assert_allclose(out.w_M[ok], (out.w_R1 + out.w_L1 + out.w_L2)[ok], rtol=1e-9,
-                               atol=1e-12)
+    assert_tree_allclose(out.w_M[ok], (out.w_R1 + out.w_L1 + out.w_L2)[ok], rtol=1e-9, atol=1e-12)
 
 
 # ------------------------------------------------------------------ two devices

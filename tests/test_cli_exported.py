@@ -7,6 +7,8 @@ import numpy as np
 from jaxdamp.cli import exported
 from jaxdamp.runtime import batch_jit
 
+from helpers import assert_tree_allclose
+
 TRACES = []
 
 
@@ -65,6 +67,6 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
         scale = max(np.max(np.abs(np.asarray(v, float))) for v in plain[key].values())
         for var, value in plain[key].items():
             for got in (saved, again):
-                np.testing.assert_allclose(got[key][var], value, rtol=1e-12, atol=1e-12 * scale,
-                                           err_msg=(key, var))
+                assert_tree_allclose(got[key][var], value, rtol=1e-12, atol=1e-12 * scale,
+                                     err_msg=(key, var))
     assert abs(plain["k_im_bc"]["theta_l"]) > 0  # a derivative that is not trivially zero

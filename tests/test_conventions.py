@@ -6,6 +6,8 @@ import pytest
 
 from jaxdamp import conventions as C
 
+from helpers import assert_tree_allclose
+
 
 def test_units_round_trip():
     assert C.psi_mrad(0.1, 100.0) == pytest.approx(1.0)
@@ -35,5 +37,5 @@ def test_moment_coefficients_take_R1_up_and_the_left_pads_down():
     fn, ft = C.moment_coefficients(ny, ty, 1000.0, 100.0, 0.0)
     # A unit normal force pushes along -n: its vertical component is -n_y, weighted +1 for R1 and
     # -1 for L1, L2, times the arm q*/2 and F_D.
-    np.testing.assert_allclose(fn, -ny * np.array([1, -1, -1]) * 50.0 * 1000.0)
-    np.testing.assert_allclose(ft, ty * np.array([1, -1, -1]) * 50.0 * 1000.0)
+    assert_tree_allclose(fn, -ny * np.array([1, -1, -1]) * 50.0 * 1000.0, rtol=1e-7, atol=0.0)
+    assert_tree_allclose(ft, ty * np.array([1, -1, -1]) * 50.0 * 1000.0, rtol=1e-7, atol=0.0)

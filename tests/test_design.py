@@ -58,13 +58,3 @@ def test_complex_stiffness_compiles_once_for_many_numbers_of_amplitudes():
     # A scalar stays a scalar.
     assert np.shape(jd.complex_stiffness(bc, 2.0, method="interpolated")[0]) == ()
 
-
-def test_tree_allclose_checks_shape_and_dtype_not_only_values():
-    """The helper the suite compares pytrees with: no broadcasting, no bool/float confusion."""
-    from helpers import tree_allclose
-
-    assert tree_allclose({"a": np.ones(3)}, {"a": np.ones(3) * (1 + 1e-14)})
-    assert not tree_allclose({"a": np.ones(3)}, {"a": np.ones(1)})  # np.allclose would say True
-    assert not tree_allclose({"a": np.ones(3)}, {"a": 1.0})
-    assert not tree_allclose({"a": np.array(True)}, {"a": np.array(1.0)})
-    assert not tree_allclose({"a": np.ones(3)}, {"b": np.ones(3)})

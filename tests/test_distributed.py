@@ -13,6 +13,8 @@ import pytest
 
 import jaxdamp as jd
 
+from helpers import assert_tree_allclose
+
 WORKER = textwrap.dedent("""
     import json, sys
     import jax
@@ -67,6 +69,6 @@ def test_two_processes_give_the_numbers_of_one():
             # Rounding level of each field's scale: 90R's k_Im is 0 up to ~1e-12 N mm/mrad on a
             # scale of 1e3-1e4, and its sign is rounding too.
             scale = np.max(np.abs(want)) or 1.0
-            np.testing.assert_allclose(np.asarray(r["summary"][field], float), want, rtol=1e-12,
-                                       atol=1e-14 * scale, err_msg=field)
+            assert_tree_allclose(np.asarray(r["summary"][field], float), want, rtol=1e-12,
+                                 atol=1e-14 * scale, err_msg=field)
     assert np.asarray(one.half_cycles)[-1] > 2  # the 90R row went through the second stage

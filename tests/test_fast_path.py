@@ -18,7 +18,7 @@ import pytest
 import jaxdamp as jd
 from jaxdamp import batch as B
 from jaxdamp.cycle import MAX_PAIRS, MAX_TRACTS
-from helpers import assert_leaf_close
+from helpers import assert_leaf_close, assert_tree_allclose
 from jaxdamp.linalg import rowdot
 
 EXACT_FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_im_bc", "w_R1", "w_L1", "w_L2", "w_M")
@@ -71,7 +71,7 @@ def test_rowdot_is_a_dot_product():
     rng = np.random.default_rng(0)
     x, y = rng.normal(size=(50, 8, 3)), rng.normal(size=(3, 3))
     got = np.asarray(rowdot(jnp.asarray(x)[..., None, :], jnp.asarray(y)))
-    np.testing.assert_allclose(got, x @ y.T, rtol=1e-14, atol=1e-14)
+    assert_tree_allclose(got, x @ y.T, rtol=1e-14, atol=1e-14)
 
 
 @pytest.mark.slow  # 86 worker-s (run of 2026-11-25)

@@ -5,6 +5,8 @@ import pytest
 
 import jaxdamp as jd
 
+from helpers import assert_tree_allclose
+
 
 def test_family_angles_follow_vertex_steps():
     # The family keeps base B and height H = B*sqrt(3)/2 and moves the vertex by B/4 (MODEL.md).
@@ -20,7 +22,7 @@ def test_family_angles_follow_vertex_steps():
 def test_pads_lie_on_flanks_and_reference_points_align():
     g = jd.section_geometry(jd.family_shape("60sym"))
     # L, D and R on one horizontal line (the paper's reference line through L).
-    assert np.allclose([g.L[1], g.D[1], g.R[1]], 0.5)
+    assert_tree_allclose(np.array([g.L[1], g.D[1], g.R[1]]), np.full(3, 0.5), rtol=1e-5, atol=1e-8)
     # L1 above L2 on the left flank, 2 b_L = 0.8 h_L apart.
     r1, l1, l2 = np.asarray(g.points)
     assert l1[1] > l2[1]
@@ -29,7 +31,8 @@ def test_pads_lie_on_flanks_and_reference_points_align():
     assert np.isclose(np.linalg.norm(r1 - np.asarray(g.R)), 0.14 * float(g.h_r))
     # normals are unit and orthogonal to tangents
     n, t = np.asarray(g.normals), np.asarray(g.tangents)
-    assert np.allclose(np.sum(n * n, 1), 1) and np.allclose(np.sum(n * t, 1), 0)
+    assert_tree_allclose(np.sum(n * n, 1), np.ones(3), rtol=1e-5, atol=1e-8)
+    assert_tree_allclose(np.sum(n * t, 1), np.zeros(3), rtol=1e-5, atol=1e-8)
 
 
 def test_centroid_default_and_override():

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from helpers import fd_jvp
+from helpers import assert_tree_allclose, fd_jvp
 from jaxdamp import gradients as G
 
 FIVE = jd.FiveNumbers._fields[:5]
@@ -145,8 +145,7 @@ def test_ad_matches_central_differences(pid, mode):
 def test_forward_and_reverse_mode_agree(mode):
     x = point("74R-mu0.5")
     other = "rev" if mode == "fwd" else "fwd"
-    np.testing.assert_allclose(ad_matrix(x, 3.0, mode), ad_matrix(x, 3.0, other), rtol=1e-6,
-                               atol=1e-9)
+    assert_tree_allclose(ad_matrix(x, 3.0, mode), ad_matrix(x, 3.0, other), rtol=1e-6, atol=1e-9)
 
 
 @pytest.mark.parametrize("name,mu", [("60sym", 0.5), ("74R", 0.7), ("90L", 0.3)])
@@ -184,7 +183,7 @@ def test_per_contact_stiffness_gradients_match_central_differences():
         assert np.max(np.abs(ad - fd) * base / (np.abs(fd) * base + row)) <= 1e-5, name
         # A shared stiffness moves all three contacts: its derivative is the sum.
         total = np.array([float(G.by_name(getattr(shared.d, f))[name]) for f in FIVE])
-        np.testing.assert_allclose(ad.sum(axis=1), total, rtol=1e-12, atol=1e-15)
+        assert_tree_allclose(ad.sum(axis=1), total, rtol=1e-12, atol=1e-15)
 
 
 # ------------------------------------------------------------------ at a transition-sequence switch

@@ -6,6 +6,8 @@ import pytest
 from jaxdamp_optimize.objectives import (aggregate, combined_refs, mu_index, parse_objective,
                                  per_mu_scores, reported_value, score)
 
+from helpers import assert_tree_allclose
+
 MUS = (0.3, 0.5, 0.7)
 # metrics (n_mu, 3): k_im_bc, psi_bc, w_m
 M = np.array([[5000.0, 1.5, 1.2], [4900.0, 2.2, 1.8], [4600.0, 2.6, 2.2]])
@@ -34,11 +36,11 @@ def test_mean_and_single_mu():
 
 def test_combined_is_the_weighted_sum_of_normalised_metrics():
     refs = combined_refs(M)
-    np.testing.assert_allclose(refs, M.mean(0))
+    assert_tree_allclose(refs, M.mean(0), rtol=1e-7, atol=0.0)
     obj = parse_objective("combined:worst", {"k_im_bc": 2.0, "psi_bc": 1.0, "w_m": 0.0})
     per_mu = np.asarray(per_mu_scores(obj, M, refs))
     expect = 2.0 * M[:, 0] / refs[0] - M[:, 1] / refs[1]
-    np.testing.assert_allclose(per_mu, expect, rtol=1e-15)
+    assert_tree_allclose(per_mu, expect, rtol=1e-15, atol=0.0)
     assert float(aggregate(obj, per_mu, MUS)) == pytest.approx(expect.min(), rel=1e-15)
     # the baseline itself scores sum_i w_i s_i on average
     mean_obj = parse_objective("combined:mean", {"k_im_bc": 2.0, "psi_bc": 1.0, "w_m": 0.0})
@@ -50,7 +52,7 @@ def test_scores_are_linear_so_the_chain_rule_applies_to_jacobians():
     refs = combined_refs(M)
     dM = np.random.default_rng(1).normal(size=M.shape)
     lhs = np.asarray(per_mu_scores(obj, M + dM, refs)) - np.asarray(per_mu_scores(obj, M, refs))
-    np.testing.assert_allclose(lhs, np.asarray(per_mu_scores(obj, dM, refs)), rtol=1e-12)
+    assert_tree_allclose(lhs, per_mu_scores(obj, dM, refs), rtol=1e-12, atol=0.0)
 
 
 @pytest.mark.parametrize("name, match", [

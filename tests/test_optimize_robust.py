@@ -14,6 +14,8 @@ from jaxdamp_optimize.robust_objective import (RobustSpec, dense_scenarios, desc
                                                objective_args, objective_programs,
                                                reference_shapes, robust_values, validate_spec)
 
+from helpers import assert_tree_allclose
+
 PROBLEM = make_problem(mus=(0.4, 0.6))
 SPEC = RobustSpec(force_range_n=(4.0, 12.0), fd_spread=0.2, kn_factor=1.0, kt_factor=1.0,
                   n_forces=2)
@@ -22,7 +24,7 @@ V60 = np.asarray(reference_shapes()["60sym"], float)
 
 @pytest.mark.slow  # 187 worker-s (run of 2026-11-25)
 def test_the_fd_spread_as_a_force_range_matches_fd_applied_explicitly():
-    np.testing.assert_allclose(descent_forces(SPEC), [4.0 / 1.2, 12.0 / 0.8])
+    assert_tree_allclose(descent_forces(SPEC), np.array([4.0 / 1.2, 12.0 / 0.8]), rtol=1e-7, atol=0.0)
     val, feas = robust_values(V60, PROBLEM, SPEC, objective_args(PROBLEM, SPEC))
     assert feas[0]
     # independent: the exact curve recomputed at F_D = 1.2 F_D0 (F = 4 N) and 0.8 F_D0 (F = 12 N)
@@ -71,11 +73,14 @@ def test_the_certification_grid_spans_every_range_at_its_ends():
     spec = RobustSpec(fd_spread=0.1, kn_factor=2.0, kt_factor=3.0)
     s = dense_scenarios(make_problem(mus=(0.3, 0.5, 0.7)), spec)
     assert s.mu.shape == (9 * 3 * 3 * 3,) and s.kn.shape == (243, 3)
-    np.testing.assert_allclose([s.mu.min(), s.mu.max()], [0.3, 0.7])
-    np.testing.assert_allclose([s.fd_n.min(), s.fd_n.max()], [900.0, 1100.0])
+    assert_tree_allclose(np.array([s.mu.min(), s.mu.max()]), np.array([0.3, 0.7]), rtol=1e-7, atol=0.0)
+    assert_tree_allclose(np.array([s.fd_n.min(), s.fd_n.max()]), np.array([900.0, 1100.0]), rtol=1e-7,
+                         atol=0.0)
     kn0, kt0 = make_problem().kn, make_problem().kt
-    np.testing.assert_allclose([s.kn.min(), s.kn.max()], [kn0 / 2, kn0 * 2])
-    np.testing.assert_allclose([s.kt.min(), s.kt.max()], [kt0 / 3, kt0 * 3])
+    assert_tree_allclose(np.array([s.kn.min(), s.kn.max()]), np.array([kn0 / 2, kn0 * 2]), rtol=1e-7,
+                         atol=0.0)
+    assert_tree_allclose(np.array([s.kt.min(), s.kt.max()]), np.array([kt0 / 3, kt0 * 3]), rtol=1e-7,
+                         atol=0.0)
 
 
 @pytest.mark.parametrize("change, flag", [({"force_range_n": (5.0, 2.0)}, "--force-n"),

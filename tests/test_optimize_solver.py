@@ -14,6 +14,8 @@ from jaxdamp_optimize import (SolverConfig, design_space, grid_search, make_prob
 from jaxdamp_optimize.design import to_unit
 from jaxdamp_optimize.problem import evaluate, evaluate_with_jacobian, is_feasible
 
+from helpers import assert_tree_allclose
+
 MUS = (0.3, 0.5, 0.7)
 MARGIN = 5.0
 
@@ -85,8 +87,8 @@ def test_gradient_optimum_matches_the_grid_search_with_10x_fewer_evaluations(res
     assert result.objective >= 0.99 * grid.best_value
     assert grid.evaluations >= 10 * result.evaluations
     # same bounds: the grid's designs span exactly the box
-    np.testing.assert_allclose(grid.X.min(0), [35.0, 35.0, -0.3])
-    np.testing.assert_allclose(grid.X.max(0), [90.0, 90.0, 0.4])
+    assert_tree_allclose(grid.X.min(0), np.array([35.0, 35.0, -0.3]), rtol=1e-7, atol=0.0)
+    assert_tree_allclose(grid.X.max(0), np.array([90.0, 90.0, 0.4]), rtol=1e-7, atol=0.0)
 
 
 def test_history_and_paths(result):
@@ -112,8 +114,8 @@ def test_jacobian_matches_finite_differences(problem, result):
         ep, em = evaluate(problem, xp[None]), evaluate(problem, xm[None])
         fd_m = (ep.metrics - em.metrics)[0] / (2 * h)
         fd_g = (ep.margins.g - em.margins.g)[0] / (2 * h)
-        np.testing.assert_allclose(d_metrics[0, ..., k], fd_m, rtol=1e-4, atol=1e-6 * 1e4)
-        np.testing.assert_allclose(d_g[0, ..., k], fd_g, rtol=1e-4, atol=1e-7)
+        assert_tree_allclose(d_metrics[0, ..., k], fd_m, rtol=1e-4, atol=1e-6 * 1e4)
+        assert_tree_allclose(d_g[0, ..., k], fd_g, rtol=1e-4, atol=1e-7)
 
 
 def test_path_plot(result, grid, tmp_path):

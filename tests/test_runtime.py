@@ -13,6 +13,8 @@ import jaxdamp as jd
 from jaxdamp import batch as B
 from jaxdamp import runtime
 
+from helpers import assert_tree_allclose
+
 
 @pytest.fixture
 def fresh_options():
@@ -70,7 +72,7 @@ def test_batched_results_equal_plain_jit_to_rounding():
     plain = jax.device_get(jax.jit(jax.vmap(B.first_stage_summary))(designs))
     for a, b in zip(fast, plain):
         if np.issubdtype(np.asarray(a).dtype, np.floating):
-            np.testing.assert_allclose(a, b, rtol=1e-11, atol=1e-9)
+            assert_tree_allclose(a, b, rtol=1e-11, atol=1e-9)
         else:
             np.testing.assert_array_equal(a, b)
 

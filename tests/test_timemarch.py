@@ -16,6 +16,8 @@ from jaxdamp.harmonics import five_numbers
 from jaxdamp.statics import START_FRICTION_SIGNS
 from jaxdamp.baselines.timemarch import time_march_kernel, time_march
 
+from helpers import assert_tree_allclose
+
 CONTACTS = jd.Contacts(jnp.asarray(jd.REFERENCE_KN), jnp.asarray(jd.REFERENCE_KT))
 LOAD = jd.LoadCase(*(jnp.asarray(v) for v in (1000.0, 100.0, 0.0)))
 FAMILY_CASES = [(name, mu) for name in jd.FAMILY for mu in (0.7, 0.5, 0.3)]
@@ -99,8 +101,8 @@ def test_energy_identity_of_the_marched_loop(fine):
     w_m = np.asarray(tm.work_moment)[ok]
     scale = np.abs(np.asarray(tm.k_re_bc)[ok]) * np.asarray(tm.psi_bc)[ok] ** 2 * 1e-3
     assert np.all(np.abs(w_c - w_m) <= 1e-8 * scale)
-    np.testing.assert_allclose(np.asarray(tm.k_im_energy)[ok], np.asarray(tm.k_im_bc)[ok],
-                               rtol=0, atol=1e-6 * float(np.max(np.abs(np.asarray(tm.k_re_bc)[ok]))))
+    assert_tree_allclose(np.asarray(tm.k_im_energy)[ok], np.asarray(tm.k_im_bc)[ok],
+                         rtol=0, atol=1e-6 * float(np.max(np.abs(np.asarray(tm.k_re_bc)[ok]))))
 
 
 @pytest.fixture(scope="module")
@@ -158,7 +160,7 @@ def test_gross_slip_end_is_the_full_slip_statics(fine):
         mid = jd.full_slip_state(shape, mu, -START_FRICTION_SIGNS)
         for got, want in ((tm.N_C[i], mid.N), (tm.T_C[i], mid.T), (tm.N_F[i], start.N),
                           (tm.T_F[i], start.T)):
-            np.testing.assert_allclose(np.asarray(got), np.asarray(want), rtol=0, atol=1e-10)
+            assert_tree_allclose(got, want, rtol=0, atol=1e-10)
 
 
 @pytest.mark.parametrize("kwargs, name", [(dict(h=0.0, n_steps=10), "h"), (dict(h=-1.0, n_steps=10), "h"),

@@ -12,6 +12,8 @@ from jaxdamp import tract
 from jaxdamp.cycle import mechanics
 from jaxdamp.params import Contacts, LoadCase
 
+from helpers import assert_tree_allclose
+
 
 def plain_rates(mech, slipping, signs, direction):
     """The unreduced solve, and the condition number of its K_S."""
@@ -53,10 +55,10 @@ def test_reduced_solve_matches_plain_solve(shape, mu, kt_over_kn):
             scale = float(jnp.max(jnp.abs(jnp.concatenate([dN, dT])))) + 1.0
             tol = 1e-13 * float(cond) * scale
             for got in (one, jax.tree_util.tree_map(lambda x, k=k: x[k], every)):
-                np.testing.assert_allclose(got.dN, dN, rtol=0, atol=tol)
-                np.testing.assert_allclose(got.dT, dT, rtol=0, atol=tol)
+                assert_tree_allclose(got.dN, dN, rtol=0, atol=tol)
+                assert_tree_allclose(got.dT, dT, rtol=0, atol=tol)
                 slip_tol = 1e-13 * float(cond) * (float(jnp.max(jnp.abs(dslip))) + 1.0)
-                np.testing.assert_allclose(got.dslip, dslip, rtol=0, atol=slip_tol)
+                assert_tree_allclose(got.dslip, dslip, rtol=0, atol=slip_tol)
 
 
 def test_singular_set_is_flagged_not_nan():
