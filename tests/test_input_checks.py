@@ -15,7 +15,7 @@ from jaxdamp.batch import check_sweep_inputs
 from jaxdamp.curves import prepare_curves_inputs
 from jaxdamp.statics import full_slip_work_shape_factors_kernel
 
-from helpers import count_compiles
+from helpers import assert_tree_allclose, count_compiles
 
 # Raw inputs checked before any work (ValueError naming the parameter and its range; the ones that
 # compute refuse float32 with Float64Required).
@@ -128,4 +128,4 @@ def test_checked_work_shape_factors_equal_their_kernel_and_trace():
     b = np.asarray(full_slip_work_shape_factors_kernel(SHAPE, 0.5))
     c = np.asarray(jax.jit(jd.full_slip_work_shape_factors)(SHAPE, 0.5))
     np.testing.assert_array_equal(a, b)
-    np.testing.assert_allclose(c, a, rtol=1e-14)
+    assert_tree_allclose(c, a, rtol=1e-14, atol=0.0)
