@@ -20,6 +20,7 @@ from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
 from ..params import VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_param, validate_load
 from ..response.scene import Scene
 from ..status import RESULTS, number_repr, status_repr
+from ..runtime import padded_size
 from .loops import COMPONENTS, ContactLoop, MomentLoop, analyse_loop
 from .model import contact_loop_force, loop_model_moment
 
@@ -229,7 +230,9 @@ def _robust_sd(r):
 
 
 def _pad(n: int) -> int:
-    return max(512, 1 << int(np.ceil(np.log2(max(n, 1)))))
+    """Samples per loop, padded by the one padding rule (the next power of two, at least 512), so
+    that loops of similar length share a compiled fit."""
+    return padded_size(n, 512)
 
 
 def _stack(loops: list, scale) -> _Data:
