@@ -11,6 +11,7 @@ from typing import NamedTuple
 import jax
 import numpy as np
 
+import jaxdamp as jd
 from jaxdamp import RESULTS
 
 from .constraints import KINDS, LOCATIONS, constraint_label, describe_violation, margins
@@ -34,8 +35,6 @@ class DesignCheck(NamedTuple):
 
 def check_design(problem: Problem, x) -> DesignCheck:
     """Feasibility of design x (physical free variables) at every mu of the problem's set."""
-    import jaxdamp as jd
-
     s = shape_of(problem.space, np.asarray(x, float))
     shape = jd.DamperShape(*(float(v) for v in s[:4]))
     contacts = jd.Contacts(problem.kn, problem.kt)
