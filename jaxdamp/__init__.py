@@ -72,7 +72,9 @@ from .statics import full_slip_work_shape_factors as full_slip_work_shape_factor
 
 # The Base-Cycle (direct piecewise-linear method) and its numbers
 from .cycle import BaseCycle as BaseCycle
-from .cycle import HalfCycle as HalfCycle
+from .half import Half as Half
+from .half import run_half as run_half
+from .cycle import HalfCycle as HalfCycle  # the old name of Half
 from .cycle import base_cycle as base_cycle
 from .cycle import base_cycle_kernel as base_cycle_kernel
 from .cycle import transitions_chart as transitions_chart
@@ -179,7 +181,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "validated_range_violations", "RESULTS", "Float64Required", "SMALL_ROTATION_MRAD",
            "SmallRotationWarning", "FullSlipStatics", "FullSlipState", "full_slip_statics",
            "full_slip_state", "statics_kernel", "DesignResult", "design_br",
-           "full_slip_work_shape_factors", "BaseCycle", "HalfCycle", "base_cycle",
+           "full_slip_work_shape_factors", "BaseCycle", "Half", "run_half", "HalfCycle", "base_cycle",
            "base_cycle_kernel", "transitions_chart", "FiveNumbers", "five_numbers",
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",

@@ -1,8 +1,8 @@
 """The steady cycle at a prescribed platform rotation amplitude psi_a, by the direct method.
 
 Below psi_BC the cycle depends on the contact state the history left (MODEL.md, "Cycles at a
-prescribed amplitude"). The Base-Cycle's tract machinery (`tract.choose_states`, `tract.next_event`)
-runs unchanged; a half-cycle gets one more event, the end of its travel budget 2 psi_a q*/1e3 mm:
+prescribed amplitude"). Its halves run on the Base-Cycle's tract engine (`jaxdamp.half.run_half`),
+given a travel budget of 2 psi_a q*/1e3 mm, which is one more event:
 
     tract length = min(next stick/slip or liftoff event, remaining travel)
 
@@ -39,117 +39,30 @@ import numpy as np
 
 from ._validate import check_int, check_range
 from .linalg import solve3
-from .cycle import (bounded_loop, check_loop, mechanics, repeat_until, tract_rows, values_by_while,
-                    zeros_of)
+from .cycle import mechanics
+from .half import TRAVEL_TOL, Half, accelerate, empty_half, run_half
+from .loops import check_loop, repeat_until, values_by_while
 from .geometry import CONTACT_NAMES, DamperShape, platform_moment
 from .fourier import half_fourier
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
-from .status import RESULTS, from_flags, number_repr, ok_status, status_repr
-from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STATE_NAMES, STICK, Mechanics,
-                    choose_states, next_event)
+from .status import RESULTS, number_repr, status_repr
+from .tract import LIMIT_TOL, STATE_NAMES
 
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
 CLOSE_TOL = 1e-9  # periodicity: forces at the forward extreme repeat within this (units of F_D)
-TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended; slip below it is none
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
 __all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
            "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
-           "travel_half", "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
+           "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
 
 
-class TravelHalf(NamedTuple):
-    """One travel-limited half-cycle. Arrays with a leading tract axis (MAX_TRACTS)."""
-
-    dv: jnp.ndarray  # tract lengths, mm of relative platform travel (>= 0); they sum to the budget
-    N0: jnp.ndarray  # (nt, 3) forces at the tract start, units of F_D
-    T0: jnp.ndarray
-    dN: jnp.ndarray  # (nt, 3) rates per mm of travel (zero in the constant-force stretch)
-    dT: jnp.ndarray
-    dslip: jnp.ndarray  # (nt, 3) sliding rate of each contact, mm per mm of travel
-    state: jnp.ndarray  # (nt, 3) STICK / SLIP / BACKSLIDE / OPEN
-    active: jnp.ndarray  # (nt,) bool, the tract exists
-    stretch: jnp.ndarray  # (nt,) bool, constant-force gross-slip stretch
-    N_end: jnp.ndarray  # (3,) forces at the end of the travel
-    T_end: jnp.ndarray
-    gross_slip: jnp.ndarray  # reached gross slip before the end of the travel
-    # RESULTS code (int32): ok, liftoff, or singular (no consistent state set, or the tracts ran
-    # out before the travel); the two problems exclude each other.
-    status: jnp.ndarray
-    # (nt,) mm of travel by which the tract's end beat the nearest competing end (the next contact
-    # event after the one taken, or the nearest event when the travel ended it); NO_EVENT-based
-    # when there is none. Within one sequence it is affine in psi_a; where it reaches zero a new
-    # event enters and the sequence changes (`jaxdamp.sequence`).
-    slack: jnp.ndarray = None
-
-
-def _travel_rows() -> dict:
-    """One recorded tract of a travel-limited half (dtypes resolved when traced: float64 if x64)."""
-    return tract_rows(stretch=jax.ShapeDtypeStruct((), bool), slack=jax.ShapeDtypeStruct((), float))
-
-
-def travel_half(mech: Mechanics, N, T, direction, travel, max_tracts: int = MAX_TRACTS,
-                loop: str = "scan") -> TravelHalf:
-    """Tracts from a reversal at (N, T) over `travel` mm of relative platform motion (bounded masked
-    scan, so reverse-mode AD works; loop="while" stops when the travel is spent: the same numbers,
-    values and forward mode only). direction: +1 when dv increases, -1 when it decreases."""
-    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
-    start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
-    lift0 = jnp.min(N) <= LIMIT_TOL
-    init = dict(N=N, T=T, rem=jnp.asarray(travel, float), done=lift0, gross=jnp.array(False),
-                liftoff=lift0, failed=jnp.array(False),
-                line=jnp.abs(T) >= mech.mu * N - LIMIT_TOL)
-
-    def step(carry, _):
-        N, T, rem = carry["N"], carry["T"], carry["rem"]
-        choice = choose_states(mech, N, T, direction)
-        r = choice.rates
-        frozen = jnp.max(jnp.abs(jnp.concatenate([r.dN, r.dT]))) <= RATE_TOL * scale
-        gross = choice.consistent & frozen
-        ev = next_event(mech, N, T, choice)
-        # Rounding leaves ~1e-17 mm of travel after a tract that ends on the extreme: no tract.
-        spent = rem <= TRAVEL_TOL * travel
-        live = ~carry["done"] & ~spent
-        failed_now = ~choice.consistent
-        advance = live & ~failed_now
-        # The travel budget is the new event; a tie with a contact event ends the half by travel
-        # (the next half starts at a reversal, where `choose_states` sees the contact on its limit).
-        by_travel = gross | (rem <= ev.length)
-        lam = jnp.where(advance, jnp.where(by_travel, rem, ev.length), 0.0)
-        dN = jnp.where(gross, 0.0, r.dN)
-        dT = jnp.where(gross, 0.0, r.dT)
-        N1 = N + lam * dN
-        T1 = T + lam * dT
-        T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
-        at_event = advance & ~by_travel
-        hit = jnp.arange(3) == ev.contact
-        T1 = jnp.where(at_event & ~ev.opens & hit, ev.side * mech.mu * N1, T1)
-        N1 = jnp.where(at_event & ev.opens & hit, 0.0, N1)
-        lifted = advance & ((at_event & ev.opens) | (jnp.min(N1) <= LIMIT_TOL))
-        line = carry["line"] & choice.slipping & (choice.signs == start_sign)
-        back = jnp.where(advance, line, carry["line"] & choice.slipping)
-        state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
-        state = jnp.where(N <= LIMIT_TOL, OPEN, state)
-        slack = jnp.where(by_travel, ev.length, ev.runner_up) - lam
-        out = dict(dv=lam, N0=N, T0=T, dN=dN, dT=dT, dslip=r.dslip, state=state, active=advance,
-                   stretch=advance & gross, slack=jnp.where(advance, slack, 0.0))
-        new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
-                   rem=jnp.where(advance, jnp.where(by_travel, 0.0, rem - lam), rem),
-                   done=carry["done"] | spent | (live & failed_now) | lifted | (advance & by_travel),
-                   gross=carry["gross"] | (advance & gross),
-                   liftoff=carry["liftoff"] | lifted,
-                   failed=carry["failed"] | (live & failed_now),
-                   line=jnp.where(advance, line, carry["line"]))
-        return new, out
-
-    end, tr = bounded_loop(step, init, max_tracts, loop, _travel_rows())
-    return TravelHalf(tr["dv"], tr["N0"], tr["T0"], tr["dN"], tr["dT"], tr["dslip"], tr["state"],
-                      tr["active"], tr["stretch"], end["N"], end["T"], end["gross"],
-                      from_flags(end["liftoff"], end["failed"] | ~end["done"]), tr["slack"])
+# One type for every half since the tract engine (jaxdamp.half); the old name stays for callers.
+TravelHalf = Half
 
 
 class AmplitudeCycle(NamedTuple):
@@ -166,8 +79,8 @@ class AmplitudeCycle(NamedTuple):
     psi_a: jnp.ndarray  # mrad
     N_start: jnp.ndarray  # (3,) forces at the forward extreme of the steady cycle (units of F_D)
     T_start: jnp.ndarray
-    forward: TravelHalf
-    backward: TravelHalf
+    forward: Half
+    backward: Half
     k_re: jnp.ndarray
     k_im: jnp.ndarray
     energy: jnp.ndarray  # (3,) dissipated at R1, L1, L2 per cycle, N mm (sum T d(slip), exact)
@@ -179,7 +92,7 @@ class AmplitudeCycle(NamedTuple):
     # included, in order (zeros after the last): within one sequence they are affine in psi_a, and
     # where one reaches zero the sequence changes (`jaxdamp.sequence`)
     history_dv: jnp.ndarray = None
-    history_slack: jnp.ndarray = None  # the same halves' tract slacks (`TravelHalf.slack`)
+    history_slack: jnp.ndarray = None  # the same halves' tract slacks (`Half.slack`)
 
     def __repr__(self) -> str:
         return (f"AmplitudeCycle(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
@@ -247,17 +160,17 @@ def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
             jnp.min(N))
 
 
-def _half_moment(shape, load, half: TravelHalf):
+def _half_moment(shape, load, half: Half):
     return (platform_moment(shape, load, half.N0, half.T0),
             platform_moment(shape, load, half.dN, half.dT))
 
 
-def _half_energy(half: TravelHalf, F_D):
+def _half_energy(half: Half, F_D):
     T1 = half.T0 + half.dT * half.dv[:, None]
     return -F_D * jnp.sum(0.5 * (half.T0 + T1) * half.dslip * half.dv[:, None], axis=0)
 
 
-def _loop_numbers(shape, load, psi_a, fwd: TravelHalf, bwd: TravelHalf):
+def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half):
     """(k_Re, k_Im, energy per contact, oint M dpsi) of the loop (forward, backward)."""
     a_dv = travel_mm(psi_a, load.q_star)
     m0f, dmf = _half_moment(shape, load, fwd)
@@ -271,35 +184,6 @@ def _loop_numbers(shape, load, psi_a, fwd: TravelHalf, bwd: TravelHalf):
     wb = jnp.sum((m0b + 0.5 * dmb * bwd.dv) * bwd.dv) / load.q_star
     energy = _half_energy(fwd, load.F_D) + _half_energy(bwd, load.F_D)
     return k_re, k_im, energy, wb - wf
-
-
-def _accelerate(mu, s0, s1, s2, have_history):
-    """Next start state of the pair iteration: Aitken's extrapolation where the iterates are
-    geometric along one direction (s2 - s1 = rho (s1 - s0), checked) and the extrapolated state is
-    admissible; else the plain iterate s2. Same rule as the Base-Cycle's iteration (cycle.py): within
-    a fixed pattern of events the pair map is affine, so where its contracting part has one
-    direction the extrapolation is exact; the next pair checks closure as usual."""
-    d1, d2 = s1 - s0, s2 - s1
-    n1 = jnp.dot(d1, d1)
-    ok = have_history & (n1 > 1e-30)
-    rho = jnp.where(ok, jnp.dot(d2, d1) / jnp.where(ok, n1, 1.0), 0.0)
-    off = d2 - rho * d1
-    n_off = jnp.dot(off, off)
-    n2 = jnp.dot(d2, d2)
-    collinear = n_off <= 1e-12 * n2 + 1e-30
-    ok = ok & collinear & (rho > -0.95) & (rho < 0.95)
-    step = jnp.where(ok, rho / jnp.where(ok, 1.0 - rho, 1.0), 0.0)
-    guess = s2 + step * d2
-    N, T = guess[:3], guess[3:]
-    admissible = jnp.all(N > 0.0) & jnp.all(jnp.abs(T) <= mu * N + LIMIT_TOL)
-    return jnp.where(ok & admissible, guess, s2)
-
-
-def _empty_half(max_tracts) -> TravelHalf:
-    """A TravelHalf of zeros (the iteration's initial value)."""
-    z3, b = jnp.zeros(3), jnp.array(False)
-    return TravelHalf(**zeros_of(_travel_rows(), max_tracts), N_end=z3, T_end=z3, gross_slip=b,
-                      status=ok_status())
 
 
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
@@ -355,12 +239,12 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat.
     n_halves = n_pre + 2 * max_pairs
 
-    def run_half(c, j):
+    def next_half(c, j):
         k = j - n_pre  # index within the pair iteration (negative: preliminary)
         forward = (k % 2 == 0) | (k == -2)
         direction = jnp.where(forward, -1.0, 1.0)
         length = jnp.where(k == -2, a_dv, travel)
-        half = travel_half(mech, c["N"], c["T"], direction, length, max_tracts, loop)
+        half = run_half(mech, c["N"], c["T"], direction, length, max_tracts=max_tracts, loop=loop)
         bad = half.status != RESULTS.ok
         in_pairs = k >= 0
         is_fwd = in_pairs & forward
@@ -369,7 +253,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
         there = jnp.concatenate([half.N_end, half.T_end])
         gap = jnp.max(jnp.abs(there - top))
         closed = is_bwd & (gap <= CLOSE_TOL)
-        nxt = _accelerate(mech.mu, c["prev"], top, there, k >= 2)
+        nxt = accelerate(mech.mu, c["prev"], top, there, k >= 2)
         nxt = jnp.where(is_bwd, nxt, there)
         pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
             lambda x, y: jnp.where(m, x, y), new, old)
@@ -382,13 +266,13 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                     pairs=c["pairs"] + is_bwd.astype(jnp.int32),
                     hist=c["hist"].at[j].set(half.dv), slack=c["slack"].at[j].set(half.slack))
 
-    empty = _empty_half(max_tracts)
+    empty = empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
                 pairs=jnp.array(0, jnp.int32), hist=jnp.zeros((n_halves, max_tracts)),
                 slack=jnp.zeros((n_halves, max_tracts)))
-    end = repeat_until(run_half, init, n_halves, loop, lambda c: c["stop"])
+    end = repeat_until(next_half, init, n_halves, loop, lambda c: c["stop"])
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
     pre_lift, pre_fail = end["liftoff"], end["failed"]

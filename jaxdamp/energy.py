@@ -8,13 +8,14 @@ import jax
 import jax.numpy as jnp
 
 from .conventions import platform_arm, travel_mm
-from .cycle import BaseCycle, HalfCycle
+from .cycle import BaseCycle
+from .half import Half
 from .harmonics import base_cycle_amplitude, cycle_work, moment
 from .statics import WorkShapeFactors
 from .status import number_repr
 
 
-def _half_energy(half: HalfCycle, total_dv, F_D):
+def _half_energy(half: Half, total_dv, F_D):
     # Within a tract T is linear and the sliding rate constant: the trapezoid rule is exact.
     T1 = half.T0 + half.dT * half.dv[:, None]
     tracts = -0.5 * (half.T0 + T1) * half.dslip * half.dv[:, None]

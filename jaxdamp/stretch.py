@@ -13,7 +13,8 @@ from typing import NamedTuple
 import jax.numpy as jnp
 
 from .conventions import psi_mrad, stiffness_from_fourier, travel_mm
-from .cycle import BaseCycle, HalfCycle
+from .cycle import BaseCycle
+from .half import Half
 from .fourier import half_fourier
 from .geometry import platform_moment
 
@@ -30,7 +31,7 @@ class MomentHalf(NamedTuple):
     dM: jnp.ndarray  # (nt + 1,) moment rate, N mm per mm of travel
 
 
-def moment_half(bc: BaseCycle, half: HalfCycle, total_dv) -> MomentHalf:
+def moment_half(bc: BaseCycle, half: Half, total_dv) -> MomentHalf:
     """Segments of one half of the moment cycle, completed to total_dv by a full-slip stretch."""
     m0 = moment(bc, half.N0, half.T0)
     dm = moment(bc, half.dN, half.dT)

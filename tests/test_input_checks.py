@@ -40,7 +40,7 @@ UNCHECKED = {
     "section_geometry", "platform_moment", "full_slip_state", "admissible_polytope",
     "polytope_vertices", "curve_at", "cycle_work", "moment", "contact_energies",
     "work_shape_factors", "frf", "frf_amplitude_grid", "linear_frf", "stuck_damper",
-    "scaled_stiffness", "tabulated_stiffness", "peak_response",
+    "scaled_stiffness", "tabulated_stiffness", "peak_response", "run_half",
     # jaxdamp.baselines
     "first_harmonic", "march", "march_model",
 }

@@ -1,0 +1,87 @@
+"""Bounded loops that reverse-mode AD can pass: the tracts of a half, the halves of a cycle.
+
+Every iteration of the direct method is bounded (a half has at most so many tracts, a cycle at
+most so many pairs of halves), so it runs either as a masked `lax.scan` over every slot (reverse
+mode passes) or as a `lax.while_loop` that stops when done (values and forward mode only);
+`values_by_while` takes the values of the one and the derivatives of the other.
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+
+def zeros_of(rows: dict, length: int) -> dict:
+    """Arrays of zeros for `length` rows of the given shapes and dtypes."""
+    return {k: jnp.zeros((length,) + r.shape, r.dtype) for k, r in rows.items()}
+
+
+def bounded_loop(step, init, length: int, loop: str, rows: dict):
+    """(final carry, stacked outputs) of up to `length` calls of step(carry, None) -> (carry, out).
+
+    "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
+    once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
+    finished steps must be inactive rows, e.g. zero travel). rows: the shapes and dtypes of one
+    step's outputs (a dict, as `tract_rows`), which spares tracing the step once more to find them
+    (tracing is most of a CLI call's cost)."""
+    if loop == "scan":
+        return jax.lax.scan(step, init, None, length=length)
+    if loop != "while":
+        raise ValueError(f"loop must be scan or while; got {loop!r}")
+    rows = zeros_of(rows, length)
+
+    def cond(c):
+        i, carry, _ = c
+        return (i < length) & ~carry["done"]
+
+    def body(c):
+        i, carry, acc = c
+        carry, out = step(carry, None)
+        return i + 1, carry, jax.tree_util.tree_map(lambda a, o: a.at[i].set(o), acc, out)
+
+    _, end, acc = jax.lax.while_loop(cond, body, (jnp.array(0), init, rows))
+    return end, acc
+
+
+def repeat_until(run, init, length: int, loop: str, stopped):
+    """The carry after up to `length` calls carry = run(carry, k), k = 0, 1, ..., that end once
+    stopped(carry) is True. "while" stops there; "scan" makes every call and keeps the stopped
+    carry (masked, not lax.cond: the scan form is the derivative program of loop="auto", and JAX
+    cannot transpose a cond that vmap has turned into a select inside a custom JVP rule)."""
+    if loop == "while":
+        return jax.lax.while_loop(lambda c: (c[0] < length) & ~stopped(c[1]),
+                                  lambda c: (c[0] + 1, run(c[1], c[0])), (jnp.array(0), init))[1]
+
+    def step(carry, k):
+        new = run(carry, k)
+        return jax.tree_util.tree_map(lambda old, x: jnp.where(stopped(carry), old, x), carry,
+                                      new), None
+
+    return jax.lax.scan(step, init, jnp.arange(length))[0]
+
+
+LOOPS = ("auto", "scan", "while")
+
+
+def check_loop(loop: str) -> None:
+    if loop not in LOOPS:
+        raise ValueError(f"loop must be one of {', '.join(LOOPS)}; got {loop!r}")
+
+
+def values_by_while(impl, *args):
+    """impl(*args, loop) for loop="auto": the values of loop="while" (loops that stop when done),
+    the derivatives of loop="scan" through a custom JVP rule (the masked scan's own JVP, whose
+    transpose gives reverse mode, which cannot pass a while loop)."""
+    @jax.custom_jvp
+    def run(*a):
+        return impl(*a, "while")
+
+    @run.defjvp
+    def run_jvp(primals, tangents):
+        return jax.jvp(lambda *a: impl(*a, "scan"), primals, tangents)
+
+    return run(*args)
+
+
+__all__ = ["LOOPS", "zeros_of", "bounded_loop", "repeat_until", "check_loop", "values_by_while"]
