@@ -92,6 +92,10 @@ from .energy import contact_energies as contact_energies
 from .energy import work_shape_factors as work_shape_factors
 
 # Exact cycles at any amplitude, and the band over histories
+from .motion import Motion as Motion
+from .motion import in_phase_motion as in_phase_motion
+from .motion import interblade_motion as interblade_motion
+from .motion import straight_motion as straight_motion
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
 from .amplitude import amplitude_kernel as amplitude_kernel
@@ -185,7 +189,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "base_cycle_kernel", "transitions_chart", "FiveNumbers", "five_numbers",
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
-           "work_shape_factors", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
+           "work_shape_factors", "Motion", "in_phase_motion", "interblade_motion",
+           "straight_motion", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
            "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",
            "curve_at", "sequence_curves", "stiffness_curve", "stack_designs", "map_batched",

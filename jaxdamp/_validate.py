@@ -84,6 +84,10 @@ RANGES = {
     "eta": (0.0, 1.0, False, False, ""),
     "r": (0.0, 1e6, True, False, "mrad/mm"),
     "force_n": (0.0, INF, True, True, "N"),
+    # Relative platform motion (jaxdamp.motion): the damper's size and the blades' rotation centre.
+    "h_l": (0.0, 1e4, True, False, "mm"),
+    "h_c": (-1e4, 1e4, False, False, "mm"),
+    "motion_component": (-1e6, 1e6, False, False, ""),
 }
 
 # How many times each parameter of RANGES has been checked in this process (by `check_param`, or

@@ -42,7 +42,9 @@ from .linalg import solve3
 from .cycle import mechanics
 from .half import TRAVEL_TOL, Half, accelerate, empty_half, run_half
 from .loops import check_loop, repeat_until, values_by_while
-from .geometry import CONTACT_NAMES, DamperShape, platform_moment
+from .geometry import CONTACT_NAMES, DamperShape
+from .linalg import rowdot
+from .motion import Motion, loop_moment_coefficients, validate_motion
 from .fourier import half_fourier
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
@@ -93,6 +95,10 @@ class AmplitudeCycle(NamedTuple):
     # where one reaches zero the sequence changes (`jaxdamp.sequence`)
     history_dv: jnp.ndarray = None
     history_slack: jnp.ndarray = None  # the same halves' tract slacks (`Half.slack`)
+    # The straight platform path (`jaxdamp.Motion`), or None for the paper's in-phase motion. On a
+    # path, psi_a is its amplitude a (mrad), "dv" in the halves is its parameter a q*/1e3 (mm)
+    # and k is that of the modal force (`jaxdamp.motion`).
+    motion: object = None
 
     def __repr__(self) -> str:
         return (f"AmplitudeCycle(status={status_repr(self.status)}, psi_a={number_repr(self.psi_a, 'mrad')}, "
@@ -160,9 +166,10 @@ def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
             jnp.min(N))
 
 
-def _half_moment(shape, load, half: Half):
-    return (platform_moment(shape, load, half.N0, half.T0),
-            platform_moment(shape, load, half.dN, half.dT))
+def _half_moment(coefficients, half: Half):
+    """(moment at each tract start, its rate) in N mm, from `loop_moment_coefficients`."""
+    fn, ft = coefficients
+    return (rowdot(half.N0, fn) + rowdot(half.T0, ft), rowdot(half.dN, fn) + rowdot(half.dT, ft))
 
 
 def _half_energy(half: Half, F_D):
@@ -170,11 +177,12 @@ def _half_energy(half: Half, F_D):
     return -F_D * jnp.sum(0.5 * (half.T0 + T1) * half.dslip * half.dv[:, None], axis=0)
 
 
-def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half):
+def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half, motion=None):
     """(k_Re, k_Im, energy per contact, oint M dpsi) of the loop (forward, backward)."""
     a_dv = travel_mm(psi_a, load.q_star)
-    m0f, dmf = _half_moment(shape, load, fwd)
-    m0b, dmb = _half_moment(shape, load, bwd)
+    coefficients = loop_moment_coefficients(shape, load, motion)
+    m0f, dmf = _half_moment(coefficients, fwd)
+    m0b, dmb = _half_moment(coefficients, bwd)
     c1, s1 = half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
     c2, s2 = half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
     k_re = (c1 + c2) / (jnp.pi * psi_a)
@@ -188,11 +196,16 @@ def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half):
 
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
                      initial="gross_slip", max_tracts: int = MAX_TRACTS,
-                     max_pairs: int = MAX_PAIRS, loop: str = "auto") -> AmplitudeCycle:
+                     max_pairs: int = MAX_PAIRS, loop: str = "auto", motion=None) -> AmplitudeCycle:
     """The steady cycle at psi_a (mrad): pure JAX (jit / vmap / grad), no validation.
 
     initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init at the forward extreme,
     units of F_D). Python-static. Problems are reported in `status`, never as NaN.
+
+    motion: None (the paper's in-phase motion) or a straight `jaxdamp.Motion`, whose amplitude
+    psi_a is then in mrad of its parameter. On a path, "gross_slip" is the state at the top of the
+    path after the platforms, from assembly, moved up until every pad slipped (in-phase that is
+    the Base-Cycle's state 0, except where gross slip leaves some pads stuck: 90R).
 
     loop: how the bounded iterations (tracts of a half, halves of the iteration to a periodic
     cycle) run; the numbers are the same. "scan" always runs every slot, masked: reverse mode
@@ -208,22 +221,24 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
         return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts,
                                max_pairs=max_pairs, loop=loop)
 
-    design = (shape, mu, contacts, load, psi_a, N_init, T_init)
+    design = (shape, mu, contacts, load, psi_a, N_init, T_init, motion)
     if loop == "auto":
         return values_by_while(impl, *design)
     return impl(*design, loop)
 
 
-def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial, max_tracts,
-                    max_pairs, loop) -> AmplitudeCycle:
-    mech = mechanics(shape, mu, contacts, load)
+def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *, initial,
+                    max_tracts, max_pairs, loop) -> AmplitudeCycle:
+    mech = mechanics(shape, mu, contacts, load, motion)
     psi_ok = psi_a > 0.0
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
     a_dv = travel_mm(psi, load.q_star)
     travel = 2.0 * a_dv
     n_pre = 0
-    if initial == "gross_slip":
+    if initial == "gross_slip" and motion is None:
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
+    elif initial == "gross_slip":
+        N0, T0, ok0 = _gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
     elif initial == "assembly":
         N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
         n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
@@ -277,7 +292,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
                                             end["pairs"], end["top"])
     pre_lift, pre_fail = end["liftoff"], end["failed"]
 
-    k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd)
+    k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd, motion)
     singular0 = statics_singular(shape, mech.mu)  # no full-slip statics: as the Base-Cycle says
     halves = jnp.stack([fwd.status, bwd.status])
     liftoff = (pre_lift & ~singular0) | jnp.any(halves == RESULTS.liftoff)
@@ -293,7 +308,17 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, *, initial
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
                           start[3:], fwd, bwd, zero(k_re), zero(k_im), zero(energy), zero(work),
-                          gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"])
+                          gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"], motion)
+
+
+def _gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
+    """(N, T, ok) at the top of a straight path in gross slip: from assembly, the platforms move up
+    the path (s increasing) until every pad that can slip does (zero force rates); the forces then
+    stay as they are up to the top, from where the forward half starts."""
+    Na, Ta, ok = assembly_state(shape, mech.mu, contacts, load)
+    Na = jnp.where(ok, Na, jnp.ones(3))  # keep the masked half finite
+    up = run_half(mech, Na, jnp.where(ok, Ta, 0.0), 1.0, max_tracts=max_tracts, loop=loop)
+    return up.N_end, up.T_end, ok & (up.status == RESULTS.ok) & up.gross_slip
 
 
 _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))
@@ -301,13 +326,19 @@ _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "m
 
 def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip",
-                    max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> AmplitudeCycle:
+                    max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
+                    motion: Motion | None = None) -> AmplitudeCycle:
     """The steady cycle at platform rotation amplitude psi_a_mrad > 0 (mrad), by the direct method.
 
     initial: "gross_slip" (the Base-Cycle's state 0 at the forward extreme), "assembly" (F_D applied
     at mid travel, then a quarter travel forward), or an explicit state (N, T): two (3,) arrays of
     contact forces (R1, L1, L2) in units of F_D at the forward extreme, in equilibrium with F_D,
     N >= 0 and |T| <= mu N. See the module docstring for the sign convention.
+
+    motion: None for the paper's in-phase motion, or a straight platform path (`jaxdamp.Motion`:
+    `interblade_motion(180, h_c_mm)` for out-of-phase vibration, `straight_motion` for any
+    direction); psi_a_mrad is then the path's amplitude (mrad) and k that of its modal force
+    (`jaxdamp.motion`). A pad that opens on the path is reported as liftoff.
 
     Returns an AmplitudeCycle; its `status` (jaxdamp.status.RESULTS) says whether the numbers are
     valid (ok, shakedown) or not (liftoff, not_converged, singular: numbers zero). Jit-compiled;
@@ -348,21 +379,23 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
             raise ValueError(f"initial T must satisfy |T| <= mu N: excess must be in "
                              f"[0, {ADMISSIBLE_TOL:g}] F_D; got {cone:g}")
         mode = "explicit"
+    if motion is not None:
+        motion = validate_motion(motion)
     return _kernel(shape, mu, contacts, load, psi, N_init, T_init, initial=mode,
-                   max_tracts=max_tracts, max_pairs=max_pairs)
+                   max_tracts=max_tracts, max_pairs=max_pairs, motion=motion)
 
 
 def moment_loop(ac: AmplitudeCycle):
     """The (psi, M) loop of the steady cycle as vertices: psi in mrad about the loop centre
     (forward extreme = +psi_a), M in N mm; forward half then backward half (numpy arrays)."""
     psis, ms = [], []
+    coefficients = loop_moment_coefficients(ac.shape, ac.load, ac.motion)
     q = float(ac.load.q_star)
     top = float(ac.psi_a)
     for half, branch in ((ac.forward, 1.0), (ac.backward, -1.0)):
         act = np.asarray(half.active)
         dv = np.asarray(half.dv)[act]
-        m0 = np.asarray(platform_moment(ac.shape, ac.load, half.N0, half.T0))[act]
-        dm = np.asarray(platform_moment(ac.shape, ac.load, half.dN, half.dT))[act]
+        m0, dm = (np.asarray(m)[act] for m in _half_moment(coefficients, half))
         start = top if branch > 0 else -top
         cum = np.concatenate([[0.0], np.cumsum(dv)])
         psis.extend(start - branch * psi_mrad(cum, q))

@@ -16,6 +16,17 @@ Forces
     damper slides down the right flank and up the left one, so friction points up the right flank
     (+) and down the left one (-): T_i = s_i mu N_i with s = START_FRICTION_SIGNS.
 
+Any straight relative platform motion (jaxdamp.motion; MODEL.md, "Any in-plane motion")
+    The right platform moves relative to the left one as a small rigid body: X = (du, dv, dtheta)
+    at D, du and dv in mm (right, up), dtheta in mrad (counter-clockwise). A point at (x, y) mm
+    from D moves by (du - dtheta (y) / 1e3, dv + dtheta (x) / 1e3). A path X = a cos(tau) X_hat
+    runs the solvers with the path parameter s = a q* / 1e3 mm (the travel dv of in-phase
+    motion), so that in-phase motion, X_hat = (0, q*/1e3, 0) per mrad, is exactly the model
+    above. Interblade phase angle phi (the paper's Fig. 4: each platform turns about its blade's
+    centre C, h_C below D and q*/2 to the side; the right-hand blade lags by phi): per mrad of
+    the left-hand blade's clockwise rotation, X_hat = (h_C (e^{i phi} - 1), q*/2 (e^{i phi} + 1),
+    -1e3 (e^{i phi} - 1)) / 1e3.
+
 Moment and complex stiffness
     M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta) in N mm: the moment that imposes psi, so the stick
     stiffness is positive and the loop is traversed with positive work oint M dpsi.
@@ -29,6 +40,7 @@ from __future__ import annotations
 import warnings
 
 import jax
+import jax.numpy as jnp
 import numpy as np
 
 MRAD_PER_RAD = 1e3
@@ -46,6 +58,24 @@ CENTRIFUGAL_LOAD = np.array([0.0, 1.0, 0.0])
 
 # M_P takes +F_R1,v and -F_L,v.
 MOMENT_SIDE = np.array([1.0, -1.0, -1.0])
+
+
+def rigid_displacement(direction, offsets_mm):
+    """Displacements (mm, (..., 2)) of points at offsets (x, y) mm from D of a rigid platform that
+    moves by X = (du mm, dv mm, dtheta mrad) at D (small rotations)."""
+    turn = direction[2] / MRAD_PER_RAD
+    return jnp.stack([direction[0] - turn * offsets_mm[..., 1],
+                      direction[1] + turn * offsets_mm[..., 0]], -1)
+
+
+def interblade_direction(phi_deg, h_c_mm, q_star_mm):
+    """X_hat (complex (3,): du mm, dv mm, dtheta mrad) per mrad of the left-hand blade's platform
+    rotation for an interblade phase angle phi (the convention above). phi = 0 and 180 degrees are
+    exact (e^{i phi} = +-1): the straight in-phase and out-of-phase paths."""
+    phi = float(phi_deg) % 360.0
+    e = {0.0: 1.0 + 0j, 180.0: -1.0 + 0j}.get(phi, np.exp(1j * np.deg2rad(phi)))
+    return np.array([h_c_mm * (e - 1.0) / MRAD_PER_RAD, 0.5 * q_star_mm * (e + 1.0) / MRAD_PER_RAD,
+                     -(e - 1.0)])
 
 
 def psi_mrad(dv_mm, q_star_mm):
@@ -107,5 +137,5 @@ def warn_small_rotation(psi_mrad, name="psi_BC", stacklevel=2):
 
 __all__ = ["MRAD_PER_RAD", "CONTACT_NAMES", "START_FRICTION_SIGNS", "PLATFORM_MOTION",
            "CENTRIFUGAL_LOAD", "MOMENT_SIDE", "psi_mrad", "travel_mm", "platform_arm",
-           "moment_coefficients", "stiffness_from_fourier", "stiffness_from_rfft",
+           "moment_coefficients", "rigid_displacement", "interblade_direction", "stiffness_from_fourier", "stiffness_from_rfft",
            "SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation"]

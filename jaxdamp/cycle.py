@@ -24,6 +24,7 @@ from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
 from .half import Half, accelerate, empty_half, run_half
 from .loops import check_loop, repeat_until, values_by_while
+from .motion import pad_motion
 from .tract import STATE_NAMES, Mechanics, make_mechanics
 
 # One type for every half since the tract engine (jaxdamp.half); the old name stays for callers.
@@ -38,10 +39,15 @@ CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
 EQUILIBRIUM_TOL = 1e-8
 
 
-def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase) -> Mechanics:
+def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, motion=None) -> Mechanics:
+    """The tract engine's constants of one design on a platform path: in-phase (motion None,
+    per mm of dv) or a straight `jaxdamp.Motion` (per mm of its path parameter a q*/1e3)."""
     a, c, geo = contact_columns(shape)
-    nw = geo.normals[:, 1] * PLATFORM_MOTION
-    tw = geo.tangents[:, 1] * PLATFORM_MOTION
+    if motion is None:
+        nw = geo.normals[:, 1] * PLATFORM_MOTION
+        tw = geo.tangents[:, 1] * PLATFORM_MOTION
+    else:
+        nw, tw = pad_motion(shape, motion, load.q_star)
     kn, kt = contacts.per_contact()
     return make_mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, mu)
 

@@ -33,8 +33,9 @@ from ..linalg import solve3
 from .._validate import check_int, check_range
 from ..geometry import DamperShape
 from ..params import Contacts, LoadCase, prepare_inputs
-from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, PLATFORM_MOTION, START_FRICTION_SIGNS, moment_coefficients,
+from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, PLATFORM_MOTION, START_FRICTION_SIGNS,
                            psi_mrad, travel_mm)
+from ..motion import loop_moment_coefficients, pad_motion, validate_motion
 from ..statics import contact_columns, full_slip_state
 from ..status import from_flags
 
@@ -65,10 +66,12 @@ class MarchModel(NamedTuple):
     F_D: jnp.ndarray
 
 
-def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
+def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, motion=None):
     """(model, liftoff_at_start): the model whose reference state 0 is the cycle-start full slip.
     Inputs as `jaxdamp.base_cycle` (angles in degrees, kn, kt in N/mm, F_D in N, q* in mm); the
-    model holds forces in units of F_D and stiffness per F_D (1/mm). Unchecked, traceable."""
+    model holds forces in units of F_D and stiffness per F_D (1/mm). motion: None (in-phase, dv
+    in mm) or a straight `jaxdamp.Motion` ("dv" is then its path parameter a q*/1e3, mm, and the
+    moment its modal force). Unchecked, traceable."""
     a, c, geo = contact_columns(shape)
     kn, kt = contacts.per_contact()
     F_D = jnp.asarray(load.F_D, float)
@@ -77,10 +80,12 @@ def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
     lift0 = (start.min_normal <= 0.0) | ~start.solvable
     N_ref = jnp.where(lift0, jnp.ones(3), start.N)  # keep the masked computation finite
     T_ref = START_FRICTION_SIGNS * mu * N_ref
-    fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], F_D, load.q_star,
-                                 load.r_sin_beta)
-    model = MarchModel(a, c, geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION,
-                       kn / F_D, kt / F_D, mu,
+    fn, ft = loop_moment_coefficients(shape, load._replace(F_D=F_D), motion)
+    if motion is None:
+        nw, tw = geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION
+    else:
+        nw, tw = pad_motion(shape, motion, load.q_star)
+    model = MarchModel(a, c, nw, tw, kn / F_D, kt / F_D, mu,
                        N_ref, T_ref, fn, ft, jnp.asarray(load.q_star, float), F_D)
     return model, lift0
 
@@ -461,8 +466,9 @@ class AmplitudeMarch(NamedTuple):
 
 @partial(jax.jit, static_argnames=("initial", "n_steps", "max_pairs", "n_load", "max_newton"))
 def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, initial: str,
-                     n_steps: int, max_pairs: int, n_load: int, max_newton: int = MAX_NEWTON):
-    m, lift0 = march_model(shape, mu, contacts, load)
+                     n_steps: int, max_pairs: int, n_load: int, max_newton: int = MAX_NEWTON,
+                     motion=None):
+    m, lift0 = march_model(shape, mu, contacts, load, motion)
     a_dv = travel_mm(psi_a_mrad, m.q_star)
     h = 2.0 * a_dv / n_steps
     fails = jnp.array(0)
@@ -504,7 +510,7 @@ def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, init
 def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip", n_steps: int,
                     max_pairs: int = 6, n_load: int = 16,
-                    max_newton: int = MAX_NEWTON) -> AmplitudeMarch:
+                    max_newton: int = MAX_NEWTON, motion=None) -> AmplitudeMarch:
     """The steady cycle at amplitude psi_a (mrad) by time marching, for checking
     `jaxdamp.amplitude` independently.
 
@@ -515,6 +521,8 @@ def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     (F_D applied in n_load steps at mid travel from zero forces, then a quarter travel forward in
     n_steps/2 steps and a backward half), or an explicit (N, T) pair at the forward extreme (units
     of F_D, in equilibrium with F_D). Newton failures and liftoff are reported, never NaN.
+    motion: None (in-phase) or a straight `jaxdamp.Motion`, with "assembly" or an explicit start
+    (the marcher has no gross-slip start on a path).
     """
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("psi_a_mrad", psi_a_mrad, 0.0, np.inf, lo_open=True, unit="mrad")
@@ -529,9 +537,15 @@ def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     else:
         N_init, T_init = (jnp.asarray(v, float) for v in initial)
         mode = "explicit"
+    if motion is not None:
+        motion = validate_motion(motion)
+        if mode == "gross_slip":
+            raise ValueError("initial must be assembly or an (N, T) pair on a path (motion given); "
+                             "got 'gross_slip'")
     return _march_amplitude(shape, mu, contacts, load, jnp.asarray(psi_a_mrad, float), N_init,
                             T_init, mode, n_steps, check_int("max_pairs", max_pairs, 1),
-                            check_int("n_load", n_load, 1), check_int("max_newton", max_newton, 1))
+                            check_int("n_load", n_load, 1), check_int("max_newton", max_newton, 1),
+                            motion=motion)
 
 
 __all__ = ["time_march", "TimeMarchResult", "march_model", "march", "march_half", "step", "newton", "respond",

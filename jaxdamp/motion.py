@@ -1,0 +1,137 @@
+"""Relative platform motions beyond the paper's in-phase one: straight paths of any direction.
+
+The paper's damper sees in-phase motion only: the right platform moves radially by dv = q* psi
+relative to the left one. A blade row vibrating with a non-zero interblade phase angle, or
+out-of-phase, also turns and shifts the platforms relative to each other (MODEL.md, "Any in-plane
+motion"; the kinematics are in `conventions`). This module describes such a motion and turns it
+into the per-contact platform motion that the tract engine runs on:
+
+- A `Motion` is a straight path X(tau) = a cos(tau) X_hat, with X_hat = (du mm, dv mm,
+  dtheta mrad) per mrad of the amplitude a, and the damper's absolute size (its left flank's
+  length h_L, mm), which matters once the platforms turn relative to each other.
+- `in_phase_motion` is the paper's (X_hat = (0, q*/1e3, 0)); `interblade_motion` gives the
+  paper's Fig. 4 kinematics at phi = 0 (in-phase) and phi = 180 degrees (out-of-phase);
+  `straight_motion` takes any X_hat that is real up to one phase (e.g. from modal data).
+- Other interblade phase angles make the path an ellipse: not in this version (issue 34); they
+  are refused with a message saying so.
+
+Modal force and complex stiffness on a path: M = 2 (q*/2 + r sin beta) F_D sum over the right
+platform's pads of (-N nw + T tw), with nw, tw the pad's platform motion along its normal and
+tangent per mm of the path parameter s = a q*/1e3. In-phase it is the paper's platform moment
+M_P less its constant F_D (q*/2 + r sin beta) (the damper's vertical equilibrium), so k_Re, k_Im
+are the paper's; on any path oint M ds/q* is the work the platforms put in, sum of T d(slip).
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax.numpy as jnp
+import numpy as np
+
+from ._validate import check_param
+from .conventions import (MRAD_PER_RAD, PLATFORM_MOTION, interblade_direction, moment_coefficients,
+                          platform_arm, rigid_displacement)
+from .geometry import DamperShape, section_geometry
+
+# |Im| / |X_hat| above which a direction is not straight up to one phase (an ellipse).
+STRAIGHT_TOL = 1e-9
+
+
+class Motion(NamedTuple):
+    """A straight relative platform path X(tau) = a cos(tau) direction (a pytree).
+
+    direction: (3,) (du mm, dv mm, dtheta mrad) of the right platform relative to the left one
+        at D, per mrad of the amplitude a (du right, dv up, dtheta counter-clockwise).
+    h_l: the damper's left flank length, mm (its absolute size: only a relative rotation sees it).
+    """
+
+    direction: jnp.ndarray
+    h_l: jnp.ndarray
+
+
+def in_phase_motion(q_star_mm=100.0, h_l_mm=10.0) -> Motion:
+    """The paper's in-phase motion: dv = q* psi, X_hat = (0, q*/1e3, 0) mm per mrad of psi."""
+    check_param("q_star", q_star_mm)
+    return straight_motion([0.0, float(q_star_mm) / MRAD_PER_RAD, 0.0], h_l_mm)
+
+
+def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=10.0) -> Motion:
+    """The paper's Fig. 4 kinematics at interblade phase angle phi (degrees), per mrad of the
+    left-hand blade's platform rotation: each platform turns about its blade's centre C, h_c_mm
+    below D and q*/2 to the side. phi = 0 is `in_phase_motion` exactly; phi = 180 is the
+    out-of-phase path (no dv: relative rotation and horizontal motion). Other phi give an
+    elliptic path, which this version does not compute (ValueError)."""
+    phi = float(phi_deg)
+    if not np.isfinite(phi) or float(phi % 180.0) != 0.0:
+        raise ValueError(f"ibpa must be 0 or 180 deg (the straight paths; elliptic paths at other "
+                         f"phase angles are not computed yet, issue 34); got {phi_deg!r}")
+    check_param("h_c", h_c_mm)
+    check_param("q_star", q_star_mm)
+    return straight_motion(interblade_direction(phi, float(h_c_mm), float(q_star_mm)), h_l_mm)
+
+
+def straight_motion(direction, h_l_mm=10.0) -> Motion:
+    """A Motion from X_hat (3 numbers, real or complex: du mm, dv mm, dtheta mrad per mrad of
+    amplitude), which must be real up to one common phase (a straight path; it is rotated to
+    real, which leaves the cycle and its complex stiffness unchanged). ValueError, naming the
+    parameter and its range, for anything else."""
+    x = np.asarray(direction, dtype=complex)
+    if x.shape != (3,) or not np.all(np.isfinite(x)):
+        raise ValueError(f"motion must be 3 finite numbers (du mm, dv mm, dtheta mrad); got {direction!r}")
+    norm = float(np.linalg.norm(x))
+    if norm == 0.0:
+        raise ValueError("motion must be non-zero: |(du, dv, dtheta)| in (0, inf); got 0")
+    # The phase that makes x most real: x = e^{i alpha} r, with alpha from the largest component.
+    k = int(np.argmax(np.abs(x)))
+    r = x * np.exp(-1j * np.angle(x[k]))
+    if np.max(np.abs(r.imag)) > STRAIGHT_TOL * norm:
+        raise ValueError("motion must be a straight path: its components real up to one common "
+                         "phase (|Im| <= 1e-9 |X|); elliptic paths are not computed yet (issue 34)")
+    real = r.real * np.sign(x[k].real if x[k].real != 0.0 else 1.0)
+    for value in real:
+        check_param("motion_component", value, "motion")
+    check_param("h_l", h_l_mm)
+    return Motion(jnp.asarray(real, float), jnp.asarray(float(h_l_mm), float))
+
+
+def validate_motion(motion: Motion) -> Motion:
+    """A Motion's fields checked (ValueError naming the parameter and its range)."""
+    if not isinstance(motion, Motion):
+        raise ValueError(f"motion must be a jaxdamp.Motion (in_phase_motion, interblade_motion, "
+                         f"straight_motion); got {type(motion).__name__}")
+    return straight_motion(np.asarray(motion.direction, float), float(motion.h_l))
+
+
+def pad_motion(shape: DamperShape, motion: Motion, q_star_mm):
+    """(nw, tw): each pad's platform motion along its outward normal and up-flank tangent, per mm
+    of the path parameter s = a q*/1e3 (the left platform is the reference: zero for L1, L2).
+    Unchecked, traceable (jit, vmap, grad)."""
+    geo = section_geometry(shape)
+    height_mm = motion.h_l * jnp.sin(jnp.deg2rad(jnp.asarray(shape.theta_l, float)))  # H = h_L sin(theta_L)
+    offsets = (geo.points - geo.D[None, :]) * height_mm
+    per_s = jnp.asarray(motion.direction, float) / (jnp.asarray(q_star_mm, float) / MRAD_PER_RAD)
+    w = rigid_displacement(per_s, offsets) * PLATFORM_MOTION[:, None]
+    return jnp.sum(geo.normals * w, -1), jnp.sum(geo.tangents * w, -1)
+
+
+def loop_moment_coefficients(shape: DamperShape, load, motion: Motion | None):
+    """(fn, ft) of the force whose first harmonic is a cycle's k, per unit normal / tangential
+    force (units of F_D) of each pad: the paper's platform moment M_P in-phase (motion None,
+    `geometry.platform_moment`), the modal force on a path. Unchecked, traceable."""
+    if motion is None:
+        geo = section_geometry(shape)
+        return moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
+                                   load.r_sin_beta)
+    return motion_moment_coefficients(*pad_motion(shape, motion, load.q_star), load)
+
+
+def motion_moment_coefficients(nw, tw, load):
+    """(fn, ft): the modal force M (N mm, module docstring) per unit normal / tangential force
+    (units of F_D) of each pad. Unchecked, traceable."""
+    scale = 2.0 * platform_arm(load.q_star, load.r_sin_beta) * load.F_D
+    return -scale * nw, scale * tw
+
+
+__all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "validate_motion",
+           "pad_motion", "loop_moment_coefficients", "motion_moment_coefficients", "STRAIGHT_TOL"]
