@@ -50,18 +50,19 @@ class Motion(NamedTuple):
     h_l: jnp.ndarray
 
 
-def in_phase_motion(q_star_mm=100.0, h_l_mm=10.0) -> Motion:
+def in_phase_motion(q_star_mm=100.0, h_l_mm=None) -> Motion:
     """The paper's in-phase motion: dv = q* psi, X_hat = (0, q*/1e3, 0) mm per mrad of psi."""
     check_param("q_star", q_star_mm)
     return straight_motion([0.0, float(q_star_mm) / MRAD_PER_RAD, 0.0], h_l_mm)
 
 
-def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=10.0) -> Motion:
+def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=None) -> Motion:
     """The paper's Fig. 4 kinematics at interblade phase angle phi (degrees), per mrad of the
     left-hand blade's platform rotation: each platform turns about its blade's centre C, h_c_mm
     below D and q*/2 to the side. phi = 0 is `in_phase_motion` exactly; phi = 180 is the
-    out-of-phase path (no dv: relative rotation and horizontal motion). Other phi give an
-    elliptic path, which this version does not compute (ValueError)."""
+    out-of-phase path (no dv: relative rotation and horizontal motion), which needs the damper's
+    size h_l_mm. Other phi give an elliptic path, which this version does not compute
+    (ValueError)."""
     phi = float(phi_deg)
     if not np.isfinite(phi) or float(phi % 180.0) != 0.0:
         raise ValueError(f"ibpa must be 0 or 180 deg (the straight paths; elliptic paths at other "
@@ -71,10 +72,11 @@ def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=10.0) -> Motion:
     return straight_motion(interblade_direction(phi, float(h_c_mm), float(q_star_mm)), h_l_mm)
 
 
-def straight_motion(direction, h_l_mm=10.0) -> Motion:
+def straight_motion(direction, h_l_mm=None) -> Motion:
     """A Motion from X_hat (3 numbers, real or complex: du mm, dv mm, dtheta mrad per mrad of
     amplitude), which must be real up to one common phase (a straight path; it is rotated to
-    real, which leaves the cycle and its complex stiffness unchanged). ValueError, naming the
+    real, which leaves the cycle and its complex stiffness unchanged), and the damper's left
+    flank length h_l_mm, needed where dtheta is not zero (else unused). ValueError, naming the
     parameter and its range, for anything else."""
     x = np.asarray(direction, dtype=complex)
     if x.shape != (3,) or not np.all(np.isfinite(x)):
@@ -91,6 +93,11 @@ def straight_motion(direction, h_l_mm=10.0) -> Motion:
     real = r.real * np.sign(x[k].real if x[k].real != 0.0 else 1.0)
     for value in real:
         check_param("motion_component", value, "motion")
+    if h_l_mm is None:
+        if real[2] != 0.0:
+            raise ValueError("h_l must be given for a motion that turns the platforms (dtheta != 0): "
+                             "the damper's left flank length in (0, 10000] mm")
+        h_l_mm = 1.0  # unused: without a relative rotation the damper's size drops out
     check_param("h_l", h_l_mm)
     return Motion(jnp.asarray(real, float), jnp.asarray(float(h_l_mm), float))
 

@@ -81,3 +81,42 @@ def test_bad_input_exits_2_with_one_line(capsys, argv, needle):
     assert code == 2
     lines = [ln for ln in err.strip().splitlines() if ln]
     assert len(lines) == 1 and needle in lines[0]
+
+
+def test_out_of_phase_path_json(capsys):
+    """--ibpa 180: the out-of-phase path, its motion in the JSON, the library's numbers; the
+    modal force's loop work is the energy at the pads (the library's identity, through the CLI)."""
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--kn", "17900",
+                       "--kt", "3580", "--psi-a", "10,20", "--initial", "assembly", "--ibpa", "180",
+                       "--h-c", "20", "--h-l", "10", "--json")
+    assert code == 0
+    d = json.loads(out)
+    m = d["inputs"]["motion"]
+    assert m["ibpa_deg"] == 180 and m["h_c_mm"] == 20 and m["h_l_mm"] == 10
+    assert m["direction"] == [-0.04, 0.0, 2.0]  # (h_C (-2), 0, 2) / 1e3 mm and mrad per mrad
+    motion = jd.interblade_motion(180, 20.0, 100.0, 10.0)
+    for row, psi in zip(d["amplitudes"], (10.0, 20.0)):
+        ref = amplitude_cycle(jd.family_shape("60sym"), 0.5, psi, jd.Contacts(17900.0, 3580.0),
+                              initial="assembly", motion=motion)
+        assert row["status"] == "ok"
+        assert row["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
+        assert row["k_re"] == pytest.approx(float(ref.k_re), rel=1e-12)
+
+
+@pytest.mark.parametrize("extra, message", [
+    (["--ibpa", "90", "--h-c", "20", "--h-l", "10"], "--ibpa must be 0 or 180 deg"),
+    (["--ibpa", "180", "--h-c", "20", "--h-l", "0"], "--h-l must be in (0, 10000] mm; got 0"),
+    (["--ibpa", "180", "--h-l", "10"], "--h-c (depth of the blades' rotation centre"),
+    (["--ibpa", "180", "--h-c", "20"], "--h-l must be given for a motion that turns the platforms"),
+    (["--motion", "0.03,0.05j,1.5", "--h-l", "12"], "--motion must be a straight path"),
+    (["--motion", "0.03,0.05", "--h-l", "12"], "--motion must be three numbers"),
+    (["--motion", "0,1,0", "--ibpa", "0", "--h-c", "1"], "--ibpa and --motion are two ways"),
+    (["--h-l", "5"], "--h-l is the damper's size on a path that turns the platforms"),
+    (["--ibpa", "180", "--h-c", "20", "--h-l", "10", "--band"], "--band is computed for the paper's"),
+])
+def test_bad_paths_are_one_line_and_exit_2(capsys, extra, message):
+    code, out, err = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "5",
+                         *extra)
+    assert code == 2 and out == ""
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and message in lines[0], err

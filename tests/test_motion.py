@@ -68,7 +68,7 @@ def test_interblade_paths_are_the_blades_rotations_about_their_centres(h_c):
     left = platform_at_D(np.array([-q / 2, -h_c]), eps)
     right = platform_at_D(np.array([q / 2, -h_c]), -eps)  # phi = 180: the opposite rotation
     expected = np.array([*(right - left) / eps, (-(-eps) + eps) / eps])  # relative ccw rotation
-    got = np.asarray(jd.interblade_motion(180, h_c, q).direction)
+    got = np.asarray(jd.interblade_motion(180, h_c, q, h_l_mm=10.0).direction)
     np.testing.assert_allclose(got, expected, rtol=1e-6, atol=1e-9)
     assert got[1] == 0.0  # out-of-phase: no relative radial motion
 
@@ -82,10 +82,12 @@ def test_paths_that_are_not_straight_or_inputs_out_of_range_are_refused():
         jd.straight_motion([0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match=r"^h_l must be in \(0, 10000\] mm"):
         jd.straight_motion([0.0, 0.1, 1.0], h_l_mm=-1.0)
+    with pytest.raises(ValueError, match=r"^h_l must be given for a motion that turns the platforms"):
+        jd.interblade_motion(180, 20.0)
     with pytest.raises(ValueError, match=r"^h_c must be a finite number in \[-10000, 10000\] mm; got inf"):
         jd.interblade_motion(180, np.inf)
     # A complex direction that is real up to one phase is the same straight path.
-    a = jd.straight_motion(np.exp(0.7j) * np.array([0.01, -0.05, 1.0]))
+    a = jd.straight_motion(np.exp(0.7j) * np.array([0.01, -0.05, 1.0]), 10.0)
     assert_tree_allclose(a.direction, jnp.array([0.01, -0.05, 1.0]), rtol=1e-12, atol=1e-15)
 
 

@@ -1,6 +1,14 @@
 """`jaxdamp amplitude`: the exact steady cycle at prescribed platform rotation amplitudes.
 
     jaxdamp amplitude --shape 60sym --mu 0.5 --psi-a 0.5,1.2,3 [--initial assembly] [--band] [--json]
+    jaxdamp amplitude --shape 60sym --mu 0.5 --psi-a 5,10,20 --ibpa 180 --h-c 20 --h-l 10
+    jaxdamp amplitude --shape 60sym --mu 0.5 --psi-a 5 --motion 0.03,0.05,1.5 --h-l 12
+
+Beyond the paper's in-phase motion: `--ibpa 180` is out-of-phase vibration (each platform turns
+about its blade's centre, --h-c mm below D; --psi-a is then the left-hand blade's platform
+rotation), `--motion du,dv,dtheta` any straight path (mm, mm, mrad per mrad of --psi-a; complex
+entries as re+imj, real up to one common phase). Both need the damper's size --h-l (its left
+flank's length, mm) where the platforms turn; k is then that of the modal force (jaxdamp.motion).
 
 k_Re, k_Im in N mm/mrad (the Base-Cycle's sign and units), psi_a in mrad. JSON:
 {"inputs": {...}, "status": .., "amplitudes": [{"psi_a_mrad", "k_re", "k_im", "status", "cycles",
@@ -22,7 +30,20 @@ def register(sub) -> None:
     p.add_argument("--initial", default="gross_slip",
                    help="initial contact state: gross_slip (default) or assembly")
     p.add_argument("--band", action="store_true",
-                   help="also the min/max of k_Re, k_Im over all statically admissible initial states")
+                   help="also the min/max of k_Re, k_Im over all statically admissible initial states "
+                   "(in-phase motion only)")
+    p.add_argument("--ibpa", type=float, default=None,
+                   help="interblade phase angle, deg: 0 (in-phase, the default motion) or 180 "
+                   "(out-of-phase; other angles give elliptic paths, not computed yet)")
+    p.add_argument("--h-c", type=float, default=None,
+                   help="depth of the blades' rotation centre C below D, mm, in [-10000, 10000] "
+                   "(needed with --ibpa)")
+    p.add_argument("--h-l", type=float, default=None,
+                   help="the damper's size: its left flank's length, mm, in (0, 10000] (needed "
+                   "where the platforms turn relative to each other)")
+    p.add_argument("--motion", default=None,
+                   help="a straight relative platform path du,dv,dtheta (mm, mm, mrad per mrad of "
+                   "--psi-a; complex entries as re+imj), instead of --ibpa")
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -34,6 +55,35 @@ def _amplitudes(text: str) -> list[float]:
     values = list(C.float_list(text, "--psi-a", example="0.5,1.2,3"))
     check_range("--psi-a", values, 0.0, 1e4, lo_open=True, unit="mrad")
     return values
+
+
+def motion_from_args(args, load):
+    """The jaxdamp.Motion of --ibpa / --motion (None: the paper's in-phase motion), checked."""
+    from ..motion import interblade_motion, straight_motion
+
+    if args.ibpa is not None and args.motion is not None:
+        raise C.CliError("--ibpa and --motion are two ways to give the path: use one")
+    if args.h_c is not None and args.ibpa is None:
+        raise C.CliError("--h-c places the blades' rotation centre for --ibpa: give --ibpa 0 or 180")
+    if args.motion is not None:
+        try:
+            direction = [complex(v.strip()) for v in args.motion.split(",")]
+        except ValueError:
+            raise C.CliError(f"--motion must be three numbers du,dv,dtheta (mm, mm, mrad; complex as "
+                             f"re+imj), e.g. --motion 0.03,0.05,1.5; got {args.motion!r}") from None
+        if len(direction) != 3:
+            raise C.CliError(f"--motion must be three numbers du,dv,dtheta, e.g. --motion 0.03,0.05,1.5; "
+                             f"got {args.motion!r}")
+        return straight_motion(direction, args.h_l)
+    if args.ibpa is not None:
+        if args.h_c is None:
+            raise C.CliError("--h-c (depth of the blades' rotation centre below D, mm, in "
+                             "[-10000, 10000]) is needed with --ibpa")
+        return interblade_motion(args.ibpa, args.h_c, load.q_star, args.h_l)
+    if args.h_l is not None:
+        raise C.CliError("--h-l is the damper's size on a path that turns the platforms: give "
+                         "--ibpa or --motion (in-phase results do not depend on it)")
+    return None
 
 
 def run(args) -> int:
@@ -48,12 +98,16 @@ def run(args) -> int:
         raise ValueError(f"--initial must be one of {', '.join(INITIAL_STATES)}; got {args.initial!r}")
     shape = C.shape_from_args(args)
     prepare_inputs(shape, args.mu, contacts, load)
+    motion = motion_from_args(args, load)
+    if motion is not None and args.band:
+        raise C.CliError("--band is computed for the paper's in-phase motion only; drop --ibpa / --motion")
 
     rows, warned = [], []
     bar = C.progress_bar(args, total=len(psis), desc="amplitudes", unit="amplitude")
     for psi in psis:
         with C.model_warnings() as caught:  # an amplitude above the small-rotation limit
-            ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial)
+            ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial,
+                                 motion=motion)
         warned.extend(m for m in caught if m not in warned)
         valid = bool(RESULTS.valid(ac.status))
         row = {"psi_a_mrad": psi, "k_re": C.number(ac.k_re) if valid else None,
@@ -72,14 +126,20 @@ def run(args) -> int:
               "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
-              "band": bool(args.band)}
+              "band": bool(args.band), "motion": None if motion is None else {
+                  "ibpa_deg": args.ibpa, "h_c_mm": args.h_c, "h_l_mm": args.h_l,
+                  "direction": [float(v) for v in motion.direction],
+                  "direction_units": "du mm, dv mm, dtheta mrad per mrad of psi_a"}}
     status = bad[0] if bad else "ok"
     doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
                      reason=C.status_reason(status, contacts, load))
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
+    path = ("in-phase" if motion is None else
+            "path (du, dv, dtheta) = ({:.4g} mm, {:.4g} mm, {:.4g} mrad) per mrad".format(
+                *(float(v) for v in motion.direction)))
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "
-             f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad)",
+             f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad), {path}",
              f"{'psi_a':>8} {'k_Re':>10} {'k_Im':>10} {'status':>14} {'cycles':>6}"
              + ("   band k_Re [min, max]   band k_Im [min, max]" if args.band else "")]
     for r in rows:

@@ -31,7 +31,8 @@ FLAG_OF = {"theta_l": "--theta-l", "theta_r": "--theta-r", "br_over_hr": "--br",
            "eta": "--loss-factor", "f0_hz": "--f0-hz", "k_b": "--modal-stiffness-n-per-mm",
            "r": "--psi-per-mm", "max_iter": "--max-iter", "shape": "--shape", "initial": "--initial",
            "force_n": "--force-n", "start_mu": "--start-mu", "start_kn": "--start-kn",
-           "start_kt": "--start-kt"}
+           "start_kt": "--start-kt", "h_l": "--h-l", "h_c": "--h-c", "ibpa": "--ibpa",
+           "motion": "--motion"}
 
 
 def flag_message(message: str) -> str:
