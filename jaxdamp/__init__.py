@@ -96,6 +96,10 @@ from .motion import Motion as Motion
 from .motion import in_phase_motion as in_phase_motion
 from .motion import interblade_motion as interblade_motion
 from .motion import straight_motion as straight_motion
+from .motion import general_motion as general_motion
+from .ellipse import EllipticCycle as EllipticCycle
+from .ellipse import elliptic_cycle as elliptic_cycle
+from .ellipse import elliptic_kernel as elliptic_kernel
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
 from .amplitude import amplitude_kernel as amplitude_kernel
@@ -190,7 +194,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "Motion", "in_phase_motion", "interblade_motion",
-           "straight_motion", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
+           "straight_motion", "general_motion", "EllipticCycle", "elliptic_cycle",
+           "elliptic_kernel", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
            "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",
            "curve_at", "sequence_curves", "stiffness_curve", "stack_designs", "map_batched",

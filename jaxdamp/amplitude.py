@@ -50,7 +50,7 @@ from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
 from .status import RESULTS, number_repr, status_repr
-from .tract import LIMIT_TOL, STATE_NAMES
+from .tract import BACKSLIDE, LIMIT_TOL, SLIP, STATE_NAMES
 
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
@@ -59,7 +59,7 @@ ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone toleranc
 INITIAL_STATES = ("gross_slip", "assembly")
 
 __all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
-           "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop",
+           "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop", "slip_fraction",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
 
 
@@ -381,6 +381,9 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
         mode = "explicit"
     if motion is not None:
         motion = validate_motion(motion)
+        if motion.quadrature is not None:
+            raise ValueError("motion must be a straight path for amplitude_cycle (an elliptic one: "
+                             "use jaxdamp.elliptic_cycle)")
     return _kernel(shape, mu, contacts, load, psi, N_init, T_init, initial=mode,
                    max_tracts=max_tracts, max_pairs=max_pairs, motion=motion)
 
@@ -401,6 +404,24 @@ def moment_loop(ac: AmplitudeCycle):
         psis.extend(start - branch * psi_mrad(cum, q))
         ms.extend(np.concatenate([m0, [m0[-1] + dm[-1] * dv[-1]] if len(dv) else []]))
     return np.asarray(psis), np.asarray(ms)
+
+
+def slip_fraction(ac: AmplitudeCycle) -> np.ndarray:
+    """(3,) fraction of the period (of time tau, with psi = psi_a cos tau) each pad slips or
+    back-slides in the steady cycle (numpy; zeros where the cycle is not valid)."""
+    if not bool(RESULTS.valid(ac.status)):
+        return np.zeros(3)
+    a_dv = float(travel_mm(ac.psi_a, ac.load.q_star))
+    out = np.zeros(3)
+    for half in (ac.forward, ac.backward):
+        act = np.asarray(half.active)
+        dv = np.asarray(half.dv)[act]
+        cum = np.concatenate([[0.0], np.cumsum(dv)])
+        # Within a half tau runs over pi as cos tau runs from one extreme to the other.
+        tau = np.arccos(np.clip(1.0 - cum / a_dv, -1.0, 1.0))
+        sliding = np.isin(np.asarray(half.state)[act], (SLIP, BACKSLIDE))
+        out += np.sum(sliding * np.diff(tau)[:, None], axis=0)
+    return out / (2.0 * np.pi)
 
 
 def transitions_chart(ac: AmplitudeCycle) -> list[dict]:

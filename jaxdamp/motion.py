@@ -39,15 +39,19 @@ STRAIGHT_TOL = 1e-9
 
 
 class Motion(NamedTuple):
-    """A straight relative platform path X(tau) = a cos(tau) direction (a pytree).
+    """A relative platform path X(tau) = a (direction cos(tau) - quadrature sin(tau)) (a pytree):
+    a straight segment (quadrature None) or an ellipse.
 
     direction: (3,) (du mm, dv mm, dtheta mrad) of the right platform relative to the left one
-        at D, per mrad of the amplitude a (du right, dv up, dtheta counter-clockwise).
+        at D, per mrad of the amplitude a (du right, dv up, dtheta counter-clockwise): Re(X_hat).
     h_l: the damper's left flank length, mm (its absolute size: only a relative rotation sees it).
+    quadrature: (3,) Im(X_hat) of an elliptic path (`jaxdamp.elliptic_cycle`), None for a straight
+        one (`amplitude_cycle(..., motion=...)`).
     """
 
     direction: jnp.ndarray
     h_l: jnp.ndarray
+    quadrature: jnp.ndarray | None = None
 
 
 def in_phase_motion(q_star_mm=100.0, h_l_mm=None) -> Motion:
@@ -61,15 +65,14 @@ def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=None) -> Motion:
     left-hand blade's platform rotation: each platform turns about its blade's centre C, h_c_mm
     below D and q*/2 to the side. phi = 0 is `in_phase_motion` exactly; phi = 180 is the
     out-of-phase path (no dv: relative rotation and horizontal motion), which needs the damper's
-    size h_l_mm. Other phi give an elliptic path, which this version does not compute
-    (ValueError)."""
+    size h_l_mm. Other phi give an elliptic path (`elliptic_cycle`); +phi and -phi run it in
+    opposite senses."""
     phi = float(phi_deg)
-    if not np.isfinite(phi) or float(phi % 180.0) != 0.0:
-        raise ValueError(f"ibpa must be 0 or 180 deg (the straight paths; elliptic paths at other "
-                         f"phase angles are not computed yet, issue 34); got {phi_deg!r}")
+    if not np.isfinite(phi) or not -360.0 <= phi <= 360.0:
+        raise ValueError(f"ibpa must be a finite angle in [-360, 360] deg; got {phi_deg!r}")
     check_param("h_c", h_c_mm)
     check_param("q_star", q_star_mm)
-    return straight_motion(interblade_direction(phi, float(h_c_mm), float(q_star_mm)), h_l_mm)
+    return general_motion(interblade_direction(phi, float(h_c_mm), float(q_star_mm)), h_l_mm)
 
 
 def straight_motion(direction, h_l_mm=None) -> Motion:
@@ -102,12 +105,36 @@ def straight_motion(direction, h_l_mm=None) -> Motion:
     return Motion(jnp.asarray(real, float), jnp.asarray(float(h_l_mm), float))
 
 
+def general_motion(direction, h_l_mm=None) -> Motion:
+    """A Motion from X_hat (3 numbers, real or complex): straight where it is real up to one
+    common phase (as `straight_motion`), else the ellipse X(tau) = a Re(X_hat e^{i tau})."""
+    x = np.asarray(direction, dtype=complex)
+    try:
+        return straight_motion(x, h_l_mm)
+    except ValueError as e:
+        if not str(e).startswith("motion must be a straight path"):
+            raise
+    for value in np.concatenate([x.real, x.imag]):
+        check_param("motion_component", value, "motion")
+    if h_l_mm is None:
+        if x[2] != 0.0:
+            raise ValueError("h_l must be given for a motion that turns the platforms (dtheta != 0): "
+                             "the damper's left flank length in (0, 10000] mm")
+        h_l_mm = 1.0  # unused: without a relative rotation the damper's size drops out
+    check_param("h_l", h_l_mm)
+    return Motion(jnp.asarray(x.real, float), jnp.asarray(float(h_l_mm), float),
+                  jnp.asarray(x.imag, float))
+
+
 def validate_motion(motion: Motion) -> Motion:
     """A Motion's fields checked (ValueError naming the parameter and its range)."""
     if not isinstance(motion, Motion):
         raise ValueError(f"motion must be a jaxdamp.Motion (in_phase_motion, interblade_motion, "
-                         f"straight_motion); got {type(motion).__name__}")
-    return straight_motion(np.asarray(motion.direction, float), float(motion.h_l))
+                         f"straight_motion, general_motion); got {type(motion).__name__}")
+    x = np.asarray(motion.direction, float)
+    if motion.quadrature is not None:
+        x = x + 1j * np.asarray(motion.quadrature, float)
+    return general_motion(x, float(motion.h_l))
 
 
 def pad_motion(shape: DamperShape, motion: Motion, q_star_mm):
@@ -140,5 +167,6 @@ def motion_moment_coefficients(nw, tw, load):
     return -scale * nw, scale * tw
 
 
-__all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "validate_motion",
+__all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "general_motion",
+           "validate_motion",
            "pad_motion", "loop_moment_coefficients", "motion_moment_coefficients", "STRAIGHT_TOL"]

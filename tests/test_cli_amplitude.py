@@ -104,11 +104,12 @@ def test_out_of_phase_path_json(capsys):
 
 
 @pytest.mark.parametrize("extra, message", [
-    (["--ibpa", "90", "--h-c", "20", "--h-l", "10"], "--ibpa must be 0 or 180 deg"),
+    (["--ibpa", "400", "--h-c", "20", "--h-l", "10"], "--ibpa must be a finite angle in [-360, 360] deg"),
+    (["--ibpa", "90", "--h-c", "20", "--h-l", "10", "--initial", "gross_slip"],
+     "--initial must be one of assembly on an elliptic path"),
     (["--ibpa", "180", "--h-c", "20", "--h-l", "0"], "--h-l must be in (0, 10000] mm; got 0"),
     (["--ibpa", "180", "--h-l", "10"], "--h-c (depth of the blades' rotation centre"),
     (["--ibpa", "180", "--h-c", "20"], "--h-l must be given for a motion that turns the platforms"),
-    (["--motion", "0.03,0.05j,1.5", "--h-l", "12"], "--motion must be a straight path"),
     (["--motion", "0.03,0.05", "--h-l", "12"], "--motion must be three numbers"),
     (["--motion", "0,1,0", "--ibpa", "0", "--h-c", "1"], "--ibpa and --motion are two ways"),
     (["--h-l", "5"], "--h-l is the damper's size on a path that turns the platforms"),
@@ -120,3 +121,24 @@ def test_bad_paths_are_one_line_and_exit_2(capsys, extra, message):
     assert code == 2 and out == ""
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1 and message in lines[0], err
+
+
+def test_elliptic_path_json(capsys):
+    """--ibpa 90: an elliptic path, run from assembly (its default there), the library's numbers,
+    per-pad energy and slip fractions, and the work identity pi a^2 k_Im / 1e3 = energy."""
+    code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--kn", "17900",
+                       "--kt", "3580", "--psi-a", "10", "--ibpa", "90", "--h-c", "20", "--h-l", "10",
+                       "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["inputs"]["initial"] == "assembly" and d["inputs"]["motion"]["quadrature"] is not None
+    row = d["amplitudes"][0]
+    ref = jd.elliptic_cycle(jd.family_shape("60sym"), 0.5, 10.0,
+                            jd.interblade_motion(90, 20.0, 100.0, 10.0), jd.Contacts(17900.0, 3580.0))
+    assert row["status"] == "ok"
+    assert row["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
+    assert set(row["energy_nmm"]) == set(row["slip_fraction"]) == {"R1", "L1", "L2"}
+    assert sum(row["energy_nmm"].values()) == pytest.approx(row["dissipated_energy_nmm"], rel=1e-12)
+    assert row["dissipated_energy_nmm"] == pytest.approx(3.141592653589793 * 100 * row["k_im"] / 1e3,
+                                                         rel=1e-9)
+    assert all(0.0 <= f <= 1.0 for f in row["slip_fraction"].values())

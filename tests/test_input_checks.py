@@ -27,7 +27,7 @@ CHECKED = {
     "five_numbers_jacobian", "k_im_gradient_at", "batch_jacobian", "damper_stiffness",
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
-    "interblade_motion", "straight_motion",
+    "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
     # jaxdamp.baselines
     "hbm_aft", "regularized_aft", "time_march",
 }

@@ -74,10 +74,13 @@ def test_interblade_paths_are_the_blades_rotations_about_their_centres(h_c):
 
 
 def test_paths_that_are_not_straight_or_inputs_out_of_range_are_refused():
-    with pytest.raises(ValueError, match=r"^ibpa must be 0 or 180 deg .*elliptic"):
-        jd.interblade_motion(90.0, 20.0)
+    with pytest.raises(ValueError, match=r"^ibpa must be a finite angle in \[-360, 360\] deg"):
+        jd.interblade_motion(np.nan, 20.0)
     with pytest.raises(ValueError, match=r"^motion must be a straight path"):
         jd.straight_motion([0.01, 0.05j, 1.0])
+    # Other phase angles and complex directions are ellipses (tests/test_ellipse.py).
+    assert jd.interblade_motion(90.0, 20.0, h_l_mm=10.0).quadrature is not None
+    assert jd.general_motion([0.01, 0.05j, 1.0], 10.0).quadrature is not None
     with pytest.raises(ValueError, match=r"^motion must be non-zero"):
         jd.straight_motion([0.0, 0.0, 0.0])
     with pytest.raises(ValueError, match=r"^h_l must be in \(0, 10000\] mm"):

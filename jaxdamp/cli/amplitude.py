@@ -4,11 +4,14 @@
     jaxdamp amplitude --shape 60sym --mu 0.5 --psi-a 5,10,20 --ibpa 180 --h-c 20 --h-l 10
     jaxdamp amplitude --shape 60sym --mu 0.5 --psi-a 5 --motion 0.03,0.05,1.5 --h-l 12
 
-Beyond the paper's in-phase motion: `--ibpa 180` is out-of-phase vibration (each platform turns
-about its blade's centre, --h-c mm below D; --psi-a is then the left-hand blade's platform
-rotation), `--motion du,dv,dtheta` any straight path (mm, mm, mrad per mrad of --psi-a; complex
-entries as re+imj, real up to one common phase). Both need the damper's size --h-l (its left
-flank's length, mm) where the platforms turn; k is then that of the modal force (jaxdamp.motion).
+Beyond the paper's in-phase motion: `--ibpa DEG` is a travelling wave with interblade phase angle
+DEG (each platform turns about its blade's centre, --h-c mm below D; --psi-a is then the left-hand
+blade's platform rotation; 180 is out-of-phase, a straight path, any other angle but 0 an
+ellipse), `--motion du,dv,dtheta` any path (mm, mm, mrad per mrad of --psi-a; complex entries as
+re+imj: an ellipse unless real up to one common phase). Both need the damper's size --h-l (its
+left flank's length, mm) where the platforms turn; k is then that of the modal force
+(jaxdamp.motion), and each row adds energy_nmm and slip_fraction per pad and
+dissipated_energy_nmm. On an ellipse the history is assembly (the default there).
 
 k_Re, k_Im in N mm/mrad (the Base-Cycle's sign and units), psi_a in mrad. JSON:
 {"inputs": {...}, "status": .., "amplitudes": [{"psi_a_mrad", "k_re", "k_im", "status", "cycles",
@@ -27,14 +30,15 @@ def register(sub) -> None:
     C.add_design_args(p)
     p.add_argument("--psi-a", required=True,
                    help="platform rotation amplitudes, mrad, comma-separated, each in (0, 10000]")
-    p.add_argument("--initial", default="gross_slip",
-                   help="initial contact state: gross_slip (default) or assembly")
+    p.add_argument("--initial", default=None,
+                   help="initial contact state: gross_slip (default) or assembly (the only one, and "
+                   "the default, on an elliptic path)")
     p.add_argument("--band", action="store_true",
                    help="also the min/max of k_Re, k_Im over all statically admissible initial states "
                    "(in-phase motion only)")
     p.add_argument("--ibpa", type=float, default=None,
-                   help="interblade phase angle, deg: 0 (in-phase, the default motion) or 180 "
-                   "(out-of-phase; other angles give elliptic paths, not computed yet)")
+                   help="interblade phase angle, deg, in [-360, 360]: 0 is in-phase (the default "
+                   "motion), 180 out-of-phase, any other an elliptic path")
     p.add_argument("--h-c", type=float, default=None,
                    help="depth of the blades' rotation centre C below D, mm, in [-10000, 10000] "
                    "(needed with --ibpa)")
@@ -43,7 +47,8 @@ def register(sub) -> None:
                    "where the platforms turn relative to each other)")
     p.add_argument("--motion", default=None,
                    help="a straight relative platform path du,dv,dtheta (mm, mm, mrad per mrad of "
-                   "--psi-a; complex entries as re+imj), instead of --ibpa")
+                   "--psi-a; complex entries as re+imj: an ellipse unless real up to one phase), "
+                   "instead of --ibpa")
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -87,18 +92,27 @@ def motion_from_args(args, load):
 
 
 def run(args) -> int:
-    from ..amplitude import INITIAL_STATES, amplitude_cycle
+    import numpy as np
+
+    from ..amplitude import INITIAL_STATES, amplitude_cycle, slip_fraction
+    from ..ellipse import elliptic_cycle
+    from ..geometry import CONTACT_NAMES
     from ..params import prepare_inputs
     from ..status import RESULTS
 
     # Every input is checked before any work (ValueError / CliError -> one line, exit code 2).
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     psis = _amplitudes(args.psi_a)
-    if args.initial not in INITIAL_STATES:
-        raise ValueError(f"--initial must be one of {', '.join(INITIAL_STATES)}; got {args.initial!r}")
     shape = C.shape_from_args(args)
     prepare_inputs(shape, args.mu, contacts, load)
     motion = motion_from_args(args, load)
+    elliptic = motion is not None and motion.quadrature is not None
+    if args.initial is None:
+        args.initial = "assembly" if elliptic else "gross_slip"
+    valid_initial = ("assembly",) if elliptic else INITIAL_STATES
+    if args.initial not in valid_initial:
+        where = " on an elliptic path" if elliptic else ""
+        raise ValueError(f"--initial must be one of {', '.join(valid_initial)}{where}; got {args.initial!r}")
     if motion is not None and args.band:
         raise C.CliError("--band is computed for the paper's in-phase motion only; drop --ibpa / --motion")
 
@@ -106,13 +120,23 @@ def run(args) -> int:
     bar = C.progress_bar(args, total=len(psis), desc="amplitudes", unit="amplitude")
     for psi in psis:
         with C.model_warnings() as caught:  # an amplitude above the small-rotation limit
-            ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial,
-                                 motion=motion)
+            if elliptic:
+                ac = elliptic_cycle(shape, args.mu, psi, motion, contacts, load, initial=args.initial)
+            else:
+                ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial,
+                                     motion=motion)
         warned.extend(m for m in caught if m not in warned)
         valid = bool(RESULTS.valid(ac.status))
         row = {"psi_a_mrad": psi, "k_re": C.number(ac.k_re) if valid else None,
                "k_im": C.number(ac.k_im) if valid else None,
-               "status": RESULTS.name_of(ac.status), "cycles": int(ac.cycles)}
+               "status": RESULTS.name_of(ac.status),
+               "cycles": int(ac.periods if elliptic else ac.cycles)}
+        if motion is not None:
+            fractions = np.asarray(ac.slip_fraction) if elliptic else slip_fraction(ac)
+            row.update(
+                dissipated_energy_nmm=C.number(np.sum(ac.energy)) if valid else None,
+                energy_nmm={p: C.number(e) if valid else None for p, e in zip(CONTACT_NAMES, np.asarray(ac.energy))},
+                slip_fraction={p: C.number(f) if valid else None for p, f in zip(CONTACT_NAMES, fractions)})
         if args.band:
             from ..band import amplitude_band
 
@@ -129,6 +153,7 @@ def run(args) -> int:
               "band": bool(args.band), "motion": None if motion is None else {
                   "ibpa_deg": args.ibpa, "h_c_mm": args.h_c, "h_l_mm": args.h_l,
                   "direction": [float(v) for v in motion.direction],
+                  "quadrature": None if not elliptic else [float(v) for v in motion.quadrature],
                   "direction_units": "du mm, dv mm, dtheta mrad per mrad of psi_a"}}
     status = bad[0] if bad else "ok"
     doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
@@ -136,8 +161,10 @@ def run(args) -> int:
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
     path = ("in-phase" if motion is None else
-            "path (du, dv, dtheta) = ({:.4g} mm, {:.4g} mm, {:.4g} mrad) per mrad".format(
-                *(float(v) for v in motion.direction)))
+            "{} path (du, dv, dtheta) = ({}) mm, mm, mrad per mrad".format(
+                "elliptic" if elliptic else "straight",
+                ", ".join(f"{complex(float(r), float(i)):.4g}".strip("()").replace("+0j", "")
+                          for r, i in zip(motion.direction, motion.quadrature if elliptic else [0.0] * 3))))
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "
              f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad), {path}",
              f"{'psi_a':>8} {'k_Re':>10} {'k_Im':>10} {'status':>14} {'cycles':>6}"

@@ -1,0 +1,146 @@
+"""Steady cycles on elliptic platform paths (jaxdamp.ellipse; issue 34).
+
+References: the straight-path engine (`amplitude_cycle`), whose events are linear in the travel,
+run on the same path written as a degenerate ellipse (events as roots of c + alpha cos + beta
+sin); the work identity (the modal forces' work per cycle, from forces and platform motion, is
+the energy dissipated at the pads, from friction forces and slips); equilibrium and the friction
+cone at every tract; the invariance of the cycle under a shift of the path's time origin."""
+
+import warnings
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+from jaxdamp.amplitude import slip_fraction
+from jaxdamp.ellipse import elliptic_kernel
+from jaxdamp.params import prepare_inputs
+from jaxdamp.tract import SLIP
+
+from helpers import assert_tree_allclose
+
+CONTACTS = jd.Contacts(17900.0, 3580.0)
+SHAPE = jd.family_shape("60sym")
+
+
+# One compiled program for every case (elliptic_cycle refuses a zero quadrature; the kernel takes it).
+KERNEL = jax.jit(elliptic_kernel, static_argnames=("initial", "max_tracts", "max_periods", "loop"))
+
+
+def kernel(shape, mu, psi, motion, initial="assembly"):
+    sh, m, c, load = prepare_inputs(shape, mu, CONTACTS, jd.LoadCase())
+    return KERNEL(sh, m, c, load, jnp.asarray(psi), motion, initial=initial)
+
+
+@pytest.mark.parametrize("name,mu,direction", [
+    ("60sym", 0.5, [0.0, 0.1, 0.0]),      # in-phase
+    ("74R", 0.3, [-0.04, 0.0, 2.0]),      # out-of-phase, h_C = 20 mm
+    ("90L", 0.7, [0.03, 0.05, 1.5]),      # a general straight direction
+])
+def test_a_straight_path_run_as_an_ellipse_gives_the_straight_engines_cycle(name, mu, direction):
+    """Zero quadrature: the same path, the events found as sinusoid roots in tau instead of
+    linear ones in the travel, and the same assembly history."""
+    shape = jd.family_shape(name)
+    straight = jd.straight_motion(direction, 10.0)
+    as_ellipse = straight._replace(quadrature=jnp.zeros(3))
+    for psi in (1.0, 5.0, 20.0):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", jd.SmallRotationWarning)
+            ref = jd.amplitude_cycle(shape, mu, psi, CONTACTS, initial="assembly", motion=straight)
+        got = kernel(shape, mu, psi, as_ellipse)
+        assert jd.RESULTS.name_of(got.status) == jd.RESULTS.name_of(ref.status)
+        scale = max(abs(float(ref.k_re)), abs(float(ref.k_im)))
+        assert_tree_allclose((got.k_re, got.k_im), (ref.k_re, ref.k_im), rtol=0, atol=1e-10 * scale)
+        assert_tree_allclose(got.energy, ref.energy, rtol=0, atol=1e-10 * max(float(ref.work), 1.0))
+        # Time fractions: the ellipse's tract lengths in tau against arccos of the straight
+        # halves' travel, which near an extreme turns a rounding of 1e-16 in cos tau into
+        # sqrt(2e-16) = 1.5e-8 rad: the tolerance is a few of those over 2 pi.
+        assert_tree_allclose(got.slip_fraction, jnp.asarray(slip_fraction(ref)), rtol=0, atol=2e-8)
+
+
+PATHS = [(phi, psi) for phi in (30.0, 90.0, -90.0, 150.0) for psi in (2.0, 10.0)]
+
+
+@pytest.mark.parametrize("phi,psi", PATHS)
+def test_work_per_cycle_is_the_energy_dissipated_at_the_pads(phi, psi):
+    ec = jd.elliptic_cycle(SHAPE, 0.5, psi, jd.interblade_motion(phi, 20.0, 100.0, 10.0), CONTACTS)
+    assert jd.RESULTS.name_of(ec.status) == "ok"
+    assert float(ec.closure) <= 1e-9
+    work = float(ec.work)
+    assert work > 0.0 and float(ec.k_im) > 0.0
+    np.testing.assert_allclose(float(np.sum(ec.energy)), work, rtol=1e-9)
+    assert np.all(np.asarray(ec.energy) >= -1e-9 * work)  # friction only dissipates
+
+
+def test_every_tract_balances_the_damper_and_keeps_the_cone():
+    ec = jd.elliptic_cycle(SHAPE, 0.5, 10.0, jd.interblade_motion(90.0, 20.0, 100.0, 10.0), CONTACTS)
+    arc, s_a = ec.period, 10.0 * 100.0 / 1e3
+    act = np.asarray(arc.active)
+    assert abs(float(np.sum(np.asarray(arc.dtau)[act])) - 2 * np.pi) < 1e-12  # one whole period
+    mech_a = jd.cycle.mechanics(*prepare_inputs(SHAPE, 0.5, CONTACTS, jd.LoadCase()))
+    for k in np.flatnonzero(act):
+        t0, t1 = float(arc.tau0[k]), float(arc.tau0[k] + arc.dtau[k])
+        for t in (t0, 0.5 * (t0 + t1), t1):
+            dc, ds = np.cos(t) - np.cos(t0), np.sin(t) - np.sin(t0)
+            N = np.asarray(arc.N0[k] + s_a * (arc.dN_r[k] * dc - arc.dN_i[k] * ds))
+            T = np.asarray(arc.T0[k] + s_a * (arc.dT_r[k] * dc - arc.dT_i[k] * ds))
+            residual = -N @ np.asarray(mech_a.a) + T @ np.asarray(mech_a.c) + np.array([0.0, 1.0, 0.0])
+            assert np.max(np.abs(residual)) <= 1e-12
+            assert np.all(N > 0.0) and np.all(np.abs(T) <= 0.5 * N + 1e-12)
+            slipping = np.asarray(arc.state[k]) == SLIP
+            np.testing.assert_allclose(np.abs(T[slipping]), 0.5 * N[slipping], rtol=1e-12, atol=1e-14)
+
+
+def test_a_shift_of_the_time_origin_leaves_the_cycle():
+    """X_hat e^{i alpha} is the same ellipse started elsewhere: the steady cycle (from explicit
+    forces, as the history's start moves with the origin) and k do not change."""
+    motion = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
+    ref = jd.elliptic_cycle(SHAPE, 0.5, 10.0, motion, CONTACTS)
+    x = np.asarray(motion.direction) + 1j * np.asarray(motion.quadrature)
+    alpha = 0.8
+    # The forces at tau = 0 of the shifted path are those of the reference at tau = alpha
+    # (s_a = a q* / 1e3 = 1 mm).
+    arc, act = ref.period, np.asarray(ref.period.active)
+    starts, ends = np.asarray(arc.tau0), np.asarray(arc.tau0 + arc.dtau)
+    k = int(np.flatnonzero((starts <= alpha) & (ends > alpha) & act)[0])
+    dc, ds = np.cos(alpha) - np.cos(starts[k]), np.sin(alpha) - np.sin(starts[k])
+    N = np.asarray(arc.N0[k] + arc.dN_r[k] * dc - arc.dN_i[k] * ds)
+    T = np.asarray(arc.T0[k] + arc.dT_r[k] * dc - arc.dT_i[k] * ds)
+    shifted = jd.general_motion(x * np.exp(1j * alpha), 10.0)
+    got = jd.elliptic_cycle(SHAPE, 0.5, 10.0, shifted, CONTACTS, initial=(N, T))
+    assert jd.RESULTS.name_of(got.status) == "ok"
+    assert_tree_allclose((got.k_re, got.k_im), (ref.k_re, ref.k_im), rtol=1e-9, atol=0)
+    assert_tree_allclose(got.energy, ref.energy, rtol=1e-9, atol=1e-9 * float(ref.work))
+
+
+def test_opposite_phase_angles_run_the_ellipse_in_opposite_senses():
+    """+phi and -phi: the same ellipse, run the other way round. The curved-flat damper is not
+    mirror-symmetric, so the two cycles differ; each is a valid dissipative cycle."""
+    plus = jd.elliptic_cycle(SHAPE, 0.5, 10.0, jd.interblade_motion(90.0, 20.0, 100.0, 10.0), CONTACTS)
+    minus = jd.elliptic_cycle(SHAPE, 0.5, 10.0, jd.interblade_motion(-90.0, 20.0, 100.0, 10.0), CONTACTS)
+    assert np.allclose(np.asarray(plus.motion.direction), np.asarray(minus.motion.direction))
+    assert np.allclose(np.asarray(plus.motion.quadrature), -np.asarray(minus.motion.quadrature))
+    assert float(plus.k_im) > 0.0 and float(minus.k_im) > 0.0
+    assert abs(float(plus.k_im) - float(minus.k_im)) > 1e-3 * float(plus.k_im)
+
+
+def test_elliptic_inputs_are_checked_and_paths_go_to_their_solver():
+    motion = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
+    with pytest.raises(ValueError, match=r"^motion must be a straight path for amplitude_cycle"):
+        jd.amplitude_cycle(SHAPE, 0.5, 1.0, CONTACTS, motion=motion)
+    with pytest.raises(ValueError, match=r"^motion must be elliptic for elliptic_cycle"):
+        jd.elliptic_cycle(SHAPE, 0.5, 1.0, jd.interblade_motion(180.0, 20.0, 100.0, 10.0))
+    with pytest.raises(ValueError, match=r"^amplitude_mrad must be in \(0, 10000\] mrad"):
+        jd.elliptic_cycle(SHAPE, 0.5, 0.0, motion)
+    with pytest.raises(ValueError, match=r"^initial must be assembly or an \(N, T\) pair"):
+        jd.elliptic_cycle(SHAPE, 0.5, 1.0, motion, initial="gross_slip")
+    with pytest.raises(ValueError, match=r"^ibpa must be a finite angle in \[-360, 360\] deg"):
+        jd.interblade_motion(400.0, 20.0)
+    jax.config.update("jax_enable_x64", False)
+    try:
+        with pytest.raises(jd.Float64Required, match="enable_x64"):
+            jd.elliptic_cycle(SHAPE, 0.5, 1.0, motion)
+    finally:
+        jax.config.update("jax_enable_x64", True)
