@@ -12,8 +12,9 @@ engine's `tract.tract_rates`) and s_a = a q*/1e3 mm the path's size in the solve
 event is then a root of c + alpha cos tau + beta sin tau = 0, in closed form: a stick pad reaching
 its friction limit, a slipping pad whose slip rate reverses (it sticks again), a normal force
 reaching zero (liftoff: pads that open and close are not computed yet), or the end of the arc.
-The state set of each tract is chosen by `tract.choose_states` for the platforms' direction of
-motion at its start, as on a straight path.
+The state set of each tract is chosen as on a straight path (`tract.candidate_sets`: the most stick
+of the sets consistent for the platforms' direction of motion at its start), with a second-order
+check where the first order leaves a tie (`choose_on_arc`).
 
 The cycle is run period after period from tau = 0 until the forces repeat. Histories: explicit
 forces at tau = 0, or assembly: F_D applied at X = 0, a straight move to X(pi) = -a X_r, then
@@ -43,12 +44,17 @@ from .loops import bounded_loop, check_loop, repeat_until, values_by_while
 from .motion import Motion, motion_moment_coefficients, pad_motion, validate_motion
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .status import RESULTS, from_flags, number_repr, status_repr
-from .tract import LIMIT_TOL, OPEN, SLIP, STICK, choose_states, tract_rates
+from .tract import (CANDIDATE_SETS, LIMIT_TOL, OPEN, SLIP, STICK, candidate_rates, candidate_sets,
+                    pick_set)
 
 MAX_TRACTS = 32  # per period: each pad may stick and slip twice per turn of the ellipse
 MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
 CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 TAU_TOL = 1e-12  # rad: an event nearer than this to the tract's start is the start itself
+# rad ahead of a tract's start where a state set's second-order behaviour is checked, and the
+# tolerance of that check (units of F_D; of s_a for slips): see `choose_on_arc`.
+LOOKAHEAD = 1e-4
+LOOKAHEAD_TOL = 1e-13
 NO_EVENT_TAU = 1e3  # rad: "no event in this tract" (finite: masked arithmetic stays finite)
 INITIAL_STATES = ("assembly",)
 
@@ -109,6 +115,34 @@ def _sinusoid(f0, A, B, s_a, tau0):
     return f0 - alpha * jnp.cos(tau0) - beta * jnp.sin(tau0), alpha, beta
 
 
+def choose_on_arc(heading, mech_r, mech_i, N, T, s_a, tau0):
+    """(TractChoice, rates along X_r, rates along X_i) of a tract starting at tau0.
+
+    The sets consistent to first order for the direction of motion at tau0 (`tract.candidate_sets`),
+    then, where several are, the second order: on a curved path a pad's slip rate or cone rate
+    can be zero at a tract's start without changing sign (two pads on one flank reverse their
+    slip together; only one may stick). A set is kept only if, LOOKAHEAD rad on, its stick pads
+    that start on their limit are still inside the cone and its slipping pads still slide against
+    their friction; among those (or, if none is, among the first-order ones) the most stick."""
+    table = candidate_sets(heading, N, T, 1.0)
+    Rr = candidate_rates(mech_r, table.signs, 1.0)
+    Ri = candidate_rates(mech_i, table.signs, 1.0)
+    dc = jnp.cos(tau0 + LOOKAHEAD) - jnp.cos(tau0)
+    ds = jnp.sin(tau0 + LOOKAHEAD) - jnp.sin(tau0)
+    N1 = N[None] + s_a * (Rr.dN * dc - Ri.dN * ds)  # (8 sets, 3 pads)
+    T1 = T[None] + s_a * (Rr.dT * dc - Ri.dT * ds)
+    mu = jnp.broadcast_to(mech_r.mu, N.shape)[None]
+    slipping = jnp.asarray(CANDIDATE_SETS)
+    on_limit = (jnp.abs(T) >= mech_r.mu * N - LIMIT_TOL)[None]
+    stays = jnp.where(~slipping & on_limit, jnp.abs(T1) <= mu * N1 + LOOKAHEAD_TOL, True)
+    slid = s_a * (Rr.dslip * dc - Ri.dslip * ds)
+    slides = jnp.where(slipping, table.signs[None] * slid <= LOOKAHEAD_TOL * s_a, True)
+    second = table.good & jnp.all(stays, axis=1) & jnp.all(slides, axis=1)
+    best, choice = pick_set(table, jnp.where(jnp.any(second), second, table.good))
+    pick = lambda x: x[best]  # noqa: E731
+    return choice, jax.tree_util.tree_map(pick, Rr), jax.tree_util.tree_map(pick, Ri)
+
+
 def run_arc(mech_r, mech_i, N, T, s_a, tau_start, tau_end, *, max_tracts: int = MAX_TRACTS,
             loop: str = "scan") -> Arc:
     """Tracts from tau_start to tau_end along the ellipse, from the forces (N, T) (units of F_D).
@@ -139,9 +173,7 @@ def run_arc(mech_r, mech_i, N, T, s_a, tau_start, tau_end, *, max_tracts: int = 
 
     def step(carry, _):
         N, T, tau0 = carry["N"], carry["T"], carry["tau"]
-        choice = choose_states(heading(tau0), N, T, 1.0)
-        Rr = tract_rates(mech_r, choice.slipping, choice.signs, 1.0)
-        Ri = tract_rates(mech_i, choice.slipping, choice.signs, 1.0)
+        choice, Rr, Ri = choose_on_arc(heading(tau0), mech_r, mech_i, N, T, s_a, tau0)
         ok = choice.consistent & Rr.ok & Ri.ok
         stick, mu = ~choice.slipping, mech_r.mu
 

@@ -185,8 +185,17 @@ class TractChoice(NamedTuple):
     consistent: jnp.ndarray
 
 
-def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
-    """Pick the consistent state set that keeps the most contacts in stick.
+class CandidateSets(NamedTuple):
+    """Every candidate state set of a tract (`CANDIDATE_SETS` order) for the platforms' direction
+    of motion, and which are consistent to first order."""
+
+    signs: jnp.ndarray  # (3,) friction direction of a contact that slips (T = s mu N)
+    rates: TractRates  # leaves with a leading axis of 8
+    good: jnp.ndarray  # (8,) bool: consistent
+
+
+def candidate_sets(mech: Mechanics, N, T, direction) -> CandidateSets:
+    """The 8 candidate sets and their first-order consistency.
 
     Contacts strictly inside the cone must stick. A contact on its limit may stick (if its stick
     increment stays inside the cone to first order) or slip (if it then slides in the direction its
@@ -207,10 +216,23 @@ def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
     slip_ok = jnp.where(slipping, signs8 * rates.dslip <= RATE_TOL, True)
     allowed = ~jnp.any(slipping & ~at_limit, axis=1)
     good = allowed & rates.ok & jnp.all(stick_ok, axis=1) & jnp.all(slip_ok, axis=1)
+    return CandidateSets(signs, rates, good)
+
+
+def pick_set(table: CandidateSets, good=None):
+    """(index, TractChoice) of the consistent set (`good`, default the table's) that keeps the most
+    contacts in stick."""
+    good = table.good if good is None else good
     score = jnp.where(good, 10 + jnp.sum(~CANDIDATE_SETS, axis=1), 0)
     best = jnp.argmax(score)
     pick = lambda x: x[best]  # noqa: E731
-    return TractChoice(slipping[best], signs, jax.tree_util.tree_map(pick, rates), good[best])
+    return best, TractChoice(jnp.asarray(CANDIDATE_SETS)[best], table.signs,
+                             jax.tree_util.tree_map(pick, table.rates), good[best])
+
+
+def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
+    """Pick the consistent state set that keeps the most contacts in stick (`candidate_sets`)."""
+    return pick_set(candidate_sets(mech, N, T, direction))[1]
 
 
 class TractEvent(NamedTuple):
@@ -253,4 +275,4 @@ def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
 
 __all__ = ["STATE_NAMES", "CANDIDATE_SETS", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
            "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates", "TractChoice",
-           "choose_states", "TractEvent", "next_event"]
+           "CandidateSets", "candidate_sets", "pick_set", "choose_states", "TractEvent", "next_event"]

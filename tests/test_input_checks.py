@@ -29,7 +29,7 @@ CHECKED = {
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
     # jaxdamp.baselines
-    "hbm_aft", "regularized_aft", "time_march",
+    "hbm_aft", "regularized_aft", "time_march", "march_ellipse",
 }
 # Take a result made (and checked) by a checked function: a BaseCycle, a batched Design from
 # `stack_designs`, checked contacts and load.

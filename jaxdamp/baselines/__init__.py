@@ -16,8 +16,10 @@ from .timemarch import time_march as time_march
 from .hbm import hbm_aft_kernel as hbm_aft_kernel
 from .regularized import regularized_aft_kernel as regularized_aft_kernel
 from .timemarch import time_march_kernel as time_march_kernel
+from .ellipse_march import EllipseMarch as EllipseMarch
+from .ellipse_march import march_ellipse as march_ellipse
 
 
 __all__ = ["HBMResult", "first_harmonic", "hbm_aft", "regularized_aft", "MarchModel",
            "TimeMarchResult", "march", "march_model", "time_march", "hbm_aft_kernel",
-           "regularized_aft_kernel", "time_march_kernel"]
+           "regularized_aft_kernel", "time_march_kernel", "EllipseMarch", "march_ellipse"]

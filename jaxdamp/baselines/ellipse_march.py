@@ -1,0 +1,127 @@
+"""The steady cycle on an elliptic platform path by quasi-static time marching: the independent
+reference for `jaxdamp.elliptic_cycle`.
+
+The path X(tau) = a (X_r cos tau - X_i sin tau) is marched in n_steps uniform steps of tau per
+period. At each step the platform displacement is imposed on every pad (both components of the
+path), and the damper's position solves equilibrium by Newton iterations with the contacts'
+return mapping (`timemarch.respond`, `timemarch.newton`): no tracts, no event logic, no closed
+forms. The first harmonics come from the uniform samples of the modal forces (the rectangle rule,
+exact for trigonometric polynomials and second order for the loop's kinks), the energies from the
+trapezoid rule on T d(slip). History: assembly (`timemarch.assemble`), a straight move to
+X(pi) = -a X_r in n_steps/2 steps, then the path from tau = pi, as `elliptic_cycle`.
+"""
+
+from __future__ import annotations
+
+from functools import partial
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+from .._validate import check_int, check_range
+from ..conventions import travel_mm
+from ..motion import Motion, motion_moment_coefficients, pad_motion, validate_motion
+from ..params import Contacts, LoadCase, prepare_inputs
+from ..status import from_flags, number_repr, status_repr
+from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_half, march_model, newton, respond
+
+
+class EllipseMarch(NamedTuple):
+    """k (N mm/mrad) and energies (N mm per cycle) of the last period marched, with the forces'
+    change over it (units of F_D), Newton failures and the status (liftoff where a pad opened)."""
+
+    k_re: jnp.ndarray
+    k_im: jnp.ndarray
+    energy: jnp.ndarray  # (3,) sum of T d(slip) per pad
+    closure: jnp.ndarray
+    newton_failures: jnp.ndarray
+    status: jnp.ndarray
+
+    def __repr__(self) -> str:
+        return (f"EllipseMarch(status={status_repr(self.status)}, "
+                f"k_re={number_repr(self.k_re, 'N mm/mrad')}, k_im={number_repr(self.k_im, 'N mm/mrad')})")
+
+
+@partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton"))
+def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
+                   n_load: int, max_newton: int):
+    along_r = Motion(motion.direction, motion.h_l)
+    along_i = Motion(motion.quadrature, motion.h_l)
+    m, _ = march_model(shape, mu, contacts, load, along_r)
+    nw_r, tw_r = pad_motion(shape, along_r, load.q_star)
+    nw_i, tw_i = pad_motion(shape, along_i, load.q_star)
+    fn_r, ft_r = motion_moment_coefficients(nw_r, tw_r, load)
+    fn_i, ft_i = motion_moment_coefficients(nw_i, tw_i, load)
+    s_a = travel_mm(amplitude, load.q_star)
+    m0, s, ok = assemble(m, n_load, max_newton)
+    s, straight = march_half(m0, s, -1.0, s_a / (n_steps // 2), n_steps // 2, max_newton)
+    fails = jnp.where(ok, 0, 1) + jnp.sum(~straight.samples.newton_ok)
+    lift = jnp.any(straight.samples.code == 3)
+
+    def step(carry, tau):
+        q, p = carry
+        # The pads' platform displacement at tau: both components of the path at once (the
+        # model's dv = 1 then carries it).
+        u1, u2 = s_a * jnp.cos(tau), -s_a * jnp.sin(tau)
+        here = m0._replace(nw=u1 * nw_r + u2 * nw_i, tw=u1 * tw_r + u2 * tw_i)
+
+        def residual(x):
+            r = respond(here, x, 1.0, p)
+            return r.R, r.J
+
+        q, res, _ = newton(residual, q, max_newton)
+        r = respond(here, q, 1.0, p)
+        sample = (r.N, r.T, r.p, r.N @ fn_r + r.T @ ft_r, r.N @ fn_i + r.T @ ft_i,
+                  res <= NEWTON_TOL, ~jnp.all(r.closed))
+        return (q, r.p), sample
+
+    h = 2.0 * jnp.pi / n_steps
+    carry, first = jax.lax.scan(step, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
+    fails, lift = fails + jnp.sum(~first[5]), lift | jnp.any(first[6])
+    taus = h * jnp.arange(1, n_steps + 1)
+
+    def period(c, _):
+        carry, _ = c
+        carry, smp = jax.lax.scan(step, carry, taus)
+        return (carry, smp), (smp[0][-1], smp[1][-1], smp[2][-1])  # forces and slips at tau = 2 pi
+
+    init_smp = jax.tree_util.tree_map(lambda x: jnp.zeros((n_steps,) + x.shape[1:], x.dtype), first)
+    (carry, smp), (N_end, T_end, p_end) = jax.lax.scan(period, (carry, init_smp), None,
+                                                       length=periods)
+    N, T, p, M_r, M_i, newton_ok, opened = smp
+    fails = fails + jnp.sum(~newton_ok)
+    lift = lift | jnp.any(opened)
+    # First harmonics of the periodic samples at tau_k = k h (k = 1..n: the same as 0..n-1).
+    e = jnp.exp(-1j * taus)
+    m_r, m_i = jnp.sum(M_r * e) * h, jnp.sum(M_i * e) * h
+    k = (m_r - 1j * m_i) / (jnp.pi * amplitude)
+    # Energy of the last period: trapezoids of T d(slip), from the previous period's last sample.
+    T_prev = jnp.concatenate([T_end[-2][None], T[:-1]])
+    p_prev = jnp.concatenate([p_end[-2][None], p[:-1]])
+    energy = -load.F_D * jnp.sum(0.5 * (T + T_prev) * (p - p_prev), axis=0)
+    closure = jnp.maximum(jnp.max(jnp.abs(N_end[-1] - N_end[-2])), jnp.max(jnp.abs(T_end[-1] - T_end[-2])))
+    return EllipseMarch(jnp.real(k), jnp.imag(k), energy, closure, fails,
+                        from_flags(lift, False, fails == 0))
+
+
+def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts = Contacts(),
+                  load: LoadCase = LoadCase(), *, n_steps: int, periods: int = 4, n_load: int = 16,
+                  max_newton: int = MAX_NEWTON) -> EllipseMarch:
+    """The steady cycle on an elliptic path by time marching (module docstring), for checking
+    `jaxdamp.elliptic_cycle` independently: n_steps (even) steps of tau per period, `periods`
+    periods after the history; k and energies from the last one."""
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    n_steps = check_int("n_steps", n_steps, 2)
+    if n_steps % 2:
+        raise ValueError(f"n_steps must be an even integer in [2, inf); got {n_steps}")
+    motion = validate_motion(motion)
+    if motion.quadrature is None:
+        raise ValueError("motion must be elliptic for march_ellipse (a straight path: "
+                         "timemarch.march_amplitude)")
+    return _march_ellipse(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
+                          n_steps, check_int("periods", periods, 2), check_int("n_load", n_load, 1),
+                          check_int("max_newton", max_newton, 1))
+
+
+__all__ = ["EllipseMarch", "march_ellipse"]
