@@ -85,7 +85,7 @@ def plot(doc: dict) -> None:
                                 ls=("-", "--")[AMPLITUDES_MRAD.index(c["amplitude_mrad"])],
                                 color=f"C{p + 2}",
                                 label=f"{name}, a = {c['amplitude_mrad']:g} mrad")
-        axes[0, j].set_title(f"60sym, mu = {mu:g}, h_C = {H_C_MM:g} mm, from assembly")
+        axes[0, j].set_title(f"mu = {mu:g}")
         axes[1, j].set_xlabel("interblade phase angle, deg")
     axes[0, 0].set_ylabel("k_Im / k_Im(in-phase)")
     axes[1, 0].set_ylabel("fraction of the period slipping")
@@ -93,7 +93,9 @@ def plot(doc: dict) -> None:
         ax.grid(True, alpha=0.3)
         ax.set_xticks(range(0, 181, 30))
     axes[0, 0].legend(fontsize=8)
-    axes[1, 0].legend(fontsize=7, ncol=2)
+    axes[1, 2].legend(fontsize=7, ncol=2, loc="upper right", framealpha=0.9)
+    fig.suptitle(f"60sym (curved-flat) against the interblade phase angle: h_C = {H_C_MM:g} mm, "
+                 f"h_L = {H_L_MM:g} mm, q* = {Q_STAR_MM:g} mm, from assembly")
     fig.savefig(RESULTS / "ibpa_sweep.png", dpi=110)
     fig.savefig(RESULTS.parent.parent / "docs" / "ibpa_sweep_60sym.png", dpi=110)
 

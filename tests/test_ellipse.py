@@ -174,3 +174,24 @@ def test_agrees_with_the_time_marcher_on_the_ellipse(name, mu, phi, psi, h_c, h_
                                rtol=0, atol=1e-6 * scale)
     np.testing.assert_allclose(np.asarray(tm.energy), np.asarray(ec.energy), rtol=0,
                                atol=1e-5 * float(ec.work))
+
+
+@pytest.mark.slow  # 21 worker-s (2026-11-26): the forward derivative program of the elliptic kernel
+def test_derivative_along_the_phase_angle_matches_finite_differences():
+    """d k / d phi by forward mode through the events (closed-form roots) against central
+    differences, away from a change of the event sequence."""
+    sh, mu, c, load = prepare_inputs(SHAPE, 0.5, CONTACTS, jd.LoadCase())
+
+    @jax.jit
+    def k(phi_deg):
+        e = jnp.exp(1j * jnp.deg2rad(phi_deg))
+        x = jnp.stack([20.0 * (e - 1.0) / 1e3, 50.0 * (e + 1.0) / 1e3, -(e - 1.0)])
+        motion = jd.Motion(jnp.real(x), jnp.asarray(10.0), jnp.imag(x))
+        ec = elliptic_kernel(sh, mu, c, load, jnp.asarray(10.0), motion, initial="assembly")
+        return jnp.stack([ec.k_re, ec.k_im])
+
+    phi = jnp.asarray(70.0)
+    _, tangent = jax.jvp(k, (phi,), (jnp.asarray(1.0),))
+    fd = (np.asarray(k(phi + 1e-4)) - np.asarray(k(phi - 1e-4))) / 2e-4
+    assert np.all(np.isfinite(np.asarray(tangent)))
+    np.testing.assert_allclose(np.asarray(tangent), fd, rtol=1e-5, atol=1e-6 * float(np.max(np.abs(fd))))
