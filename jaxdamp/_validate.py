@@ -90,6 +90,10 @@ RANGES = {
     "motion_component": (-1e6, 1e6, False, False, ""),
 }
 
+# The inputs of a platform path beyond in-phase (jaxdamp.motion): commands and functions that
+# take no path (the forced response, the band) check none of them.
+MOTION_RANGES = frozenset({"h_l", "h_c", "motion_component"})
+
 # How many times each parameter of RANGES has been checked in this process (by `check_param`, or
 # accepted by the fast path of `params.prepare_inputs`): the tests read it to show that a command
 # checks each input once. Clear it with RANGE_CHECKS.clear().
@@ -106,4 +110,4 @@ def check_param(name: str, value, label: str | None = None):
 
 
 __all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range",
-           "check_positive", "check_int", "RANGES", "RANGE_CHECKS", "check_param"]
+           "check_positive", "check_int", "RANGES", "MOTION_RANGES", "RANGE_CHECKS", "check_param"]

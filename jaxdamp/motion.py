@@ -1,4 +1,4 @@
-"""Relative platform motions beyond the paper's in-phase one: straight paths of any direction.
+"""Relative platform motions beyond the paper's in-phase one: straight and elliptic paths.
 
 The paper's damper sees in-phase motion only: the right platform moves radially by dv = q* psi
 relative to the left one. A blade row vibrating with a non-zero interblade phase angle, or
@@ -6,14 +6,15 @@ out-of-phase, also turns and shifts the platforms relative to each other (MODEL.
 motion"; the kinematics are in `conventions`). This module describes such a motion and turns it
 into the per-contact platform motion that the tract engine runs on:
 
-- A `Motion` is a straight path X(tau) = a cos(tau) X_hat, with X_hat = (du mm, dv mm,
-  dtheta mrad) per mrad of the amplitude a, and the damper's absolute size (its left flank's
-  length h_L, mm), which matters once the platforms turn relative to each other.
+- A `Motion` is a path X(tau) = a Re(X_hat e^{i tau}), with X_hat = (du mm, dv mm, dtheta mrad)
+  per mrad of the amplitude a (its real part `direction`, its imaginary part `quadrature`, None
+  for a straight path), and the damper's absolute size (its left flank's length h_L, mm), which
+  matters once the platforms turn relative to each other.
 - `in_phase_motion` is the paper's (X_hat = (0, q*/1e3, 0)); `interblade_motion` gives the
   paper's Fig. 4 kinematics at phi = 0 (in-phase) and phi = 180 degrees (out-of-phase);
   `straight_motion` takes any X_hat that is real up to one phase (e.g. from modal data).
-- Other interblade phase angles make the path an ellipse: not in this version (issue 34); they
-  are refused with a message saying so.
+- Other interblade phase angles, and complex directions that are not real up to one phase, make
+  the path an ellipse (`general_motion`; the cycle is `jaxdamp.elliptic_cycle`'s).
 
 Modal force and complex stiffness on a path: M = 2 (q*/2 + r sin beta) F_D sum over the right
 platform's pads of (-N nw + T tw), with nw, tw the pad's platform motion along its normal and
@@ -92,17 +93,23 @@ def straight_motion(direction, h_l_mm=None) -> Motion:
     r = x * np.exp(-1j * np.angle(x[k]))
     if np.max(np.abs(r.imag)) > STRAIGHT_TOL * norm:
         raise ValueError("motion must be a straight path: its components real up to one common "
-                         "phase (|Im| <= 1e-9 |X|); elliptic paths are not computed yet (issue 34)")
+                         "phase (|Im| <= 1e-9 |X|); an elliptic one is general_motion's")
     real = r.real * np.sign(x[k].real if x[k].real != 0.0 else 1.0)
-    for value in real:
+    return Motion(jnp.asarray(real, float), _checked_size(real, h_l_mm))
+
+
+def _checked_size(components, h_l_mm):
+    """The damper's size h_L (mm, a float array) after checking the path's components: required
+    where the path turns the platforms (dtheta != 0), unused (1 mm) where it does not."""
+    for value in np.ravel(components):
         check_param("motion_component", value, "motion")
     if h_l_mm is None:
-        if real[2] != 0.0:
+        if np.any(np.asarray(components).reshape(-1, 3)[:, 2] != 0.0):
             raise ValueError("h_l must be given for a motion that turns the platforms (dtheta != 0): "
                              "the damper's left flank length in (0, 10000] mm")
         h_l_mm = 1.0  # unused: without a relative rotation the damper's size drops out
     check_param("h_l", h_l_mm)
-    return Motion(jnp.asarray(real, float), jnp.asarray(float(h_l_mm), float))
+    return jnp.asarray(float(h_l_mm), float)
 
 
 def general_motion(direction, h_l_mm=None) -> Motion:
@@ -114,16 +121,8 @@ def general_motion(direction, h_l_mm=None) -> Motion:
     except ValueError as e:
         if not str(e).startswith("motion must be a straight path"):
             raise
-    for value in np.concatenate([x.real, x.imag]):
-        check_param("motion_component", value, "motion")
-    if h_l_mm is None:
-        if x[2] != 0.0:
-            raise ValueError("h_l must be given for a motion that turns the platforms (dtheta != 0): "
-                             "the damper's left flank length in (0, 10000] mm")
-        h_l_mm = 1.0  # unused: without a relative rotation the damper's size drops out
-    check_param("h_l", h_l_mm)
-    return Motion(jnp.asarray(x.real, float), jnp.asarray(float(h_l_mm), float),
-                  jnp.asarray(x.imag, float))
+    size = _checked_size(np.stack([x.real, x.imag]), h_l_mm)
+    return Motion(jnp.asarray(x.real, float), size, jnp.asarray(x.imag, float))
 
 
 def validate_motion(motion: Motion) -> Motion:

@@ -164,6 +164,7 @@ def test_band_and_diagram_check_every_input_once(capsys):
     """On the path of `response --band --diagram` each input is checked once: the CLI builds one
     Scene (`prepare_scene`) and the band and the diagram take it as it is (counted by
     jaxdamp.params.RANGE_CHECKS, which every range check of params.RANGES goes through)."""
+    from jaxdamp._validate import MOTION_RANGES
     from jaxdamp.params import RANGE_CHECKS, RANGES
 
     RANGE_CHECKS.clear()
@@ -172,5 +173,6 @@ def test_band_and_diagram_check_every_input_once(capsys):
     assert code == 0
     d = json.loads(out)
     assert d["designer_diagram"] is not None and "band" in d["peaks"][0]
-    inputs = set(RANGES) - {"x_d"}  # no --x-d given: the shape has none to check
+    # no --x-d given: the shape has none to check; the response takes no platform path
+    inputs = set(RANGES) - {"x_d"} - MOTION_RANGES
     assert dict(RANGE_CHECKS) == {name: 1 for name in inputs}

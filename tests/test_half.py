@@ -56,19 +56,25 @@ def test_a_half_stopped_later_runs_the_same_path_then_a_constant_force_stretch(n
     assert np.array_equal(np.asarray(lim.stretch), np.arange(MAX_TRACTS) == n)
     head = lambda h: (h.dv[:n], h.N0[:n], h.T0[:n], h.dN[:n], h.dT[:n], h.state[:n])  # noqa: E731
     assert_tree_allclose(head(lim), head(g), rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(float(lim.dv[n]), extra, rtol=1e-12)
+    assert_tree_allclose(np.asarray(float(lim.dv[n]), float),
+                         np.asarray(extra, float),
+                         rtol=1e-12, atol=0.0)
     assert np.all(np.asarray(lim.dN[n]) == 0.0) and np.all(np.asarray(lim.dT[n]) == 0.0)
     assert_tree_allclose((lim.N_end, lim.T_end, lim.gross_dslip), (g.N_end, g.T_end, g.gross_dslip),
                          rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(float(lim.span), float(g.span) + extra, rtol=1e-12)
+    assert_tree_allclose(np.asarray(float(lim.span), float),
+                         np.asarray(float(g.span) + extra, float),
+                         rtol=1e-12, atol=0.0)
     # Stopped earlier, inside the second tract: the first tract whole, then part of the second.
     cut = float(g.dv[0]) + 0.25 * float(g.dv[1])
     early = over_travel(mech, N, T, cut)
     assert int(np.sum(early.active)) == 2 and not bool(early.gross_slip)
-    np.testing.assert_allclose(np.asarray(early.dv[:2]), [float(g.dv[0]), 0.25 * float(g.dv[1])],
-                               rtol=1e-12)
-    np.testing.assert_allclose(np.asarray(early.N_end), np.asarray(g.N0[1] + 0.25 * g.dv[1] * g.dN[1]),
-                               rtol=1e-12, atol=1e-15)
+    assert_tree_allclose(np.asarray(np.asarray(early.dv[:2]), float),
+                         np.asarray([float(g.dv[0]), 0.25 * float(g.dv[1])], float),
+                         rtol=1e-12, atol=0.0)
+    assert_tree_allclose(np.asarray(np.asarray(early.N_end), float),
+                         np.asarray(np.asarray(g.N0[1] + 0.25 * g.dv[1] * g.dN[1]), float),
+                         rtol=1e-12, atol=1e-15)
 
 
 @pytest.mark.parametrize("name, mu", CASES)
@@ -85,7 +91,9 @@ def test_every_tract_balances_the_damper_and_keeps_the_cone(name, mu):
             assert np.all(np.abs(Tx) <= mu * Nx + 1e-12)
         state = np.asarray(half.state)[act]
         sliding = (state == tract.SLIP) | (state == tract.BACKSLIDE)
-        np.testing.assert_allclose(np.abs(T1[sliding]), mu * N1[sliding], rtol=1e-12, atol=1e-14)
+        assert_tree_allclose(np.asarray(np.abs(T1[sliding]), float),
+                             np.asarray(mu * N1[sliding], float),
+                             rtol=1e-12, atol=1e-14)
 
 
 @pytest.mark.parametrize("name, mu", CASES)
@@ -133,8 +141,9 @@ def test_acceleration_lands_on_the_fixed_point_of_a_geometric_iteration():
     d = jnp.array([0.01, -0.02, 0.005, 0.003, 0.001, -0.002])
     rho = 0.6
     s0, s1, s2 = (fixed + rho ** k * d for k in range(3))
-    np.testing.assert_allclose(np.asarray(accelerate(0.5, s0, s1, s2, True)), np.asarray(fixed),
-                               rtol=1e-12, atol=1e-14)
+    assert_tree_allclose(np.asarray(np.asarray(accelerate(0.5, s0, s1, s2, True)), float),
+                         np.asarray(np.asarray(fixed), float),
+                         rtol=1e-12, atol=1e-14)
     # Not geometric along one direction, no history, or an inadmissible guess: the plain iterate.
     bent = s2.at[0].add(1e-3)
     assert np.array_equal(np.asarray(accelerate(0.5, s0, s1, bent, True)), np.asarray(bent))

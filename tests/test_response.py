@@ -286,13 +286,15 @@ def test_peak_response_of_a_damper_stiffness_runs_one_compiled_program():
 def test_a_scene_is_checked_once_and_taken_as_it_is():
     """`prepare_scene` checks every input once (each range of params.RANGES counted once) and
     returns a Scene of float64 arrays; a Scene given again is returned as it is, unchecked."""
+    from jaxdamp._validate import MOTION_RANGES
     from jaxdamp.params import RANGE_CHECKS, RANGES
     from jaxdamp.response import Scene, prepare_scene
 
     RANGE_CHECKS.clear()
     scene = prepare_scene(SHAPE, 0.5, Contacts(), LoadCase(), MODE)
     assert isinstance(scene, Scene)
-    assert dict(RANGE_CHECKS) == {n: 1 for n in set(RANGES) - {"x_d", "force_n"}}
+    # A scene has no platform path (MOTION_RANGES) and no forces.
+    assert dict(RANGE_CHECKS) == {n: 1 for n in set(RANGES) - {"x_d", "force_n"} - MOTION_RANGES}
     assert all(np.asarray(v).dtype == np.float64 for v in jax.tree_util.tree_leaves(scene))
     assert np.shape(scene.contacts.kn) == (3,)
     RANGE_CHECKS.clear()
