@@ -1,0 +1,78 @@
+"""What an elliptic-path cycle costs against an in-phase one (60sym, mu 0.5, from assembly).
+
+One compiled call of each kernel at 2 and 10 mrad (best of 30, inputs prepared, no checks), and a
+whole curve of 256 amplitudes (0.5-20 mrad) as one vmapped program (best of 5), with the number of
+periods (ellipse) or pairs of halves (in-phase) each lane ran: under vmap every lane pays for the
+slowest one. The elliptic path is the interblade phase angle 90 deg (h_C = 20 mm, h_L = 10 mm),
+the out-of-phase (straight) path is timed beside them.
+
+Run: python benchmarks/ellipse_cost.py -> benchmarks/results/ellipse_cost.json
+"""
+
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import jax
+import numpy as np
+
+from bench_common import machine
+
+RESULTS = Path(__file__).parent / "results"
+
+
+def best(f, n):
+    jax.block_until_ready(f())
+    out = np.inf
+    for _ in range(n):
+        t = time.perf_counter()
+        jax.block_until_ready(f())
+        out = min(out, time.perf_counter() - t)
+    return out
+
+
+def main() -> dict:
+    jax.config.update("jax_enable_x64", True)
+    import jax.numpy as jnp
+
+    import jaxdamp as jd
+    from jaxdamp import amplitude as A
+    from jaxdamp import ellipse as E
+    from jaxdamp.params import prepare_inputs
+
+    sh, mu, c, load = prepare_inputs(jd.family_shape("60sym"), 0.5, jd.Contacts(17900.0, 3580.0),
+                                     jd.LoadCase())
+    ellipse = jd.interblade_motion(90, 20.0, 100.0, 10.0)
+    out_of_phase = jd.interblade_motion(180, 20.0, 100.0, 10.0)
+    one = []
+    for psi in (2.0, 10.0):
+        p = jnp.asarray(psi)
+        t_in = best(lambda: A._kernel(sh, mu, c, load, p, None, None, initial="assembly").k_im, 30)
+        t_oop = best(lambda: A._kernel(sh, mu, c, load, p, None, None, initial="assembly",
+                                       motion=out_of_phase).k_im, 30)
+        t_el = best(lambda: E._kernel(sh, mu, c, load, p, ellipse, None, None,
+                                      initial="assembly").k_im, 30)
+        one.append(dict(psi_a_mrad=psi, in_phase_ms=1e3 * t_in, out_of_phase_ms=1e3 * t_oop,
+                        ellipse_ms=1e3 * t_el, ratio_ellipse_in_phase=t_el / t_in))
+    ps = jnp.linspace(0.5, 20.0, 256)
+    curve_in = jax.jit(jax.vmap(lambda p: A.amplitude_kernel(sh, mu, c, load, p, initial="assembly")))
+    curve_el = jax.jit(jax.vmap(lambda p: E.elliptic_kernel(sh, mu, c, load, p, ellipse,
+                                                            initial="assembly")))
+    t_in = best(lambda: curve_in(ps).k_im, 5)
+    t_el = best(lambda: curve_el(ps).k_im, 5)
+    r_in, r_el = curve_in(ps), curve_el(ps)
+    curve = dict(amplitudes=256, in_phase_ms=1e3 * t_in, ellipse_ms=1e3 * t_el,
+                 ratio_ellipse_in_phase=t_el / t_in,
+                 in_phase_pairs=np.bincount(np.asarray(r_in.cycles)).tolist(),
+                 ellipse_periods=np.bincount(np.asarray(r_el.periods)).tolist(),
+                 ellipse_max_tracts_per_period=int(np.max(np.sum(np.asarray(r_el.period.active), 1))))
+    doc = dict(machine=machine(), one_cycle=one, curve=curve)
+    RESULTS.mkdir(exist_ok=True)
+    (RESULTS / "ellipse_cost.json").write_text(json.dumps(doc, indent=1))
+    return doc
+
+
+if __name__ == "__main__":
+    print(json.dumps({k: v for k, v in main().items() if k != "machine"}, indent=1))
