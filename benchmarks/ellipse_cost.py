@@ -38,28 +38,29 @@ def main() -> dict:
     import jax.numpy as jnp
 
     import jaxdamp as jd
-    from jaxdamp import amplitude as A
-    from jaxdamp import ellipse as E
-    from jaxdamp.params import prepare_inputs
 
-    sh, mu, c, load = prepare_inputs(jd.family_shape("60sym"), 0.5, jd.Contacts(17900.0, 3580.0),
-                                     jd.LoadCase())
+    statics = ("initial", "max_tracts", "loop")
+    straight_kernel = jax.jit(jd.amplitude_kernel, static_argnames=statics + ("max_pairs",))
+    elliptic_kernel = jax.jit(jd.elliptic_kernel, static_argnames=statics + ("max_periods",))
+    sh, mu, load = jd.family_shape("60sym"), jnp.asarray(0.5), jd.LoadCase(1000.0, 100.0, 0.0)
+    c = jd.Contacts(jnp.asarray(17900.0), jnp.asarray(3580.0))
+    sh = jd.DamperShape(*(None if v is None else jnp.asarray(float(v)) for v in sh))
+    load = jd.LoadCase(*(jnp.asarray(float(v)) for v in load))
     ellipse = jd.interblade_motion(90, 20.0, 100.0, 10.0)
     out_of_phase = jd.interblade_motion(180, 20.0, 100.0, 10.0)
     one = []
     for psi in (2.0, 10.0):
         p = jnp.asarray(psi)
-        t_in = best(lambda: A._kernel(sh, mu, c, load, p, None, None, initial="assembly").k_im, 30)
-        t_oop = best(lambda: A._kernel(sh, mu, c, load, p, None, None, initial="assembly",
-                                       motion=out_of_phase).k_im, 30)
-        t_el = best(lambda: E._kernel(sh, mu, c, load, p, ellipse, None, None,
-                                      initial="assembly").k_im, 30)
+        t_in = best(lambda: straight_kernel(sh, mu, c, load, p, initial="assembly").k_im, 30)
+        t_oop = best(lambda: straight_kernel(sh, mu, c, load, p, initial="assembly",
+                                             motion=out_of_phase).k_im, 30)
+        t_el = best(lambda: elliptic_kernel(sh, mu, c, load, p, ellipse, initial="assembly").k_im, 30)
         one.append(dict(psi_a_mrad=psi, in_phase_ms=1e3 * t_in, out_of_phase_ms=1e3 * t_oop,
                         ellipse_ms=1e3 * t_el, ratio_ellipse_in_phase=t_el / t_in))
     ps = jnp.linspace(0.5, 20.0, 256)
-    curve_in = jax.jit(jax.vmap(lambda p: A.amplitude_kernel(sh, mu, c, load, p, initial="assembly")))
-    curve_el = jax.jit(jax.vmap(lambda p: E.elliptic_kernel(sh, mu, c, load, p, ellipse,
-                                                            initial="assembly")))
+    curve_in = jax.jit(jax.vmap(lambda p: jd.amplitude_kernel(sh, mu, c, load, p, initial="assembly")))
+    curve_el = jax.jit(jax.vmap(lambda p: jd.elliptic_kernel(sh, mu, c, load, p, ellipse,
+                                                             initial="assembly")))
     t_in = best(lambda: curve_in(ps).k_im, 5)
     t_el = best(lambda: curve_el(ps).k_im, 5)
     r_in, r_el = curve_in(ps), curve_el(ps)
