@@ -19,7 +19,7 @@ from .design import Design, as_design
 from .geometry import CONTACT_NAMES, DamperShape
 from .status import RESULTS, number_repr, ok_status, status_repr
 from .params import Contacts, LoadCase, above_validated_range
-from .conventions import CENTRIFUGAL_LOAD, PLATFORM_MOTION, START_FRICTION_SIGNS
+from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
 from .half import Half, accelerate, empty_half, run_half
@@ -42,12 +42,8 @@ EQUILIBRIUM_TOL = 1e-8
 def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, motion=None) -> Mechanics:
     """The tract engine's constants of one design on a platform path: in-phase (motion None,
     per mm of dv) or a straight `jaxdamp.Motion` (per mm of its path parameter a q*/1e3)."""
-    a, c, geo = contact_columns(shape)
-    if motion is None:
-        nw = geo.normals[:, 1] * PLATFORM_MOTION
-        tw = geo.tangents[:, 1] * PLATFORM_MOTION
-    else:
-        nw, tw = pad_motion(shape, motion, load.q_star)
+    a, c, _ = contact_columns(shape)
+    nw, tw = pad_motion(shape, motion, load.q_star)
     kn, kt = contacts.per_contact()
     return make_mechanics(a, c, nw, tw, kn / load.F_D, kt / load.F_D, mu)
 

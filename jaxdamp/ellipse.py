@@ -36,14 +36,14 @@ import numpy as np
 
 from ._validate import check_int, check_range
 from .amplitude import assembly_state, check_admissible
-from .conventions import CONTACT_NAMES, travel_mm, warn_small_rotation
+from .conventions import travel_mm, warn_small_rotation
 from .cycle import mechanics
 from .geometry import DamperShape
 from .half import TRAVEL_TOL, accelerate, run_half
-from .loops import bounded_loop, check_loop, repeat_until, values_by_while
-from .motion import Motion, motion_moment_coefficients, pad_motion, validate_motion
+from .loops import bounded_loop, check_loop, repeat_until, values_by_while, zeros_of
+from .motion import Motion, motion_moment_coefficients, path_parts, validate_motion
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
-from .status import RESULTS, from_flags, number_repr, status_repr
+from .status import RESULTS, from_flags, number_repr, ok_status, status_repr
 from .tract import (CANDIDATE_SETS, LIMIT_TOL, OPEN, SLIP, STICK, candidate_rates, candidate_sets,
                     pick_set)
 
@@ -311,8 +311,7 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
 
 def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
                    max_tracts, max_periods, loop) -> EllipticCycle:
-    along_r = Motion(motion.direction, motion.h_l)
-    along_i = Motion(motion.quadrature, motion.h_l)
+    along_r, along_i = path_parts(motion)
     mech_r = mechanics(shape, mu, contacts, load, along_r)
     mech_i = mechanics(shape, mu, contacts, load, along_i)
     a_ok = amplitude > 0.0
@@ -352,14 +351,15 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
                     closed=(gap <= CLOSE_TOL) & ~bad, stop=(gap <= CLOSE_TOL) | bad,
                     periods=c["periods"] + 1)
 
-    empty = Arc(**{k: jnp.zeros((max_tracts,) + r.shape, r.dtype) for k, r in _arc_rows().items()},
-                N_end=jnp.zeros(3), T_end=jnp.zeros(3), status=jnp.zeros((), jnp.int32))
+    empty = Arc(**zeros_of(_arc_rows(), max_tracts), N_end=jnp.zeros(3), T_end=jnp.zeros(3),
+                status=ok_status())
     init = dict(N=N0, T=T0, prev=jnp.zeros(6), arc=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
                 stop=bad0 | ~a_ok, periods=jnp.array(0, jnp.int32))
     end = repeat_until(run_period, init, max_periods, loop, lambda c: c["stop"])
     arc = end["arc"]
-    coef_r = motion_moment_coefficients(*pad_motion(shape, along_r, load.q_star), load)
-    coef_i = motion_moment_coefficients(*pad_motion(shape, along_i, load.q_star), load)
+    # The mechanics hold each part's pad motion already.
+    coef_r = motion_moment_coefficients(mech_r.nw, mech_r.tw, load)
+    coef_i = motion_moment_coefficients(mech_i.nw, mech_i.tw, load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)
     k = (m_r - 1j * m_i) / (jnp.pi * a)
     work = jnp.pi * a * a * jnp.imag(k) / 1e3
@@ -427,7 +427,3 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     return _kernel(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion, N_init,
                    T_init, initial=mode, max_tracts=max_tracts, max_periods=max_periods)
 
-
-def slip_table(ec: EllipticCycle) -> dict:
-    """{pad: fraction of the period it slips} (numpy floats)."""
-    return {name: float(f) for name, f in zip(CONTACT_NAMES, np.asarray(ec.slip_fraction))}

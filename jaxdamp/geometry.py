@@ -129,16 +129,22 @@ def full_slip_slide_rates(shape: DamperShape) -> jnp.ndarray:
     return jnp.stack([right, left, left], -1)
 
 
+def platform_moment_coefficients(shape: DamperShape, load):
+    """(fn, ft): the platform moment M_P (N mm) per unit normal / tangential force (units of F_D)
+    of each contact (conventions.moment_coefficients). Unchecked, traceable."""
+    geo = section_geometry(shape)
+    return moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
+                               load.r_sin_beta)
+
+
 def platform_moment(shape: DamperShape, load, N, T):
     """Platform moment M_P (N mm) of contact forces N, T (units of F_D, last axis = contact) for a
     shape and load (conventions.moment_coefficients: M_P = (F_R1,v - F_L,v)(q*/2 + r sin beta)).
     Unchecked, traceable (jit, vmap, grad): a building block of the kernels."""
-    geo = section_geometry(shape)
-    fn, ft = moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
-                                 load.r_sin_beta)
+    fn, ft = platform_moment_coefficients(shape, load)
     return rowdot(N, fn) + rowdot(T, ft)
 
 
 __all__ = ["CONTACT_NAMES", "FAMILY", "DamperShape", "validate_shape", "paper_tables",
            "family_shape", "SectionGeometry", "section_geometry", "full_slip_slide_rates",
-           "platform_moment"]
+           "platform_moment_coefficients", "platform_moment"]

@@ -31,9 +31,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_param
-from .conventions import (MRAD_PER_RAD, PLATFORM_MOTION, interblade_direction, moment_coefficients,
-                          platform_arm, rigid_displacement)
-from .geometry import DamperShape, section_geometry
+from .conventions import (MRAD_PER_RAD, PLATFORM_MOTION, interblade_direction, platform_arm,
+                          rigid_displacement)
+from .geometry import DamperShape, platform_moment_coefficients, section_geometry
 
 # |Im| / |X_hat| above which a direction is not straight up to one phase (an ellipse).
 STRAIGHT_TOL = 1e-9
@@ -136,11 +136,15 @@ def validate_motion(motion: Motion) -> Motion:
     return general_motion(x, float(motion.h_l))
 
 
-def pad_motion(shape: DamperShape, motion: Motion, q_star_mm):
+def pad_motion(shape: DamperShape, motion: Motion | None, q_star_mm):
     """(nw, tw): each pad's platform motion along its outward normal and up-flank tangent, per mm
-    of the path parameter s = a q*/1e3 (the left platform is the reference: zero for L1, L2).
-    Unchecked, traceable (jit, vmap, grad)."""
+    of the path parameter s = a q*/1e3 (the left platform is the reference: zero for L1, L2);
+    motion None: the paper's in-phase motion, per mm of dv (the same numbers as
+    `in_phase_motion(q_star_mm)`, without its rounding). The direction of a Motion is its real
+    part (`path_parts` splits an ellipse). Unchecked, traceable (jit, vmap, grad)."""
     geo = section_geometry(shape)
+    if motion is None:
+        return geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION
     height_mm = motion.h_l * jnp.sin(jnp.deg2rad(jnp.asarray(shape.theta_l, float)))  # H = h_L sin(theta_L)
     offsets = (geo.points - geo.D[None, :]) * height_mm
     per_s = jnp.asarray(motion.direction, float) / (jnp.asarray(q_star_mm, float) / MRAD_PER_RAD)
@@ -153,10 +157,14 @@ def loop_moment_coefficients(shape: DamperShape, load, motion: Motion | None):
     force (units of F_D) of each pad: the paper's platform moment M_P in-phase (motion None,
     `geometry.platform_moment`), the modal force on a path. Unchecked, traceable."""
     if motion is None:
-        geo = section_geometry(shape)
-        return moment_coefficients(geo.normals[:, 1], geo.tangents[:, 1], load.F_D, load.q_star,
-                                   load.r_sin_beta)
+        return platform_moment_coefficients(shape, load)
     return motion_moment_coefficients(*pad_motion(shape, motion, load.q_star), load)
+
+
+def path_parts(motion: Motion) -> tuple[Motion, Motion]:
+    """An elliptic Motion as two straight ones: along Re(X_hat) and along Im(X_hat), so that
+    X(tau) = a (cos tau X_r - sin tau X_i)."""
+    return Motion(motion.direction, motion.h_l), Motion(motion.quadrature, motion.h_l)
 
 
 def motion_moment_coefficients(nw, tw, load):
@@ -168,4 +176,5 @@ def motion_moment_coefficients(nw, tw, load):
 
 __all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "general_motion",
            "validate_motion",
-           "pad_motion", "loop_moment_coefficients", "motion_moment_coefficients", "STRAIGHT_TOL"]
+           "pad_motion", "loop_moment_coefficients", "path_parts", "motion_moment_coefficients",
+           "STRAIGHT_TOL"]

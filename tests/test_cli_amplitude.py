@@ -2,6 +2,7 @@
 
 import json
 
+import numpy as np
 import pytest
 
 import jaxdamp as jd
@@ -142,3 +143,23 @@ def test_elliptic_path_json(capsys):
     assert row["dissipated_energy_nmm"] == pytest.approx(3.141592653589793 * 100 * row["k_im"] / 1e3,
                                                          rel=1e-9)
     assert all(0.0 <= f <= 1.0 for f in row["slip_fraction"].values())
+
+
+def test_a_complex_motion_is_an_elliptic_path(capsys):
+    """--motion with complex entries that are not real up to one phase runs the elliptic solver:
+    --motion of the phi = 90 deg direction gives the --ibpa 90 cycle."""
+    x = np.asarray(jd.interblade_motion(90, 20.0, 100.0, 10.0).direction) + 1j * np.asarray(
+        jd.interblade_motion(90, 20.0, 100.0, 10.0).quadrature)
+    text = ",".join(f"{float(v.real)!r}{float(v.imag):+.17g}j" for v in x)
+    rows = []
+    # "--motion=..." : the first entry is negative, which argparse would take for an option.
+    for path in ([f"--motion={text}"], ["--ibpa", "90", "--h-c", "20"]):
+        code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "10",
+                           *path, "--h-l", "10", "--json")
+        assert code == 0
+        d = json.loads(out)
+        assert d["inputs"]["initial"] == "assembly" and d["inputs"]["motion"]["quadrature"] is not None
+        rows.append(d["amplitudes"][0])
+    assert rows[0]["status"] == rows[1]["status"] == "ok"
+    assert rows[0]["k_im"] == pytest.approx(rows[1]["k_im"], rel=1e-12)
+    assert rows[0]["k_re"] == pytest.approx(rows[1]["k_re"], rel=1e-12)

@@ -20,7 +20,7 @@ import jax
 import jax.numpy as jnp
 from .._validate import check_int, check_range
 from ..conventions import travel_mm
-from ..motion import Motion, motion_moment_coefficients, pad_motion, validate_motion
+from ..motion import Motion, motion_moment_coefficients, pad_motion, path_parts, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
 from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_half, march_model, newton, respond
@@ -45,8 +45,7 @@ class EllipseMarch(NamedTuple):
 @partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton"))
 def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
                    n_load: int, max_newton: int):
-    along_r = Motion(motion.direction, motion.h_l)
-    along_i = Motion(motion.quadrature, motion.h_l)
+    along_r, along_i = path_parts(motion)
     m, _ = march_model(shape, mu, contacts, load, along_r)
     nw_r, tw_r = pad_motion(shape, along_r, load.q_star)
     nw_i, tw_i = pad_motion(shape, along_i, load.q_star)

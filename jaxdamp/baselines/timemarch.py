@@ -33,7 +33,7 @@ from ..linalg import solve3
 from .._validate import check_int, check_range
 from ..geometry import DamperShape
 from ..params import Contacts, LoadCase, prepare_inputs
-from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, PLATFORM_MOTION, START_FRICTION_SIGNS,
+from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, START_FRICTION_SIGNS,
                            psi_mrad, travel_mm)
 from ..motion import loop_moment_coefficients, pad_motion, validate_motion
 from ..statics import contact_columns, full_slip_state
@@ -81,10 +81,7 @@ def march_model(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, moti
     N_ref = jnp.where(lift0, jnp.ones(3), start.N)  # keep the masked computation finite
     T_ref = START_FRICTION_SIGNS * mu * N_ref
     fn, ft = loop_moment_coefficients(shape, load._replace(F_D=F_D), motion)
-    if motion is None:
-        nw, tw = geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION
-    else:
-        nw, tw = pad_motion(shape, motion, load.q_star)
+    nw, tw = pad_motion(shape, motion, load.q_star)
     model = MarchModel(a, c, nw, tw, kn / F_D, kt / F_D, mu,
                        N_ref, T_ref, fn, ft, jnp.asarray(load.q_star, float), F_D)
     return model, lift0

@@ -46,9 +46,9 @@ def register(sub) -> None:
                    help="the damper's size: its left flank's length, mm, in (0, 10000] (needed "
                    "where the platforms turn relative to each other)")
     p.add_argument("--motion", default=None,
-                   help="a straight relative platform path du,dv,dtheta (mm, mm, mrad per mrad of "
+                   help="a relative platform path du,dv,dtheta (mm, mm, mrad per mrad of "
                    "--psi-a; complex entries as re+imj: an ellipse unless real up to one phase), "
-                   "instead of --ibpa")
+                   "instead of --ibpa; write --motion=-0.02,... when the first entry is negative")
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -64,12 +64,13 @@ def _amplitudes(text: str) -> list[float]:
 
 def motion_from_args(args, load):
     """The jaxdamp.Motion of --ibpa / --motion (None: the paper's in-phase motion), checked."""
-    from ..motion import interblade_motion, straight_motion
+    from ..motion import general_motion, interblade_motion
 
     if args.ibpa is not None and args.motion is not None:
         raise C.CliError("--ibpa and --motion are two ways to give the path: use one")
     if args.h_c is not None and args.ibpa is None:
-        raise C.CliError("--h-c places the blades' rotation centre for --ibpa: give --ibpa 0 or 180")
+        raise C.CliError("--h-c places the blades' rotation centre for --ibpa: give --ibpa DEG, "
+                         "in [-360, 360]")
     if args.motion is not None:
         try:
             direction = [complex(v.strip()) for v in args.motion.split(",")]
@@ -79,7 +80,7 @@ def motion_from_args(args, load):
         if len(direction) != 3:
             raise C.CliError(f"--motion must be three numbers du,dv,dtheta, e.g. --motion 0.03,0.05,1.5; "
                              f"got {args.motion!r}")
-        return straight_motion(direction, args.h_l)
+        return general_motion(direction, args.h_l)
     if args.ibpa is not None:
         if args.h_c is None:
             raise C.CliError("--h-c (depth of the blades' rotation centre below D, mm, in "
