@@ -41,7 +41,7 @@ from ._validate import check_int, check_range
 from .linalg import solve3
 from .cycle import mechanics
 from .half import TRAVEL_TOL, Half, accelerate, empty_half, run_half
-from .loops import check_loop, repeat_until, values_by_while
+from .loops import repeat_until, run_by_loop
 from .geometry import CONTACT_NAMES, DamperShape
 from .linalg import rowdot
 from .motion import Motion, loop_moment_coefficients, validate_motion
@@ -214,17 +214,12 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     "auto" (default) computes values with "while" and derivatives (jvp, jacfwd, grad, vjp) with
     "scan", through a custom JVP rule.
     """
-    check_loop(loop)
-
     def impl(*design_and_loop):
         *design, loop = design_and_loop
         return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts,
                                max_pairs=max_pairs, loop=loop)
 
-    design = (shape, mu, contacts, load, psi_a, N_init, T_init, motion)
-    if loop == "auto":
-        return values_by_while(impl, *design)
-    return impl(*design, loop)
+    return run_by_loop(impl, (shape, mu, contacts, load, psi_a, N_init, T_init, motion), loop)
 
 
 def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *, initial,

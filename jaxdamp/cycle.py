@@ -23,7 +23,7 @@ from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
 from .half import Half, accelerate, empty_half, run_half
-from .loops import check_loop, repeat_until, values_by_while
+from .loops import repeat_until, run_by_loop
 from .motion import pad_motion
 from .tract import STATE_NAMES, Mechanics, make_mechanics
 
@@ -84,14 +84,10 @@ def base_cycle_kernel(shape, mu, contacts, load, max_tracts=MAX_TRACTS, max_pair
     when it is done (values and forward mode only); "auto" (default) computes values with "while"
     and derivatives (jvp, jacfwd, grad, vjp) with "scan", through a custom JVP rule.
     """
-    check_loop(loop)
-
     def impl(shape, mu, contacts, load, loop):
         return _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop)
 
-    if loop == "auto":
-        return values_by_while(impl, shape, mu, contacts, load)
-    return impl(shape, mu, contacts, load, loop)
+    return run_by_loop(impl, (shape, mu, contacts, load), loop)
 
 
 def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):

@@ -40,7 +40,7 @@ from .conventions import travel_mm, warn_small_rotation
 from .cycle import mechanics
 from .geometry import DamperShape
 from .half import TRAVEL_TOL, accelerate, run_half
-from .loops import bounded_loop, check_loop, repeat_until, values_by_while, zeros_of
+from .loops import bounded_loop, repeat_until, run_by_loop, zeros_of
 from .motion import Motion, motion_moment_coefficients, path_parts, validate_motion
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .status import RESULTS, from_flags, number_repr, ok_status, status_repr
@@ -296,17 +296,12 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     """The steady cycle on the elliptic path of `motion` (a Motion with a quadrature part) at
     amplitude a (mrad): pure JAX (jit / vmap / jvp), no validation. initial: "assembly" or
     "explicit" (N_init, T_init at tau = 0, units of F_D). loop: as `amplitude_kernel`'s."""
-    check_loop(loop)
-
     def impl(*design_and_loop):
         *design, loop = design_and_loop
         return _elliptic_impl(*design, initial=initial, max_tracts=max_tracts,
                               max_periods=max_periods, loop=loop)
 
-    design = (shape, mu, contacts, load, amplitude, motion, N_init, T_init)
-    if loop == "auto":
-        return values_by_while(impl, *design)
-    return impl(*design, loop)
+    return run_by_loop(impl, (shape, mu, contacts, load, amplitude, motion, N_init, T_init), loop)
 
 
 def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,

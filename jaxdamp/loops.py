@@ -84,4 +84,14 @@ def values_by_while(impl, *args):
     return run(*args)
 
 
-__all__ = ["LOOPS", "zeros_of", "bounded_loop", "repeat_until", "check_loop", "values_by_while"]
+def run_by_loop(impl, args: tuple, loop: str):
+    """impl(*args, loop) for a kernel's `loop` option, checked: "scan" and "while" as given, "auto"
+    through `values_by_while`."""
+    check_loop(loop)
+    if loop == "auto":
+        return values_by_while(impl, *args)
+    return impl(*args, loop)
+
+
+__all__ = ["LOOPS", "zeros_of", "bounded_loop", "repeat_until", "check_loop", "values_by_while",
+           "run_by_loop"]
