@@ -1,0 +1,206 @@
+"""A bladed disk's mode family from modal data, reduced per engine order to the one-mode blade and
+the damper's platform path (the Platform Centred Reduction at every interblade phase angle).
+
+A tuned disk of N blades vibrates in one mode family (e.g. the first bending) with one mode per
+nodal diameter n = 0 ... N/2. Engine order e excites nodal diameter n = e mod N folded into
+0 ... N/2 (n and N - n are the same standing shape, travelling the other way), as a travelling
+wave in which blade j moves as Re(Phi e^{i j phi} e^{i omega t}) with the interblade phase angle
+phi = 2 pi e / N. A damper sits between blade j's right-hand platform and blade j+1's left-hand
+platform: the right platform of the damper is blade j+1's left-hand platform, so the damper sees
+
+    X_hat = e^{i phi} Phi_left - Phi_right       (u, v at D in mm, theta in mrad per unit q)
+
+per unit modal coordinate q. Reduced to the tip (response point) displacement A = Phi_tip q, mm:
+the modal stiffness is k_b = omega_n^2 / |Phi_tip|^2 (N/mm, mass-normalised modes in mm, N, s,
+tonne), the tip force per unit excitation is |f| / |Phi_tip|, and the path per mm of A is
+X_hat / Phi_tip = r X_unit: r (mrad/mm) and X_unit (per mrad of psi = r A, `jaxdamp.Motion`'s
+convention) are scaled so that the paper's in-phase path is X_unit = (0, q*/1e3, 0) exactly (any
+other scale gives the same response: r^2 k(r A) does not depend on it). The path's phase is chosen
+so that dv is real and positive (dv peaks at tau = 0; a phase of the mode is a shift in time).
+
+The forced response per engine order is then `jaxdamp.response`'s, with the damper's k(psi) on
+that path (`stiffness.path_damper`): |D(omega, A)| A = F with D as in the package docstring.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from .._validate import check_int, check_param, check_range
+from ..conventions import MRAD_PER_RAD
+from ..motion import Motion, general_motion
+from .scene import BladeMode
+
+__all__ = ["ModalFamily", "NodalScene", "validate_family", "excited_nodal_diameter", "nodal_scene",
+           "family_from_blade_mode", "FAMILY_FIELDS"]
+
+# The modal file's fields: name -> (shape after the nodal-diameter axis, complex allowed, unit).
+FAMILY_FIELDS = {
+    "nodal_diameter": ((), False, ""),
+    "frequency_hz": ((), False, "Hz"),
+    "loss_factor": ((), False, ""),
+    "modal_force": ((), True, "N per N of excitation"),
+    "response_displacement": ((), True, "mm per unit modal coordinate"),
+    "left_platform": ((3,), True, "(mm, mm, rad) per unit modal coordinate"),
+    "right_platform": ((3,), True, "(mm, mm, rad) per unit modal coordinate"),
+}
+
+
+class ModalFamily(NamedTuple):
+    """One mode family of a tuned bladed disk, per nodal diameter (host arrays, leading axis n).
+
+    n_blades: N, the number of blades (>= 2).
+    nodal_diameter: (n,) distinct integers in [0, N // 2].
+    frequency_hz: (n,) natural frequency with the platforms free (no damper), Hz.
+    loss_factor: (n,) modal loss factor eta (structural and root damping), in [0, 1].
+    modal_force: (n,) complex modal force of a unit engine-order excitation (the excitation's
+        pattern projected on the mode: Phi^H F for a unit force amplitude), per N of excitation.
+    response_displacement: (n,) complex displacement of the response point (e.g. the tip), mm per
+        unit modal coordinate; modes mass-normalised in mm, N, s, tonne (Phi^T M Phi = 1).
+    left_platform, right_platform: (n, 3) complex rigid motion (u mm right, v mm up, theta rad
+        counter-clockwise) at the damper's point D of the blade's left-hand and right-hand
+        platform, per unit modal coordinate of blade 0 (blade j: times e^{i j phi}).
+    name: a label for tables and figures.
+    """
+
+    n_blades: int
+    nodal_diameter: np.ndarray
+    frequency_hz: np.ndarray
+    loss_factor: np.ndarray
+    modal_force: np.ndarray
+    response_displacement: np.ndarray
+    left_platform: np.ndarray
+    right_platform: np.ndarray
+    name: str = ""
+
+    def __repr__(self):
+        nd = np.asarray(self.nodal_diameter)
+        f = np.asarray(self.frequency_hz)
+        return (f"ModalFamily({self.name or 'unnamed'}: {self.n_blades} blades, nodal diameters "
+                f"{nd.min()}..{nd.max()} ({nd.size}), {f.min():.4g}..{f.max():.4g} Hz)")
+
+
+def validate_family(family: ModalFamily) -> ModalFamily:
+    """The family's fields checked and converted (numpy: ints, floats, complex): ValueError in one
+    line naming the field and what it must be."""
+    if not isinstance(family, ModalFamily):
+        raise ValueError(f"modes must be a jaxdamp.ModalFamily; got {type(family).__name__}")
+    n_blades = check_int("n_blades", family.n_blades, 2)
+    nd_raw = np.asarray(family.nodal_diameter)
+    if nd_raw.ndim != 1 or nd_raw.size == 0:
+        raise ValueError(f"nodal_diameter must be a 1-D array of one or more integers in "
+                         f"[0, {n_blades // 2}]; got shape {nd_raw.shape}")
+    n = nd_raw.size
+    out = {}
+    for name, (tail, complex_ok, unit) in FAMILY_FIELDS.items():
+        value = np.asarray(getattr(family, name))
+        if value.shape != (n,) + tail:
+            raise ValueError(f"{name} must have shape {(n,) + tail} (one row per nodal diameter); "
+                             f"got {value.shape}")
+        if not complex_ok and np.iscomplexobj(value) and np.any(np.imag(value) != 0):
+            raise ValueError(f"{name} must be real; got complex values")
+        value = value.astype(complex if complex_ok else float)
+        if not np.all(np.isfinite(value)):
+            raise ValueError(f"{name} must be finite{f' ({unit})' if unit else ''}; got {value!r}")
+        out[name] = value
+    nd = out["nodal_diameter"]
+    if np.any(nd != np.round(nd)) or np.any(nd < 0) or np.any(nd > n_blades // 2):
+        raise ValueError(f"nodal_diameter must hold integers in [0, {n_blades // 2}] (n_blades = "
+                         f"{n_blades}); got {nd_raw.tolist()}")
+    if np.unique(nd).size != n:
+        raise ValueError(f"nodal_diameter must not repeat; got {nd_raw.tolist()}")
+    check_range("frequency_hz", out["frequency_hz"], 0.0, np.inf, lo_open=True, hi_open=True,
+                unit="Hz")
+    check_param("eta", out["loss_factor"], "loss_factor")
+    if np.any(out["response_displacement"] == 0):
+        raise ValueError("response_displacement must be non-zero at every nodal diameter (mm per "
+                         "unit modal coordinate): the response is reduced to that point")
+    out["nodal_diameter"] = nd.astype(int)
+    return ModalFamily(n_blades=n_blades, name=str(family.name), **out)
+
+
+def excited_nodal_diameter(engine_order: int, n_blades: int) -> tuple[int, bool]:
+    """(n, backward): the nodal diameter n in [0, N/2] that engine order e excites, and whether
+    its travelling wave is the backward one (e mod N > N/2: the family's data are conjugated)."""
+    e = int(engine_order) % n_blades
+    return (n_blades - e, True) if 2 * e > n_blades else (e, False)
+
+
+class NodalScene(NamedTuple):
+    """One engine order's reduced scene: the one-mode blade at the tip and the damper's path.
+
+    mode: BladeMode (f0_hz, k_b N/mm, eta, r mrad/mm) in tip coordinates.
+    motion: the damper's path per mrad of psi = r A (a straight or elliptic `jaxdamp.Motion`).
+    force_per_unit: tip force amplitude (N) per N of the engine-order excitation.
+    """
+
+    engine_order: int
+    nodal_diameter: int
+    ibpa_deg: float
+    mode: BladeMode
+    motion: Motion
+    force_per_unit: float
+
+    @property
+    def straight(self) -> bool:
+        return self.motion.quadrature is None
+
+
+def nodal_scene(family: ModalFamily, engine_order: int, q_star_mm: float, h_l_mm: float) -> NodalScene:
+    """The reduction of the module docstring for engine order e (an integer >= 0), with the
+    damper's q* (mm) and size h_L (its left flank's length, mm). The family must be validated
+    (`validate_family`). ValueError where e excites a nodal diameter the family lacks, or where the
+    damper sees no relative platform motion."""
+    e = check_int("engine_order", engine_order, 0)
+    n_blades = family.n_blades
+    nd, backward = excited_nodal_diameter(e, n_blades)
+    rows = np.flatnonzero(np.asarray(family.nodal_diameter) == nd)
+    if rows.size == 0:
+        raise ValueError(f"engine_order {e} excites nodal diameter {nd} (n_blades {n_blades}), "
+                         f"which the modal family lacks (it has "
+                         f"{np.asarray(family.nodal_diameter).tolist()})")
+    i = int(rows[0])
+    pick = (lambda v: np.conj(v)) if backward else (lambda v: v)  # noqa: E731
+    phi = 2.0 * np.pi * (e % n_blades) / n_blades
+    shift = np.exp(1j * phi) if (2 * (e % n_blades)) % n_blades else complex(np.cos(phi))
+    left, right = pick(family.left_platform[i]), pick(family.right_platform[i])
+    per_q = shift * left - right
+    per_q = per_q * np.array([1.0, 1.0, MRAD_PER_RAD])  # theta: rad -> mrad
+    tip = complex(pick(family.response_displacement[i]))
+    per_tip = per_q / tip
+    size = float(np.linalg.norm(per_tip))
+    if size == 0.0:
+        raise ValueError(f"the damper sees no relative platform motion at nodal diameter {nd} "
+                         f"(engine order {e}): left_platform and right_platform cancel")
+    r = MRAD_PER_RAD * size / float(q_star_mm)
+    unit = per_tip / r
+    # Phase: dv real and positive (or the largest component real, where dv is zero).
+    k = 1 if abs(unit[1]) > 1e-12 * np.max(np.abs(unit)) else int(np.argmax(np.abs(unit)))
+    unit = unit * np.exp(-1j * np.angle(unit[k]))
+    unit[k] = abs(unit[k])
+    motion = general_motion(unit, h_l_mm)
+    omega = 2.0 * np.pi * float(family.frequency_hz[i])
+    mode = BladeMode(float(family.frequency_hz[i]), omega ** 2 / abs(tip) ** 2,
+                     float(family.loss_factor[i]), r)
+    force = abs(complex(family.modal_force[i])) / abs(tip)
+    return NodalScene(e, nd, float(np.rad2deg(phi)), mode, motion, force)
+
+
+def family_from_blade_mode(mode: BladeMode, q_star_mm: float, h_c_mm: float = 0.0,
+                           n_blades: int = 2, name: str = "in-phase") -> ModalFamily:
+    """The one-mode family whose nodal diameter 0 is `mode` on the paper's in-phase motion: each
+    blade's platforms turn rigidly about its centre C (h_c_mm below D, q*/2 to the side) by
+    r A / 1e3 rad (clockwise, so that dv = q* psi is positive), the tip moves omega0 / sqrt(k_b) mm
+    per unit modal coordinate (k_b = omega0^2 / Phi_tip^2), and the modal force is Phi_tip (a unit
+    tip force). `nodal_scene(family, 0, q*, h_L)` gives `mode` back (r, f0, k_b,
+    eta) with the in-phase path: the reduction's check against the one-mode blade."""
+    theta = float(mode.r) / MRAD_PER_RAD  # rad per mm of tip
+    left = theta * np.array([h_c_mm, 0.5 * q_star_mm, -1.0])
+    right = theta * np.array([h_c_mm, -0.5 * q_star_mm, -1.0])
+    scale = 2.0 * np.pi * float(mode.f0_hz) / np.sqrt(float(mode.k_b))  # tip mm per unit q
+    return ModalFamily(n_blades, np.array([0]), np.array([float(mode.f0_hz)]),
+                       np.array([float(mode.eta)]), np.array([scale + 0j]),
+                       np.array([scale + 0j]), (scale * left)[None].astype(complex),
+                       (scale * right)[None].astype(complex), name)
