@@ -29,7 +29,8 @@ CHECKED = {
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
     # jaxdamp.baselines
-    "hbm_aft", "regularized_aft", "time_march", "march_ellipse",
+    "hbm_aft", "regularized_aft", "time_march", "march_ellipse", "modal_family",
+    "sector_matrices", "full_matrices", "ring_response",
 }
 # Take a result made (and checked) by a checked function: a BaseCycle, a batched Design from
 # `stack_designs`, checked contacts and load.
