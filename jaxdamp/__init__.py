@@ -20,7 +20,8 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Many designs: `stack_designs`, `evaluate_designs`, `base_cycles`, `sweep`, `map_batched`.
 - Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
-  `peak_response`, `peak_band`, `frf`, `designer_diagram`.
+  `peak_response`, `peak_band`, `frf`, `designer_diagram`; across a blade row from modal data:
+  `ModalFamily`, `nodal_scene`, `row_response` (files: `jaxdamp.modal_file`).
 - Measured loops: `fit_loops` (mu, kn, kt with intervals from moment or contact loops).
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
 
@@ -158,6 +159,13 @@ from .response import response_curves as response_curves
 from .response import DesignerDiagram as DesignerDiagram
 from .response import designer_diagram as designer_diagram
 from .response import DIAGRAM_MUS as DIAGRAM_MUS
+from .response import ModalFamily as ModalFamily
+from .response import NodalScene as NodalScene
+from .response import validate_family as validate_family
+from .response import nodal_scene as nodal_scene
+from .response import RowResponse as RowResponse
+from .response import row_response as row_response
+from .response import path_damper as path_damper
 
 # Contact parameters from measured loops
 from .fit import LoopFit as LoopFit
@@ -206,6 +214,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "no_damper", "scaled_stiffness", "tabulated_stiffness", "register_stiffness_method",
            "FRF", "frf", "frf_amplitude_grid", "linear_frf", "Peaks", "peak_response",
            "design_peaks", "peak_band", "ResponseCurves", "response_curves", "DesignerDiagram",
+           "ModalFamily", "NodalScene", "validate_family", "nodal_scene", "RowResponse",
+           "row_response", "path_damper",
            "designer_diagram", "DIAGRAM_MUS", "Uncertainty", "Scenarios", "PeakDistribution",
            "sample_scenarios", "peak_distribution", "magnification_kernel", "LoopFit", "fit_loops",
            "fit_problem", "sample_loop"]

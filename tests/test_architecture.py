@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parents[1]
 FOLDERS = {"jaxdamp": "jaxdamp", "jaxdamp_optimize": "optimize"}
 PACKAGES = tuple(FOLDERS)
 # Layer of each part; an import may only point to the same or a lower layer.
-LAYERS = {"core": 0, "baselines": 1, "paper": 1, "plotting": 2, "cli": 3, "jaxdamp_optimize": 4}
+LAYERS = {"core": 0, "baselines": 1, "paper": 1, "modal_file": 1, "plotting": 2, "cli": 3, "jaxdamp_optimize": 4}
 
 
 def modules():

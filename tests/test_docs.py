@@ -69,9 +69,12 @@ PYTHON_FILES = [p for p in DOC_FILES if any(b[0] == "python" and not b[3] for b 
 # response, fit and optimiser programs in a fresh process): the full tier runs them
 # (`bash scripts/test.sh --full`, README); the CLI commands by their command and options.
 SLOW_PAGES = {"README.md": 62, "docs/response.md": 204, "docs/fit-loops.md": 126,
-              "docs/exact-cycles.md": 88, "docs/optimize.md": 76, "docs/batching.md": 66}
+              "docs/exact-cycles.md": 88, "docs/optimize.md": 76, "docs/batching.md": 66,
+              "docs/blade.md": 150}
 SLOW_COMMANDS = {"jaxdamp grad --shape 74R --mu 0.5 --psi-a 3 --mode rev": 64,
-                 "jaxdamp optimize --fix theta_l=45,theta_r=45 --mu-set 0.7": 37}
+                 "jaxdamp optimize --fix theta_l=45,theta_r=45 --mu-set 0.7": 37,
+                 "jaxdamp response --shape 60sym --mu 0.5 --modes example --engine-order all "
+                 "--h-l 10 --force-n 2,5 --plot figs": 150}
 
 # Runs the blocks handed over as JSON in one namespace; a failure names the file and line.
 _DRIVER = """

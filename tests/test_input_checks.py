@@ -28,6 +28,7 @@ CHECKED = {
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
+    "validate_family", "nodal_scene", "row_response",
     # jaxdamp.baselines
     "hbm_aft", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",
@@ -42,7 +43,7 @@ UNCHECKED = {
     "section_geometry", "platform_moment", "full_slip_state", "admissible_polytope",
     "polytope_vertices", "curve_at", "cycle_work", "moment", "contact_energies",
     "work_shape_factors", "frf", "frf_amplitude_grid", "linear_frf", "stuck_damper",
-    "scaled_stiffness", "tabulated_stiffness", "peak_response", "run_half",
+    "scaled_stiffness", "tabulated_stiffness", "peak_response", "run_half", "path_damper",
     # jaxdamp.baselines
     "first_harmonic", "march", "march_model",
 }

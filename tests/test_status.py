@@ -89,7 +89,8 @@ def test_reprs_do_not_force_tracers():
 # given), geometry, and parts of a result whose own repr summarises them (FullSlipState inside
 # FullSlipStatics, HalfCycle inside BaseCycle), sampled inputs (Scenarios) and an optimiser's state.
 INPUTS_AND_PARTS = {"Design", "DamperShape", "SectionGeometry", "Contacts", "LoadCase", "BladeMode",
-                    "Uncertainty", "FullSlipState", "Scenarios", "Motion"}
+                    "Uncertainty", "FullSlipState", "Scenarios", "Motion", "ModalFamily",
+                    "NodalScene"}
 # Results without a status field of their own (they go with the status of what they were read
 # off: a BaseCycle's energies and work shape factors; a sweep's points carry theirs in .summary).
 STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult"}

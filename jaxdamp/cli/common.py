@@ -32,7 +32,7 @@ FLAG_OF = {"theta_l": "--theta-l", "theta_r": "--theta-r", "br_over_hr": "--br",
            "r": "--psi-per-mm", "max_iter": "--max-iter", "shape": "--shape", "initial": "--initial",
            "force_n": "--force-n", "start_mu": "--start-mu", "start_kn": "--start-kn",
            "start_kt": "--start-kt", "h_l": "--h-l", "h_c": "--h-c", "ibpa": "--ibpa",
-           "motion": "--motion"}
+           "motion": "--motion", "modes": "--modes", "engine_order": "--engine-order"}
 
 
 def flag_message(message: str) -> str:

@@ -2,7 +2,9 @@
 
 Peaks A* (every root, isolas included) at each force, the FRFs with the damper and of the free
 and stuck blade (each across its own peak, with the peak reduction A*_free / A*), and with
---diagram the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7). The
+--diagram the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7). With
+--modes FILE the blade row instead: the peak per engine order, each on its nodal diameter's mode
+and platform path (docs/blade.md). The
 programs are saved as exports in the compilation cache folder (`cli.exported`): a second call
 neither traces nor compiles them.
 """
@@ -21,6 +23,7 @@ from ..response import (BladeMode, curves_program, designer_diagram, peak_band_k
 from ..status import RESULTS
 from . import common as C
 from . import exported
+from .response_row import add_row_args, check_row_args, run_row
 from .uncertainty_report import add_uncertainty_args
 from .uncertainty_report import report as uncertainty_report
 
@@ -48,8 +51,9 @@ def register(sub) -> None:
     p.add_argument("--stiffness", default="exact", choices=("exact", "interpolated"),
                    help="damper curve k(psi_a): exact steady cycles (default) or the paper's "
                         "microslip interpolation")
-    p.add_argument("--initial", default="gross_slip", choices=("gross_slip", "assembly"),
-                   help="contact history of the exact curve (default gross_slip)")
+    p.add_argument("--initial", default=None, choices=("gross_slip", "assembly"),
+                   help="contact history of the exact curve (default gross_slip; with --modes "
+                        "assembly, the only one defined on the elliptic paths)")
     p.add_argument("--band", action="store_true",
                    help="also the peak's bounds over every admissible contact history (the band "
                         "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
@@ -57,6 +61,7 @@ def register(sub) -> None:
                    help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
     p.add_argument("--plot", metavar="DIR",
                    help="write frf.png (and designer_diagram.png with --diagram) to DIR")
+    add_row_args(p)
     add_uncertainty_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
@@ -269,7 +274,12 @@ def to_text(args, doc: dict) -> str:
 
 
 def run(args) -> int:
+    check_row_args(args)
+    if args.initial is None:
+        args.initial = "assembly" if args.modes is not None else "gross_slip"
     scene, forces, shape, contacts, load = prepare(args)
+    if args.modes is not None:
+        return run_row(args, scene, forces, shape, contacts, load)
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     if args.uncertainty:  # the Monte Carlo peak distribution instead of one design's peaks
         return uncertainty_report(args, scene, forces)

@@ -147,4 +147,45 @@ def harmonic_error_figure(forces_n, single, references, *, title=None):
                    title or "Where one harmonic is not enough")
 
 
-__all__ = ["frf_figure", "response_figure", "designer_diagram_figure", "harmonic_error_figure"]
+
+
+def row_figure(row, *, title=None):
+    """The blade row at a glance (`jaxdamp.row_response`): peak tip amplitude (mm, log axis)
+    against nodal diameter (left) and against engine order (right), with the damper (solid, one
+    line per force) and without it (dashed), the worst engine order of each force circled.
+    Points whose status is not valid are left out."""
+    import matplotlib.pyplot as plt
+
+    from ..status import RESULTS
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    eo = np.asarray(row.engine_order)
+    nd = np.asarray(row.nodal_diameter)
+    amp = np.asarray(row.peaks.peak_amplitude_mm)
+    valid = np.asarray(RESULTS.valid(row.status))
+    free = np.asarray(row.free_peak_mm)
+    for ax, x, label in ((axes[0], nd, "nodal diameter"), (axes[1], eo, "engine order")):
+        order = np.argsort(x, kind="stable")
+        for j, force in enumerate(np.asarray(row.force_n)):
+            c = colors[j % len(colors)]
+            ok = order[valid[order, j]]
+            ax.plot(x[ok], amp[ok, j], "o-", color=c, ms=4, label=f"F = {force:g} N, damper")
+            ax.plot(x[order], free[order, j], "--", color=c, lw=1, alpha=0.7,
+                    label=f"F = {force:g} N, no damper")
+            w = int(np.asarray(row.worst)[j])
+            if w >= 0:
+                ax.plot(x[w], amp[w, j], "o", ms=11, mfc="none", mec=c)
+        ax.set_yscale("log")
+        ax.set_xlabel(label)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("peak tip amplitude A*, mm")
+    axes[1].legend(fontsize=7, loc="best")
+    fig.suptitle(title or f"Peak response across the row ({row.initial} history; circled: the worst "
+                 "engine order)", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
+__all__ = ["frf_figure", "response_figure", "designer_diagram_figure", "harmonic_error_figure",
+           "row_figure"]

@@ -23,7 +23,9 @@ k in N mm/mrad.
 
 The package: `scene` (the blade mode and the checked scene), `stiffness` (the damper as a complex
 spring), `frf` (closed-form FRFs), `peaks` (the peak response and its compiled programs),
-`peak_band` (the band of peaks over contact histories), `diagram` (the designer's diagram).
+`peak_band` (the band of peaks over contact histories), `diagram` (the designer's diagram),
+`modes` (a bladed disk's mode family from modal data, reduced per engine order to this one-mode
+blade and the damper's platform path), `row` (the peaks across a blade row, per engine order).
 """
 
 from .scene import BladeMode as BladeMode
@@ -59,6 +61,17 @@ from .diagram import DIAGRAM_MUS as DIAGRAM_MUS
 from .diagram import DesignerDiagram as DesignerDiagram
 from .diagram import designer_diagram as designer_diagram
 from .diagram import diagram_program as diagram_program
+from .stiffness import path_damper as path_damper
+from .modes import ModalFamily as ModalFamily
+from .modes import NodalScene as NodalScene
+from .modes import validate_family as validate_family
+from .modes import nodal_scene as nodal_scene
+from .modes import excited_nodal_diameter as excited_nodal_diameter
+from .modes import family_from_blade_mode as family_from_blade_mode
+from .row import RowResponse as RowResponse
+from .row import row_response as row_response
+from .row import row_program as row_program
+from .row import engine_orders_of as engine_orders_of
 
 __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
@@ -67,4 +80,6 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
            "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
            "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band", "peak_band_kernel",
-           "tabulated_stiffness"]
+           "tabulated_stiffness", "path_damper", "ModalFamily", "NodalScene", "validate_family",
+           "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
+           "row_response", "row_program", "engine_orders_of"]

@@ -150,9 +150,15 @@ class NodalScene(NamedTuple):
 
 def nodal_scene(family: ModalFamily, engine_order: int, q_star_mm: float, h_l_mm: float) -> NodalScene:
     """The reduction of the module docstring for engine order e (an integer >= 0), with the
-    damper's q* (mm) and size h_L (its left flank's length, mm). The family must be validated
-    (`validate_family`). ValueError where e excites a nodal diameter the family lacks, or where the
-    damper sees no relative platform motion."""
+    damper's q* (mm) and size h_L (its left flank's length, mm). The family is checked
+    (`validate_family`); ValueError also where e excites a nodal diameter the family lacks, or
+    where the damper sees no relative platform motion.
+
+    r is a scale of the path, not the platforms' rotation per mm of tip: where the platforms turn
+    relative to each other, the relative rotation (mrad) dominates |X_hat| and r is larger than
+    the blade's own platform rotation per tip mm (only r^2 k(r A) enters the response)."""
+    family = validate_family(family)
+    check_param("q_star", q_star_mm)
     e = check_int("engine_order", engine_order, 0)
     n_blades = family.n_blades
     nd, backward = excited_nodal_diameter(e, n_blades)

@@ -134,7 +134,8 @@ SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_gr
 
 
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
-                  max_roots: int = MAX_ROOTS, amplitude_cap_mm=None) -> Peaks:
+                  max_roots: int = MAX_ROOTS, amplitude_cap_mm=None,
+                  differentiable: bool = True) -> Peaks:
     """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
@@ -148,6 +149,10 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     force's bound to the largest's, as fine as one force's grid for forces within 10^3.5 of each
     other (coarser beyond). The damper curve is evaluated once on it instead of once per force.
 
+    differentiable=False: values only (the roots are not wrapped for the implicit function
+    theorem, and nothing of the damper curve's derivative is traced: a program several times
+    faster to build, for searches that no gradient passes through).
+
     mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
     (`prepare_scene`: its mode, checked already). damper: a DamperStiffness (checked when
     `damper_stiffness` made it). Otherwise unchecked, traceable (jit, vmap, grad): a damper built
@@ -158,7 +163,10 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     f = jnp.asarray(force_n, float)
     if f.ndim > 1:
         raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
-    if (damper.source is not None and damper.source.matches(damper) and n_grid == N_GRID
+    if not differentiable:
+        damper = damper._replace(k_of_psi=damper.values)
+    if (differentiable and damper.source is not None and damper.source.matches(damper)
+            and n_grid == N_GRID
             and max_roots == MAX_ROOTS and amplitude_cap_mm is None and not is_traced(mode, f)):
         # A curve that `damper_stiffness` built from concrete inputs, called from plain Python:
         # the compiled peak program of its method (the same function, jitted), not op by op.
@@ -202,8 +210,12 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         lo = grid[cells]
         hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
 
-        roots = jax.vmap(lambda *b: _root_ift(g_of, g_values, *b, REFINE_STEPS))(
-            lo, hi, gg[cells], gg[cells + 1])
+        if differentiable:
+            roots = jax.vmap(lambda *b: _root_ift(g_of, g_values, *b, REFINE_STEPS))(
+                lo, hi, gg[cells], gg[cells + 1])
+        else:
+            roots = jax.vmap(lambda *b: _bracketed_root(g_values, *b, REFINE_STEPS))(
+                lo, hi, gg[cells], gg[cells + 1])
         roots = jnp.where(found, roots, 0.0)
         freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
                           0.0)

@@ -12,6 +12,7 @@ import jax.numpy as jnp
 
 from ..amplitude import amplitude_kernel
 from ..cycle import base_cycle_kernel
+from ..ellipse import elliptic_kernel
 from ..harmonics import complex_stiffness, five_numbers_kernel
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import RESULTS, number_repr, status_repr
@@ -19,7 +20,8 @@ from ..status import RESULTS, number_repr, status_repr
 __all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
            "interpolated_damper", "exact_damper", "register_stiffness_method", "is_traced",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
-           "scaled_stiffness", "stuck_damper", "no_damper"]
+           "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "path_cycle_kernel",
+           "path_damper", "STUCK_FRACTION"]
 
 
 KOfPsi = Callable[[jnp.ndarray], tuple]
@@ -94,6 +96,58 @@ def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> Damp
 
     design = (shape, mu, contacts, load)
     return base._replace(k_of_psi=curve(design), k_values=curve(jax.lax.stop_gradient(design)))
+
+
+PATH_HISTORIES = ("assembly", "gross_slip")  # gross_slip: straight paths only
+STUCK_FRACTION = 1e-6  # of psi_ref: an amplitude at which every pad sticks (the stuck limit)
+
+
+def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str = "assembly",
+                      loop: str = "auto"):
+    """(k_re, k_im, status) of the steady cycle at `amplitude` (mrad of the path's parameter) on
+    a platform path: motion None is the paper's in-phase motion (`amplitude_kernel`), a straight
+    Motion runs `amplitude_kernel(..., motion=)`, an elliptic one `elliptic_kernel` (from assembly
+    only: gross slip is not defined on an ellipse). loop: the kernels' (`amplitude_kernel`).
+    Unchecked, traceable (jit, vmap, grad)."""
+    if initial not in PATH_HISTORIES:
+        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    if motion is not None and motion.quadrature is not None:
+        if initial != "assembly":
+            raise ValueError("initial must be assembly on an elliptic path (gross slip is defined "
+                             "on straight paths only)")
+        c = elliptic_kernel(shape, mu, contacts, load, amplitude, motion, loop=loop)
+    else:
+        c = amplitude_kernel(shape, mu, contacts, load, amplitude, initial=initial, motion=motion,
+                             loop=loop)
+    return c.k_re, c.k_im, c.status
+
+
+def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly",
+                loop: str = "auto") -> DamperStiffness:
+    """k(psi) from the exact steady cycle on a platform path (`path_cycle_kernel`; psi in mrad
+    of the path's parameter): the damper of one engine order of a bladed disk
+    (`jaxdamp.response.modes`). motion None is `exact_damper`'s in-phase curve. The status and
+    the amplitude scale come from the paper's (in-phase) Base-Cycle, the design check; the stuck
+    limit is the path's own (the cycle at STUCK_FRACTION psi_ref, where every pad sticks).
+    loop: the cycles' (`amplitude_kernel`): "while" traces several times faster where no reverse
+    derivative is needed (forward mode still passes). Unchecked, traceable (jit, vmap, grad)."""
+    if motion is None:
+        return exact_damper(shape, mu, contacts, load, initial)
+    base = interpolated_damper(shape, mu, contacts, load)
+
+    def curve(design, path):
+        def k_of_psi(psi):
+            psi = jnp.asarray(psi, float)
+            k_re, k_im, _ = jax.vmap(lambda a: path_cycle_kernel(*design, a, path, initial, loop))(
+                psi.reshape(-1))
+            return k_re.reshape(psi.shape), k_im.reshape(psi.shape)
+        return k_of_psi
+
+    design = (shape, mu, contacts, load)
+    stuck, _, _ = path_cycle_kernel(*design, STUCK_FRACTION * base.psi_ref_mrad, motion, initial,
+                                    loop)
+    return base._replace(k_of_psi=curve(design, motion), k_re_stuck=stuck,
+                         k_values=curve(*jax.lax.stop_gradient((design, motion))))
 
 
 STIFFNESS_METHODS: dict[str, Callable[..., DamperStiffness]] = {"interpolated": interpolated_damper,

@@ -1,0 +1,163 @@
+"""`jaxdamp response --modes FILE`: the forced response across a blade row from modal data.
+
+Per engine order, the nodal diameter it excites, that diameter's one-mode blade and the damper's
+platform path (straight at nodal diameters 0 and N/2, an ellipse between), and the peak tip
+response with and without the damper (`jaxdamp.row_response`). A table, the worst engine order
+per force, JSON with --json and the figure row.png with --plot.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..response import BladeMode, row_response
+from ..response.row import engine_orders_of
+from ..status import RESULTS
+from . import common as C
+from . import exported
+
+__all__ = ["add_row_args", "check_row_args", "run_row"]
+
+# Flags of the one-mode blade that a modal file replaces, with their defaults.
+_MODE_FLAGS = {"f0_hz": "--f0-hz", "modal_stiffness_n_per_mm": "--modal-stiffness-n-per-mm",
+               "loss_factor": "--loss-factor", "psi_per_mm": "--psi-per-mm"}
+
+
+def add_row_args(p) -> None:
+    g = p.add_argument_group("blade row from modal data (docs/blade.md)")
+    g.add_argument("--modes", metavar="FILE",
+                   help="modal file (.npz or .json) of one mode family per nodal diameter: the "
+                        "response per engine order replaces the one-mode blade's")
+    g.add_argument("--engine-order", default="all", metavar="SPEC",
+                   help="engine orders with --modes: a:b (inclusive), a,b,c or all (every nodal "
+                        "diameter 0 ... N/2 once; default)")
+    g.add_argument("--h-l", type=float, default=None, metavar="MM",
+                   help="with --modes: the damper's size, its left flank's length in mm, in "
+                        "(0, 10000] (the platforms turn relative to each other at every nodal "
+                        "diameter but 0)")
+
+
+def check_row_args(args) -> None:
+    """Argument combinations, before any work (CliError: one line, exit 2)."""
+    if args.modes is None:
+        if args.h_l is not None or args.engine_order != "all":
+            raise C.CliError("--engine-order and --h-l need --modes FILE (the blade row)")
+        return
+    for flag, on in (("--band", args.band), ("--diagram", args.diagram),
+                     ("--uncertainty", getattr(args, "uncertainty", False))):
+        if on:
+            raise C.CliError(f"{flag} is not available with --modes yet (one design's response "
+                             f"only); leave it out")
+    if args.stiffness != "exact":
+        raise C.CliError("--stiffness interpolated is the paper's in-phase curve; with --modes "
+                         "every engine order runs the exact cycle on its own path")
+    default = BladeMode()
+    for name, flag in _MODE_FLAGS.items():
+        if getattr(args, name) != getattr(default, {"modal_stiffness_n_per_mm": "k_b",
+                                                    "loss_factor": "eta",
+                                                    "psi_per_mm": "r"}.get(name, name)):
+            raise C.CliError(f"{flag} describes the one-mode blade; with --modes the modal file "
+                             f"gives each nodal diameter's")
+    if args.h_l is None:
+        raise C.CliError("--h-l must be given with --modes: the damper's left flank length in "
+                         "(0, 10000] mm")
+
+
+def _row_json(res) -> list:
+    rows = []
+    for i, e in enumerate(res.engine_order):
+        per_force = []
+        for j, force in enumerate(res.force_n):
+            ok = bool(RESULTS.valid(res.status[i, j]))
+            amp = float(res.peaks.peak_amplitude_mm[i, j])
+            free = float(res.free_peak_mm[i, j])
+            per_force.append({
+                "force_n": float(force), "tip_force_n": C.number(res.tip_force_n[i, j]),
+                "peak_amplitude_mm": C.number(amp) if ok else None,
+                "peak_frequency_hz": C.number(res.peaks.peak_frequency_hz[i, j]) if ok else None,
+                "psi_a_mrad": C.number(res.peaks.psi_a_mrad[i, j]) if ok else None,
+                "free_peak_amplitude_mm": C.number(free) if np.isfinite(free) else None,
+                "peak_reduction": C.number(free / amp) if ok and amp > 0 and np.isfinite(free)
+                else None,
+                "status": RESULTS.name_of(res.status[i, j])})
+        rows.append({"engine_order": int(e), "nodal_diameter": int(res.nodal_diameter[i]),
+                     "ibpa_deg": C.number(res.ibpa_deg[i]),
+                     "path": "elliptic" if res.elliptic[i] else "straight",
+                     "frequency_hz": C.number(res.frequency_hz[i]), "forces": per_force})
+    return rows
+
+
+def _worst_json(res) -> list:
+    out = []
+    for j, force in enumerate(res.force_n):
+        w = int(res.worst[j])
+        out.append({"force_n": float(force),
+                    "engine_order": int(res.engine_order[w]) if w >= 0 else None,
+                    "nodal_diameter": int(res.nodal_diameter[w]) if w >= 0 else None,
+                    "peak_amplitude_mm": C.number(res.peaks.peak_amplitude_mm[w, j])
+                    if w >= 0 else None})
+    return out
+
+
+def _text(args, res, family, rows, worst) -> str:
+    lines = [f"Blade row {family.name or args.modes}: {family.n_blades} blades, mu = {args.mu:g}, "
+             f"F_D = {args.fd:g} N, h_L = {args.h_l:g} mm, history {res.initial}",
+             f"  {'EO':>3} {'ND':>3} {'IBPA,deg':>8} {'path':>8} {'f0, Hz':>9} {'F, N':>7} "
+             f"{'A*, mm':>10} {'f*, Hz':>10} {'A*free, mm':>11} {'free/A*':>8}  status"]
+
+    def fmt(v, spec):
+        return format(v, spec) if v is not None else "-"
+
+    for r in rows:
+        for p in r["forces"]:
+            lines.append(f"  {r['engine_order']:3d} {r['nodal_diameter']:3d} "
+                         f"{r['ibpa_deg']:8.1f} {r['path']:>8} {r['frequency_hz']:9.2f} "
+                         f"{p['force_n']:7g} {fmt(p['peak_amplitude_mm'], '10.5g')} "
+                         f"{fmt(p['peak_frequency_hz'], '10.3f')} "
+                         f"{fmt(p['free_peak_amplitude_mm'], '11.5g')} "
+                         f"{fmt(p['peak_reduction'], '8.3g')}  {p['status']}")
+    for w in worst:
+        lines.append(f"  worst at F = {w['force_n']:g} N: " + (
+            f"engine order {w['engine_order']} (nodal diameter {w['nodal_diameter']}), A* = "
+            f"{w['peak_amplitude_mm']:.5g} mm" if w["engine_order"] is not None
+            else "no valid peak"))
+    if args.plot:
+        lines.append(f"  figure written to {args.plot}/row.png")
+    return "\n".join(lines)
+
+
+def run_row(args, scene, forces, shape, contacts, load) -> int:
+    """The row run: the modal file and engine orders read and checked, then one or two compiled
+    programs (straight and elliptic paths)."""
+    from ..modal_file import load_modal_family
+
+    plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
+    family = load_modal_family(args.modes)
+    orders = engine_orders_of(args.engine_order, family.n_blades)
+    bar = C.progress_bar(args, total=1, desc="peaks per engine order", unit="row")
+    res = row_response(scene.shape, scene.mu, scene.contacts, scene.load, modes=family,
+                       engine_orders=orders, force_n=forces, h_l_mm=args.h_l,
+                       initial=args.initial, runner=lambda prog, a: exported.call(
+                           "row_peaks", prog, a, args.initial))
+    bar.update(1)
+    bar.close()
+    rows, worst = _row_json(res), _worst_json(res)
+    statuses = [RESULTS[p["status"]] for r in rows for p in r["forces"]]
+    # The document's status: a failure if any peak failed, else shakedown if the damper sticks at
+    # some peak, else ok (codes are not ordered by severity).
+    failed = [s for s in statuses if not RESULTS.valid(s)]
+    status = (failed[0] if failed else max(statuses, default=RESULTS.ok)).name
+    doc = C.document(status, {
+        "inputs": {"shape": C.shape_echo(shape), "mu": args.mu, "contacts": C.contacts_echo(contacts),
+                   "load": C.load_echo(load), "modes_file": str(args.modes),
+                   "family": family.name, "n_blades": family.n_blades, "h_l_mm": args.h_l,
+                   "engine_orders": orders, "force_n": list(forces), "initial": res.initial},
+        "engine_orders": rows, "worst": worst}, reason=C.status_reason(status, contacts, load))
+    if plot_dir is not None:
+        from ..plotting.response import row_figure
+
+        C.save_figure(row_figure(res, title=f"{family.name or 'blade row'}: peak response per "
+                                 f"engine order ({res.initial} history)"),
+                      plot_dir / "row.png", dpi=120)
+    C.emit(args, doc, _text(args, res, family, rows, worst))
+    return 0

@@ -1,0 +1,183 @@
+"""The forced response across a blade row: one peak per engine order, each on its own nodal
+diameter's blade mode and platform path (`modes.nodal_scene`), with and without the damper.
+
+Engine orders whose paths share a kind (straight or elliptic) run as one vmapped program
+(`row_program`), so that a whole row is one or two compiled calls.
+"""
+
+from __future__ import annotations
+
+import functools
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from ..params import check_param
+from ..runtime import batch_jit, padded_size
+from ..status import RESULTS, number_repr, status_repr
+from .modes import ModalFamily, NodalScene, nodal_scene, validate_family
+from .peaks import Peaks, peak_response
+from .scene import BladeMode, prepare_scene
+from .stiffness import PATH_HISTORIES, path_cycle_kernel, path_damper
+
+# The cycles' loops in the row's peak search: values only, so while loops (measured on the
+# elliptic program of two engine orders: trace 55 s and run 0.08 s, against 35 s and 0.57 s with
+# masked scans; the CLI saves the traced program, so a repeat pays only the run).
+ROW_LOOP = "while"
+ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power of two, at least 4
+FORCE_BUCKET = 4
+
+__all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of"]
+
+
+class RowResponse(NamedTuple):
+    """Peak tip response per engine order (leading axis m) and force (second axis n_f).
+
+    engine_order, nodal_diameter, ibpa_deg: (m,); frequency_hz: (m,) the nodal diameter's natural
+    frequency with the platforms free. peaks: `Peaks` with fields (m, n_f) (mm, Hz, mrad of the
+    path's parameter), its status the damper's unless the steady cycle at the peak says more
+    (liftoff where a pad opens there, not_converged, shakedown where the damper sticks). free_peak_mm: (m, n_f) the peak without the
+    damper, F_tip / (eta k_b) (a stuck damper gives the same peak, at its stiffened frequency).
+    tip_force_n: (m, n_f) the tip force of each excitation. worst: (n_f,) index of the engine
+    order with the largest valid damped peak (-1 where none is valid). elliptic: (m,) whether the
+    damper's path is an ellipse (else straight). initial: the contact history.
+    """
+
+    engine_order: np.ndarray
+    nodal_diameter: np.ndarray
+    ibpa_deg: np.ndarray
+    frequency_hz: np.ndarray
+    force_n: np.ndarray
+    tip_force_n: np.ndarray
+    peaks: Peaks
+    free_peak_mm: np.ndarray
+    worst: np.ndarray
+    elliptic: np.ndarray
+    initial: str
+    status: np.ndarray
+
+    def __repr__(self):
+        w = int(np.asarray(self.worst).reshape(-1)[0])
+        worst = (f"worst engine order {int(self.engine_order[w])} (ND {int(self.nodal_diameter[w])})"
+                 if w >= 0 else "no valid peak")
+        return (f"RowResponse({len(self.engine_order)} engine orders, A* "
+                f"{number_repr(self.peaks.peak_amplitude_mm, 'mm')}, {worst}, "
+                f"status {status_repr(self.status)})")
+
+
+def engine_orders_of(text: str, n_blades: int) -> list[int]:
+    """Engine orders from 'a:b' (inclusive), 'a,b,c' or 'all' (0 ... N/2: every nodal diameter
+    once). ValueError naming engine_order and the valid form otherwise."""
+    t = str(text).strip()
+    if t == "all":
+        return list(range(n_blades // 2 + 1))
+    try:
+        if ":" in t:
+            lo, hi = (int(v) for v in t.split(":"))
+            orders = list(range(lo, hi + 1))
+        else:
+            orders = [int(v) for v in t.split(",") if v.strip()]
+    except ValueError:
+        raise ValueError(f"engine_order must be 'a:b', 'a,b,...' or 'all' with integers >= 0; got "
+                         f"{text!r}") from None
+    if not orders or min(orders) < 0:
+        raise ValueError(f"engine_order must be 'a:b', 'a,b,...' or 'all' with integers >= 0; got "
+                         f"{text!r}")
+    return orders
+
+
+@functools.cache
+def row_program(initial: str = "assembly"):
+    """One compiled program per contact history: (shape, mu, contacts, load, modes, motions,
+    tip_forces (m, n_f)) -> Peaks with fields (m, n_f), vmapped over the m engine orders (modes
+    and motions stacked; all straight or all elliptic: the path's kind is the pytree's
+    structure, so each kind compiles once)."""
+    def run(shape, mu, contacts, load, modes, motions, tip_forces):
+        def one(mode, motion, forces):
+            # Values only: while loops (forward mode, which the root's IFT step traces, passes).
+            damper = path_damper(shape, mu, contacts, load, motion, initial, loop=ROW_LOOP)
+            peaks = peak_response(damper, mode, forces, differentiable=False)
+            # The steady cycle at each peak: a pad that opens there, or a cycle that does not
+            # settle, makes the peak's numbers meaningless even where the curve's grid missed it;
+            # a damper that sticks there (shakedown: no dissipation) is said too.
+            at_peak = jax.vmap(lambda a: path_cycle_kernel(shape, mu, contacts, load, a, motion,
+                                                           initial, ROW_LOOP)[2])(peaks.psi_a_mrad)
+            told = (RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok)
+                    & (peaks.psi_a_mrad > 0))
+            return peaks._replace(status=jnp.where(told, at_peak, peaks.status))
+
+        return jax.vmap(one)(modes, motions, tip_forces)
+
+    return batch_jit(run)
+
+
+def _stack(trees):
+    return jax.tree_util.tree_map(lambda *v: jnp.stack([jnp.asarray(x, float) for x in v]), *trees)
+
+
+def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily, engine_orders,
+                 force_n=(1.0,), h_l_mm: float, initial: str = "assembly",
+                 runner=None) -> RowResponse:
+    """Peak tip response (mm) of a tuned bladed disk with one damper between each pair of blades,
+    at each engine order and excitation force (N per blade, the modal file's force pattern).
+
+    modes: a ModalFamily (`jaxdamp.modal_file.load_modal_family` reads one); engine_orders: a
+    list of integers >= 0 (each must excite a nodal diameter the family has); h_l_mm: the damper's
+    size (its left flank's length, mm; the platforms turn relative to each other at every nodal
+    diameter but 0). initial: the contact history, "assembly" (every path) or "gross_slip"
+    (straight paths only). Inputs are checked here (ValueError naming the parameter and its
+    range) before anything is compiled. Engine orders (per path kind) and forces are padded to
+    bucket sizes, so that one compiled program serves rows of similar size. runner(program,
+    args): how to call a compiled program (default program(*args); the CLI passes one that
+    saves it traced, `cli.exported`)."""
+    if initial not in PATH_HISTORIES:
+        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    shape, mu, contacts, load, _ = prepare_scene(shape, mu, contacts, load, BladeMode())
+    family = validate_family(modes)
+    forces = np.asarray(force_n, float).reshape(-1)
+    check_param("force_n", forces)
+    check_param("h_l", h_l_mm)
+    orders = [int(e) for e in np.asarray(engine_orders).reshape(-1)]
+    if not orders:
+        raise ValueError("engine_orders must hold at least one integer >= 0")
+    scenes: list[NodalScene] = [nodal_scene(family, e, float(load.q_star), float(h_l_mm))
+                                for e in orders]
+    elliptic = np.array([not s.straight for s in scenes])
+    if initial == "gross_slip" and elliptic.any():
+        bad = [s.engine_order for s in scenes if not s.straight]
+        raise ValueError(f"initial gross_slip needs straight paths; engine orders {bad} give "
+                         f"elliptic ones: use initial assembly")
+    tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
+    program = row_program(initial)
+    runner = runner or (lambda prog, args: prog(*args))
+    n_f = padded_size(forces.size, FORCE_BUCKET)
+    rows = [None] * len(orders)
+    for kind in (False, True):
+        idx = np.flatnonzero(elliptic == kind)
+        if not idx.size:
+            continue
+        # Padding repeats the last engine order (and force): its numbers are dropped below.
+        take = np.concatenate([idx, np.full(padded_size(idx.size, ENGINE_ORDER_BUCKET) - idx.size,
+                                            idx[-1])])
+        part = [scenes[i] for i in take]
+        modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
+                              for f in BladeMode._fields))
+        tips = tip[take][:, np.minimum(np.arange(n_f), forces.size - 1)]
+        got = jax.device_get(runner(program, (shape, mu, contacts, load, modes_k,
+                                              _stack([s.motion for s in part]),
+                                              jnp.asarray(tips))))
+        for j, i in enumerate(idx):
+            rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j, :forces.size], got)
+    peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
+    eta_kb = np.array([s.mode.eta * s.mode.k_b for s in scenes])[:, None]
+    free = np.where(eta_kb > 0, tip / np.where(eta_kb > 0, eta_kb, 1.0), np.inf)
+    valid = np.asarray(RESULTS.valid(peaks.status))
+    amp = np.where(valid, peaks.peak_amplitude_mm, -np.inf)
+    worst = np.where(valid.any(axis=0), np.argmax(amp, axis=0), -1)
+    return RowResponse(np.array(orders), np.array([s.nodal_diameter for s in scenes]),
+                       np.array([s.ibpa_deg for s in scenes]),
+                       np.array([s.mode.f0_hz for s in scenes]), forces, tip, peaks, free, worst,
+                       elliptic, initial, np.asarray(peaks.status))
+

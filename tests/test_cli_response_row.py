@@ -1,0 +1,107 @@
+"""`jaxdamp response --modes FILE`: the blade row from modal data; flag combinations and files
+checked before any work, and (slow) the JSON contract, table and figure of a run."""
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from helpers import assert_tree_allclose, one_error_line, strict_json
+from jaxdamp.cli import main
+from jaxdamp.modal_file import save_modal_family
+from jaxdamp.response import BladeMode
+from jaxdamp.response.modes import ModalFamily, family_from_blade_mode
+
+EXAMPLE = Path(__file__).resolve().parents[1] / "jaxdamp" / "data" / "example_disk_modes.npz"
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+@pytest.fixture
+def modes_file(tmp_path):
+    f = family_from_blade_mode(BladeMode(), 100.0, 40.0, 6)
+    rep = lambda v: np.repeat(v, 4, axis=0)  # noqa: E731
+    fam = ModalFamily(6, np.arange(4), np.array([500.0, 520.0, 530.0, 535.0]), rep(f.loss_factor),
+                      rep(f.modal_force), rep(f.response_displacement), rep(f.left_platform),
+                      rep(f.right_platform), "six blades")
+    return save_modal_family(fam, tmp_path / "modes.json")
+
+
+@pytest.mark.parametrize("extra, needle", [
+    (["--band"], "--band is not available with --modes"),
+    (["--diagram"], "--diagram is not available with --modes"),
+    (["--stiffness", "interpolated"], "--stiffness interpolated"),
+    (["--f0-hz", "400"], "--f0-hz describes the one-mode blade"),
+    (["--engine-order", "x"], "--engine-order must be"),
+    (["--initial", "gross_slip", "--engine-order", "1"], "initial gross_slip needs straight"),
+])
+def test_bad_row_arguments_exit_2_in_one_line(capsys, modes_file, extra, needle):
+    code, out, err = run(capsys, "response", "--shape", "60sym", "--modes", str(modes_file),
+                         "--h-l", "30", *extra)
+    assert code == 2 and out == ""
+    assert needle in one_error_line(err)
+
+
+def test_modes_needs_h_l_and_a_readable_file(capsys, tmp_path, modes_file):
+    code, _, err = run(capsys, "response", "--shape", "60sym", "--modes", str(modes_file))
+    assert code == 2 and "--h-l must be given with --modes" in one_error_line(err)
+    code, _, err = run(capsys, "response", "--shape", "60sym", "--modes",
+                       str(tmp_path / "none.npz"), "--h-l", "30")
+    assert code == 2 and "--modes must be an existing .npz or .json file" in one_error_line(err)
+    code, _, err = run(capsys, "response", "--shape", "60sym", "--h-l", "30")
+    assert code == 2 and "need --modes FILE" in one_error_line(err)
+
+
+def test_engine_order_of_a_missing_nodal_diameter(capsys, tmp_path):
+    f = family_from_blade_mode(BladeMode(), 100.0, 40.0, 8)  # 8 blades, only nodal diameter 0
+    path = save_modal_family(f, tmp_path / "nd0.npz")
+    code, _, err = run(capsys, "response", "--shape", "60sym", "--modes", str(path), "--h-l", "30",
+                       "--engine-order", "0,9")
+    assert code == 2
+    assert "--engine-order 9 excites nodal diameter 1 (n_blades 8), which the modal family lacks" \
+        in one_error_line(err)
+
+
+def test_plot_dir_checked_before_the_modes_file(capsys, tmp_path):
+    afile = tmp_path / "x.png"
+    afile.write_text("")
+    code, out, err = run(capsys, "response", "--shape", "60sym", "--modes",
+                         str(tmp_path / "none.npz"), "--h-l", "30", "--plot", str(afile))
+    assert code == 2 and out == "" and "--plot" in one_error_line(err)
+
+
+@pytest.mark.slow  # the straight and elliptic row programs, about 3 min to build
+def test_row_json_table_and_figure(capsys, tmp_path, modes_file):
+    plots = tmp_path / "figs"
+    argv = ["response", "--shape", "60sym", "--mu", "0.5", "--modes", str(modes_file), "--h-l",
+            "30", "--engine-order", "0:4", "--force-n", "5,20"]
+    code, out, _ = run(capsys, *argv, "--json", "--plot", str(plots))
+    assert code == 0
+    d = strict_json(out)
+    assert d["status"] == "ok" and d["inputs"]["initial"] == "assembly"
+    rows = d["engine_orders"]
+    assert [r["engine_order"] for r in rows] == [0, 1, 2, 3, 4]
+    # Engine order 4 of six blades is the backward wave of nodal diameter 2.
+    assert [r["nodal_diameter"] for r in rows] == [0, 1, 2, 3, 2]
+    assert [r["path"] for r in rows] == ["straight", "elliptic", "elliptic", "straight", "elliptic"]
+    amps = np.array([[p["peak_amplitude_mm"] for p in r["forces"]] for r in rows])
+    free = np.array([[p["free_peak_amplitude_mm"] for p in r["forces"]] for r in rows])
+    assert np.all(amps < free)  # the damper lowers every peak
+    # No damper: F_tip / (eta k_b) with this family's unit tip force and k_b = 500 N/mm
+    # at 500 Hz, scaled with the frequency (the same modal mass).
+    f = np.array([r["frequency_hz"] for r in rows])
+    assert_tree_allclose(free, np.array([5.0, 20.0])[None] / (1e-3 * 500.0 * (f / 500.0) ** 2)[:, None],
+                         rtol=1e-12, atol=0.0)
+    w = d["worst"]
+    assert [x["force_n"] for x in w] == [5.0, 20.0]
+    worst_eo = [int(np.argmax(amps[:, j])) for j in range(2)]
+    assert [x["engine_order"] for x in w] == worst_eo
+    assert (plots / "row.png").stat().st_size > 0
+    code, text, _ = run(capsys, *argv)
+    assert code == 0 and "worst at F = 20 N: engine order" in text
+    assert json.dumps(d)  # plain JSON
