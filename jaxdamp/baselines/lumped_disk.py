@@ -22,13 +22,31 @@ interblade phase angle phi, K(phi) = [[k_root + k_blade L^2 + 2 k_disk (1 - cos 
 -k_blade L], [-k_blade L, k_blade]], M = diag(j_root, m_tip) (`sector_matrices`); the whole ring's
 2N x 2N matrices (`full_matrices`) have the union of its eigenvalues over phi = 2 pi n / N.
 
-The defaults (`LumpedDisk()`) make a small stage's first bending family: 555 Hz at nodal
-diameter 0 rising to 1005 Hz and levelling off from about nodal diameter 6 (the root-rocking
-flexibility of the low nodal diameters is what the disk's stiffness suppresses), with the root
-rotation per tip motion r = theta / x from 4.8 mrad/mm at nodal diameter 0 to 0.6 mrad/mm at the
-highest (`BladeMode`'s r = 1 mrad/mm near nodal diameter 6); the second (root) family lies at
-2.1-5.4 kHz. (A frequency drop at the low nodal diameters made by the root's compliance comes with
-a large root rotation there: r L ~ 1 - (f / f_clamped)^2.)
+The defaults (`LumpedDisk()`) make a small stage's first bending family for the paper's reference
+damper (60sym, mu = 0.5, F_D = 1000 N, q* = 100 mm, default contacts: stuck, it resists the
+in-phase platform rotation with k_Re,fs = 28 744 N mm/mrad): 506 Hz at nodal diameter 0 rising to
+528 Hz and levelling off from about nodal diameter 8; a tip modal mass of 50 g (k_b = 509 N/mm at
+nodal diameter 0); root rotation per tip motion r = theta / x 1.04 mrad/mm at nodal diameter 0
+(`BladeMode`'s r = 1 mrad/mm) down to 0.54 mrad/mm at the highest, as the disk stiffens the
+roots; loss factor 1e-3; the second (root-rocking) family at 3.4-4.6 kHz. The disk coupling is
+weak enough that the roots keep turning at every nodal diameter: with the example's 24 blades,
+h_C = 20 mm and h_L = 10 mm the damper microslips at a tip force of 2 N up to nodal diameter 10
+(5 N at 11 and 12, where neighbouring platforms move nearly together radially and the damper
+slips only on their relative rotation). A frequency rise with nodal diameter made by the root's
+compliance comes with the root rotation it loses: (f_high / f_0)^2 ~ (1 - r_high L) / (1 - r_0 L).
+The stuck damper raises the nodal-diameter-0 frequency by 3.0 % in the one-mode reduction
+(sqrt(1 + 1e-3 r^2 k_Re,fs / k_b)) and by 2.3 % in the 2x2 sector problem with the damper's
+stiffness on theta (the few per cent of rigs).
+
+The one-mode reduction's error at nodal diameter 0 is set by the same parameters: the damper's
+stiffness k_d on theta against the root's K_tt = k_root + k_blade L^2 (delta = k_d / K_tt, 0.33
+stuck here), while the stiffening it gives the first mode is epsilon = k_d r^2 / k_b =
+delta gamma / (1 - gamma), gamma ~ r L the first mode's share of the platform's static compliance
+(0.16 here). A few per cent of stiffening with r L ~ 0.15 (a blade 150 mm long whose root turns
+1 mrad per mm of tip) therefore means a damper a third as stiff as the root: the stuck damper
+changes the mode shape at the platform, and the free-platform one-mode reduction overestimates
+its damping there (docs/blade_example.md). At higher nodal diameters the disk stiffens the roots
+(K_tt + 2 k_disk (1 - cos phi)) and delta falls (to 0.17 at the highest).
 
 `modal_family` returns the first family as a `jaxdamp.response.modes.ModalFamily`, modes
 mass-normalised per sector (Phi^T M_sector Phi = 1: the one-blade normalisation
@@ -63,12 +81,12 @@ class LumpedDisk(NamedTuple):
     """
 
     n_blades: int = 24
-    m_tip: float = 4.0e-5  # tip modal mass, tonne (40 g)
-    k_blade: float = 1.75e3  # airfoil cantilever stiffness at the tip, N/mm (1.05 kHz clamped)
+    m_tip: float = 5.0e-5  # tip modal mass, tonne (50 g)
+    k_blade: float = 600.0  # airfoil cantilever stiffness at the tip, N/mm (551 Hz clamped)
     lever_mm: float = 150.0  # tip's distance from the rotation centre C, mm
-    j_root: float = 0.4  # root and platform inertia about C, tonne mm^2
-    k_root: float = 2.0e7  # root / disk stiffness to ground, N mm/rad
-    k_disk: float = 1.0e8  # disk coupling of neighbouring roots, N mm/rad
+    j_root: float = 0.2  # root and platform inertia about C, tonne mm^2 (100 g at 45 mm)
+    k_root: float = 7.5e7  # root / disk stiffness to ground, N mm/rad
+    k_disk: float = 2.0e7  # disk coupling of neighbouring roots, N mm/rad
     eta: float = 1e-3  # loss factor of the whole stiffness
 
 
