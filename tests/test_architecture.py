@@ -247,7 +247,8 @@ except jd.Float64Required as exc:
 
 # The public surfaces other layers on top may use: the package's top level and its public
 # subpackages. optimize/ and benchmarks/ use only these (docs/architecture.md).
-PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "jaxdamp.cli"}
+PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "jaxdamp.cli",
+          "jaxdamp.modal_file"}
 # Benchmarks that measure an internal choice import the module that makes it: the solve forms
 # (linalg, tract, cycle), the compiler options (runtime), the two-stage batching (batch) and the
 # Jacobian programs (gradients). Nothing in optimize/ may.

@@ -96,7 +96,7 @@ def row_program(initial: str = "assembly"):
     structure, so each kind compiles once)."""
     def run(shape, mu, contacts, load, modes, motions, tip_forces):
         def one(mode, motion, forces):
-            # Values only: while loops (forward mode, which the root's IFT step traces, passes).
+            # Values only (no gradient passes through the row): while loops, no IFT wrapping.
             damper = path_damper(shape, mu, contacts, load, motion, initial, loop=ROW_LOOP)
             peaks = peak_response(damper, mode, forces, differentiable=False)
             # The steady cycle at each peak: a pad that opens there, or a cycle that does not
