@@ -70,6 +70,8 @@ class RingResponse(NamedTuple):
         M_2 on theta_j) over the last period, N mm; zeros without dampers.
     newton_failures: steps whose Newton iterations missed the tolerance (any damper).
     status: ok, liftoff (a pad opened), or not_converged (Newton failures).
+    root_mrad: (steps_per_period, N) each blade's root rotation over the last period, mrad (with
+        damper_moment: the dampers' first-harmonic stiffness as the ring has it).
     """
 
     amplitude_mm: jnp.ndarray
@@ -81,6 +83,7 @@ class RingResponse(NamedTuple):
     damper_moment: jnp.ndarray
     newton_failures: jnp.ndarray
     status: jnp.ndarray
+    root_mrad: jnp.ndarray
 
     def __repr__(self) -> str:
         a = np.asarray(self.amplitude_mm)
@@ -204,39 +207,42 @@ def _integrate(shape, mu, contacts, load, left, right, mass, stiffness, eta, for
         qn, pn, Mn, gn, cn = dampers(yn, q, p)
         bad = ~(jnp.all(g2) & jnp.all(g3) & jnp.all(g4) & jnp.all(gn))
         cl = cl & jnp.all(c2) & jnp.all(c3) & jnp.all(c4) & jnp.all(cn)
-        return (yn, vn, qn, pn, Mn, fails + bad, cl), (yn[1::2], Mn)
+        return (yn, vn, qn, pn, Mn, fails + bad, cl), (yn[1::2], Mn, yn[0::2])
 
     tau = 2.0 * jnp.pi * jnp.arange(1, steps_per_period + 1) / steps_per_period
     e = jnp.exp(-1j * tau)
 
     def period(carry, i):
         ks = i * steps_per_period + jnp.arange(steps_per_period, dtype=float)
-        carry, (xs, Ms) = jax.lax.scan(rk4, carry, ks)
+        carry, (xs, Ms, ths) = jax.lax.scan(rk4, carry, ks)
         # x_j(tau_k) sampled at t = (i steps + k + 1) dt, i.e. omega t = tau_k mod 2 pi.
         first = 2.0 / steps_per_period * (e @ xs)
-        return carry, (first, xs, Ms)
+        return carry, (first, xs, Ms, ths)
 
     init = (y0, v0, q, p, M_start, jnp.where(ok, 0, 1), closed_all)
-    carry, (firsts, xs, Ms) = jax.lax.scan(period, init, jnp.arange(n_periods, dtype=float))
+    carry, (firsts, xs, Ms, ths) = jax.lax.scan(period, init, jnp.arange(n_periods, dtype=float))
     fails, closed_all = carry[5], carry[6]
     amp = jnp.abs(firsts[-1])
     change = jnp.max(jnp.abs(firsts[-1] - firsts[-2]) / jnp.maximum(amp, 1e-300))
     spread = (jnp.max(amp) - jnp.min(amp)) / jnp.mean(amp)
     status = from_flags(~closed_all, False, fails == 0)
     return RingResponse(amp, jnp.angle(firsts[-1]), spread, change, firsts, xs[-1],
-                        Ms[-1], fails, status)
+                        Ms[-1], fails, status, ths[-1] * MRAD_PER_RAD)
 
 
 def ring_response(shape, mu, contacts, load, disk: LumpedDisk, engine_order: int, force_n,
                   frequency_hz, *, h_c_mm: float, h_l_mm: float, x0=None, v0=None,
                   n_periods: int = 200, steps_per_period: int = 128, n_load: int = 16,
-                  n_premove: int = 32, dampers: bool = True,
+                  n_premove: int = 32, dampers: bool = True, force_phase_rad: float = 0.0,
                   max_newton: int = MAX_NEWTON) -> RingResponse:
     """The ring's response after n_periods periods of the engine-order tip force F (N) at
     frequency_hz (module docstring). Damper: shape, mu, contacts, load as `jaxdamp.base_cycle`
     (checked), q* from the load; h_c_mm the blades' rotation centre below D, h_l_mm the damper's
     left flank (its size). x0, v0: (2N,) start (theta_j rad, x_j mm interleaved; velocities per
-    s), default rest. dampers=False: the bare ring (linear)."""
+    s), default rest. dampers=False: the bare ring (linear). force_phase_rad: the force's phase
+    at t = 0 (F_j(t) = F cos(omega t + j 2 pi e / N + phase)), so that a start x0, v0 on a steady
+    solution can be taken at any point of its period (e.g. where the damper's path is at X(pi),
+    as the reduction's history from assembly has it)."""
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     if not isinstance(disk, LumpedDisk):
         raise ValueError(f"disk must be a LumpedDisk; got {type(disk).__name__}")
@@ -246,6 +252,8 @@ def ring_response(shape, mu, contacts, load, disk: LumpedDisk, engine_order: int
     check_range("frequency_hz", frequency_hz, 0.0, np.inf, lo_open=True, hi_open=True, unit="Hz")
     check_range("h_c_mm", h_c_mm, -np.inf, np.inf, lo_open=True, hi_open=True, unit="mm")
     check_range("h_l_mm", h_l_mm, 0.0, 1e4, lo_open=True, unit="mm")
+    check_range("force_phase_rad", force_phase_rad, -np.inf, np.inf, lo_open=True, hi_open=True,
+                unit="rad")
     q_star = float(np.asarray(load.q_star))
     mass, stiffness = full_matrices(disk)
     left, right = platform_directions(q_star, h_c_mm)
@@ -261,7 +269,8 @@ def ring_response(shape, mu, contacts, load, disk: LumpedDisk, engine_order: int
                              f"shape {v.shape}")
     return _integrate(shape, mu, contacts, load, along_left, along_right, jnp.asarray(np.diag(mass)),
                       jnp.asarray(stiffness), jnp.asarray(float(disk.eta)),
-                      jnp.asarray(travelling_force(n, e, force_n)),
+                      jnp.asarray(travelling_force(n, e, force_n)
+                                  * np.exp(1j * float(force_phase_rad))),
                       jnp.asarray(2.0 * np.pi * float(frequency_hz)), jnp.asarray(y0),
                       jnp.asarray(v0), check_int("n_periods", n_periods, 2),
                       check_int("steps_per_period", steps_per_period, 4),
