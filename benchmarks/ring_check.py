@@ -2,30 +2,30 @@
 
 The small disk: `LumpedDisk(n_blades=6)` (the example disk's parameters, six blades). The damper:
 60sym, mu = 0.5, default contacts and load (q* = 100 mm), rotation centres h_C = 20 mm below D,
-damper size h_L = 10 mm. For every nodal diameter n = 0 ... 3 (engine order e = n):
+damper size h_L = 10 mm. For every nodal diameter n = 0 ... 3 (engine order e = n), at a tip
+force F where the reduction's damper microslips at its peak (status ok, not shakedown):
 
-- the reduction (one mode): `jaxdamp.nodal_scene` on the disk's first family (`modal_family`),
-  the damper's k(psi) on the scene's path from assembly (`amplitude_kernel` straight,
-  `elliptic_kernel` elliptic); peak where A (eta k_b + 1e-3 r^2 k_Im(r A)) = F_tip, at
-  f0 sqrt(1 + 1e-3 r^2 k_Re / k_b). The force F is chosen so that this peak sits at
-  psi = 0.7 psi_max, psi_max the path amplitude of the largest k_Im (microslip, short of gross
-  slip; psi_max = psi_BC in-phase), or where the root turns by 2 mrad if that is less (off nodal
-  diameter 0 the platforms turn relative to each other, a path the damper resists weakly:
-  slipping there takes root rotations of tens of mrad);
+- the reduction: `jaxdamp.row_response` on the disk's first family (`modal_family`, platforms
+  free), history "assembly": its peak amplitude and frequency. Cross-check: the one-mode peak
+  equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F_tip with k(psi) from one independent cycle
+  (`path_cycle_kernel`) at the row's psi;
 - the same first harmonic with both families of the sector (the 2x2 sector problem of the lumped
   disk with the damper as the complex spring 1e-3 rho^2 k(psi) on the root rotation, rho = psi
   per rad of root rotation): what the one-mode reduction drops is the second family (the damper
-  changes the mode shape), which this isolates;
+  changes the mode shape at the platform), which this isolates;
 - the ring (`jaxdamp.baselines.ring.ring_response`: time integration, no reduction, no harmonic
-  balance) at frequencies around the two-family peak, a parabola through the amplitudes near its
-  maximum (refined once) giving the ring's peak.
+  balance) started from rest (F_D applied with the platforms at rest, then the forcing: the
+  physical history), at frequencies around the two-family peak, a parabola through the largest
+  three amplitudes (refined once) giving the ring's peak. At nodal diameter 0 one more run at the
+  ring's peak frequency has the reduction's history (assembly, a straight quasi-static move to
+  X(pi), then the vibration: `ring_response`'s start x0 with the force's phase set), so that the
+  history and the higher harmonics can be told apart (off nodal diameter 0 the dampers of a
+  travelling wave are at different points of their paths at any instant: no common start gives
+  them all that history). Every run has the same length (one
+  compiled program); its last per-period change and Aitken's extrapolation of blade 0's first
+  harmonic say how steady it is. Step size: 128 steps per period, checked against 64 and 256 once.
 
-Each ring run starts on the two-family first-harmonic solution at its frequency (after the
-dampers' assembly at rest and a quasi-static move there: `ring_response`'s history), to shorten
-the transient; one run per nodal diameter from rest at the ring's peak frequency measures the
-history (growth from rest). Step size: 128 steps per period, checked against 64 and 256 once.
-
-Run: python benchmarks/ring_check.py -> benchmarks/results/ring_check.{json,png}.
+Run: python benchmarks/ring_check.py -> benchmarks/results/ring_check.{json,png} (summary numbers).
 """
 
 from __future__ import annotations
@@ -44,40 +44,37 @@ import numpy as np  # noqa: E402
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family, sector_matrices, sector_modes  # noqa: E402
 from jaxdamp.baselines.ring import ring_response  # noqa: E402
+from jaxdamp.response.scene import BladeMode, prepare_scene  # noqa: E402
+from jaxdamp.response.stiffness import path_cycle_kernel  # noqa: E402
 
 from bench_common import machine  # noqa: E402
 
 RESULTS = Path(__file__).parent / "results"
 N_SMALL, Q_STAR_MM, H_C_MM, H_L_MM, MU = 6, 100.0, 20.0, 10.0, 0.5
-STEPS, PERIODS, THETA_MRAD = 128, 160, 2.0
+STEPS, PERIODS = 128, 1500
 SHAPE = jd.family_shape("60sym")
+# Tip force per nodal diameter (N): where the reduction's damper microslips at its peak (status ok,
+# not shakedown; the peak 0.43, 0.38, 0.55 and 0.76 of the free one). Off nodal diameter 0 the
+# neighbouring platforms move more and more together radially (at N/2 only their relative
+# rotation and gap change reach the damper), so that slipping takes a larger tip motion.
+FORCES = {0: 2.0, 1: 2.0, 2: 5.0, 3: 10.0}
 
 
 class Damper:
-    """k(psi) of the damper on one scene's path from assembly (jitted kernels, cached)."""
+    """k(psi) of the damper on one scene's path from assembly (one jitted cycle, cached)."""
 
     def __init__(self):
-        # The inputs as float64 arrays, kn and kt per pad (what the checked entry points pass on;
-        # the kernels take them unchecked).
-        shape = jd.DamperShape(*(None if v is None else jnp.asarray(float(v)) for v in SHAPE))
-        c = jd.Contacts()
-        contacts = jd.Contacts(jnp.full(3, float(c.kn)), jnp.full(3, float(c.kt)))
-        load = jd.LoadCase(*(jnp.asarray(float(v)) for v in jd.LoadCase()))
-        self.args = (shape, jnp.asarray(MU), contacts, load)
-        self.straight = jax.jit(jd.amplitude_kernel, static_argnames=("initial", "max_tracts",
-                                                                        "loop", "max_pairs"))
-        self.elliptic = jax.jit(jd.elliptic_kernel, static_argnames=("initial", "max_tracts",
-                                                                       "loop", "max_periods"))
+        shape, mu, contacts, load, _ = prepare_scene(SHAPE, MU, jd.Contacts(), jd.LoadCase(),
+                                                     BladeMode())
+        self.args = (shape, mu, contacts, load)
+        self.cycle = jax.jit(path_cycle_kernel, static_argnames=("initial", "loop"))
         self.calls, self.seconds = 0, 0.0
 
     def k(self, scene, psi):
         t = time.perf_counter()
-        if scene.straight:
-            c = self.straight(*self.args, jnp.asarray(float(psi)), initial="assembly",
-                              motion=scene.motion)
-        else:
-            c = self.elliptic(*self.args, jnp.asarray(float(psi)), scene.motion)
-        out = complex(float(c.k_re), float(c.k_im)), jd.RESULTS.name_of(int(c.status))
+        k_re, k_im, status = self.cycle(*self.args, jnp.asarray(float(psi)), scene.motion,
+                                        initial="assembly", loop="while")
+        out = complex(float(k_re), float(k_im)), jd.RESULTS.name_of(int(status))
         self.calls += 1
         self.seconds += time.perf_counter() - t
         return out
@@ -85,8 +82,8 @@ class Damper:
 
 def two_family(disk, phi, rho, kd, omega):
     """(Theta rad, X mm) per N of tip force: the sector's first harmonic with the damper's complex
-    stiffness kd (N mm/mrad) on the root rotation (1e-3 rho^2 kd per rad of Theta... in N mm/rad:
-    rho mrad of psi per rad, psi in mrad: 1e-3 rho^2 kd)."""
+    stiffness kd (N mm/mrad of psi) on the root rotation (rho mrad of psi per rad of Theta:
+    1e-3 rho^2 kd N mm/rad)."""
     M, K = sector_matrices(disk, phi)
     D = K * (1.0 + 1j * disk.eta) - omega ** 2 * M
     D[0, 0] += 1e-3 * rho ** 2 * kd
@@ -111,40 +108,54 @@ def two_family_peak(disk, phi, rho, kd, omega_guess):
     return w, theta, x
 
 
-def reductions(disk, family, damper, e, fd=None):
-    """The one-mode reduction's peak (and the force that puts it at 0.7 psi_max) and the
-    two-family peak at the same force."""
+def reduction(disk, family, orders):
+    """`jaxdamp.row_response` at every engine order with its own force (the diagonal of the
+    engine orders x forces table)."""
+    t = time.perf_counter()
+    forces = [FORCES[e] for e in orders]
+    row = jd.row_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(), modes=family,
+                          engine_orders=orders, force_n=forces, h_l_mm=H_L_MM)
+    seconds = time.perf_counter() - t
+    out = []
+    for i, e in enumerate(orders):
+        out.append(dict(peak_mm=float(row.peaks.peak_amplitude_mm[i, i]),
+                        frequency_hz=float(row.peaks.peak_frequency_hz[i, i]),
+                        psi_mrad=float(row.peaks.psi_a_mrad[i, i]),
+                        status=jd.RESULTS.name_of(int(row.status[i, i])),
+                        free_peak_mm=float(row.free_peak_mm[i, i]),
+                        f0_hz=float(row.frequency_hz[i]), tip_force_n=float(row.tip_force_n[i, i])))
+    return out, seconds
+
+
+def cross_checks(disk, family, damper, e, red):
+    """The one-mode peak equation at the row's psi (independent cycle), the effective loss
+    factor there, and the two-family peak at the same force."""
     scene = jd.nodal_scene(family, e, Q_STAR_MM, H_L_MM)
     mode = scene.mode
+    k, status = damper.k(scene, red["psi_mrad"])
+    amp = red["psi_mrad"] / mode.r
+    f_tip = red["tip_force_n"]
+    residual = amp * abs(mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k.imag) / f_tip - 1.0
+    f_check = mode.f0_hz * np.sqrt(1.0 + 1e-3 * mode.r ** 2 * k.real / mode.k_b)
+    eta_eff = (mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k.imag) / (
+        mode.k_b + 1e-3 * mode.r ** 2 * k.real)
+    one = dict(peak_equation_residual=float(residual), frequency_check_hz=float(f_check),
+               k_re=k.real, k_im=k.imag, cycle_status=status, r_mrad_per_mm=mode.r, k_b=mode.k_b,
+               straight=bool(scene.straight), eta_eff=float(eta_eff))
+    # Two families: psi = rho |Theta|, with rho = r X_mode / Theta_mode (mrad per rad).
     t = time.perf_counter()
     phi = 2.0 * np.pi * scene.nodal_diameter / disk.n_blades
     _, modes = sector_modes(disk, phi)
-    rho = mode.r * abs(modes[1, 0] / modes[0, 0])  # mrad of psi per rad of root rotation
-    grid = np.geomspace(0.2, 400.0, 45)
-    kims = np.array([damper.k(scene, p)[0].imag for p in grid])
-    psi_max = float(grid[int(np.argmax(kims))])
-    # Microslip at a root rotation of at most THETA_MRAD (psi is the path's parameter, which off
-    # nodal diameter 0 counts the relative rotation too).
-    psi = min(0.7 * psi_max, THETA_MRAD * rho / 1e3)
-    k, status = damper.k(scene, psi)
-    amp = psi / mode.r
-    f_tip = amp * (mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k.imag)
+    rho = mode.r * abs(modes[1, 0] / modes[0, 0])
     force = f_tip / scene.force_per_unit
-    f_peak = mode.f0_hz * np.sqrt(1.0 + 1e-3 * mode.r ** 2 * k.real / mode.k_b)
-    one = dict(peak_mm=amp, frequency_hz=float(f_peak), psi_mrad=psi, psi_max_mrad=psi_max,
-               k_re=k.real, k_im=k.imag, status=status, seconds=time.perf_counter() - t,
-               r_mrad_per_mm=mode.r, k_b=mode.k_b, f0_hz=mode.f0_hz,
-               straight=bool(scene.straight), force_per_unit=scene.force_per_unit)
-    # Two families: psi = rho |Theta|, with rho = r X_mode / Theta_mode (mrad per rad).
-    t = time.perf_counter()
 
     def layer(p):
         kd, st = damper.k(scene, p)
-        w, theta, x = two_family_peak(disk, phi, rho, kd, 2 * np.pi * f_peak)
+        w, theta, x = two_family_peak(disk, phi, rho, kd, 2 * np.pi * red["frequency_hz"])
         return p / (rho * abs(theta)), w, theta, x, kd, st  # the force whose peak is at p
 
-    lo, hi = 0.25 * psi, 2.0 * psi  # the force needed grows with psi across microslip
-    for _ in range(40):
+    lo, hi = 0.25 * red["psi_mrad"], 2.0 * red["psi_mrad"]  # the force grows with psi here
+    for _ in range(30):
         mid = np.sqrt(lo * hi)
         if layer(mid)[0] < force:
             lo = mid
@@ -154,28 +165,28 @@ def reductions(disk, family, damper, e, fd=None):
     f2, w2, theta2, x2, kd2, st2 = layer(p2)
     two = dict(peak_mm=float(abs(x2) * force), frequency_hz=float(w2 / (2 * np.pi)), psi_mrad=p2,
                k_re=kd2.real, k_im=kd2.imag, status=st2, seconds=time.perf_counter() - t,
-               rho_mrad_per_rad=rho, force_check=f2 / force - 1.0)
-    return scene, force, one, two, dict(rho=rho, kd=kd2, phi=phi)
+               rho_mrad_per_rad=rho, force_check=f2 / force - 1.0,
+               # the damper's stiffness on the root rotation against the root's own
+               damper_over_root=float(1e-3 * rho ** 2 * kd2.real / sector_matrices(disk, phi)[1][0, 0]))
+    return one, two
 
 
-def start_state(disk, e, force, omega, sol):
-    """(x0, v0) of the ring on the two-family first harmonic at omega (with the peak's kd)."""
-    theta, x = force * two_family(disk, sol["phi"], sol["rho"], sol["kd"], omega)
-    n = disk.n_blades
-    shift = np.exp(1j * 2 * np.pi * e * np.arange(n) / n)
-    y = np.zeros(2 * n, complex)
-    y[0::2], y[1::2] = theta * shift, x * shift
-    return np.real(y), np.real(1j * omega * y)
+def ring_damper_stiffness(disk, e, r, rho):
+    """(psi mrad, kd N mm/mrad): the ring's dampers as the first harmonic sees them over the last
+    period: each blade's root moment from its two dampers over its root rotation, as 1e-3 rho^2 kd
+    on Theta (the two-family model's term), averaged over the blades."""
+    steps = np.asarray(r.root_mrad).shape[0]
+    e_k = np.exp(-1j * 2 * np.pi * np.arange(1, steps + 1) / steps)
+    theta = 2.0 / steps * (e_k @ np.asarray(r.root_mrad)) / 1e3  # (N,) rad
+    m = 2.0 / steps * np.tensordot(e_k, np.asarray(r.damper_moment), 1)  # (N, 2) N mm
+    k_theta = (np.roll(m[:, 0], 1) + m[:, 1]) / theta  # N mm per rad, blade j
+    return float(rho * np.mean(np.abs(theta))), complex(np.mean(k_theta) / (1e-3 * rho ** 2))
 
 
-def ring_at(disk, e, force, freq, sol, *, steps=STEPS, periods=PERIODS, from_rest=False):
-    x0 = v0 = None
-    if not from_rest:
-        x0, v0 = start_state(disk, e, force, 2 * np.pi * freq, sol)
+def ring_at(disk, e, force, freq, *, steps=STEPS, periods=PERIODS, rho=None):
     t = time.perf_counter()
     r = ring_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(), disk, e, force, freq,
-                      h_c_mm=H_C_MM, h_l_mm=H_L_MM, x0=x0, v0=v0, n_periods=periods,
-                      steps_per_period=steps)
+                      h_c_mm=H_C_MM, h_l_mm=H_L_MM, n_periods=periods, steps_per_period=steps)
     jax.block_until_ready(r.amplitude_mm)
     hist = np.asarray(r.history_mm)
     # Aitken's extrapolation of blade 0's first harmonic from the last three periods (the slowest
@@ -183,11 +194,41 @@ def ring_at(disk, e, force, freq, sol, *, steps=STEPS, periods=PERIODS, from_res
     z0, z1, z2 = hist[-3:, 0]
     den = z2 - 2 * z1 + z0
     limit = z2 - (z2 - z1) ** 2 / den if abs(den) > 0 else z2
+    amp = float(np.mean(np.asarray(r.amplitude_mm)))
+    extra = {}
+    if rho is not None:
+        psi, kd = ring_damper_stiffness(disk, e, r, rho)
+        extra = dict(psi_mrad=psi, k_re=kd.real, k_im=kd.imag)
+    return dict(frequency_hz=float(freq), amplitude_mm=amp, spread=float(r.spread), **extra,
+                change_per_period=float(r.change),
+                extrapolated_gap=float(abs(limit) / abs(z2) - 1.0),
+                status=jd.RESULTS.name_of(int(r.status)), newton_failures=int(r.newton_failures),
+                periods=periods, steps_per_period=steps, seconds=time.perf_counter() - t)
+
+
+def ring_from_assembly(disk, e, force, freq, two, amplitude_mm):
+    """Nodal diameter 0 with the reduction's history: every damper assembled at rest, moved
+    quasi-statically straight to X(pi) (the root rotation at its most negative: dv = q* theta),
+    then the vibration. The start is the two-family first harmonic at freq, scaled to the ring's
+    own amplitude, taken at the point of its period where theta = -|Theta| (the force's phase set
+    to match)."""
+    kd = complex(two["k_re"], two["k_im"])
+    theta, x = force * two_family(disk, 0.0, two["rho_mrad_per_rad"], kd, 2 * np.pi * freq)
+    theta, x = np.array([theta, x]) * amplitude_mm / abs(x)
+    alpha = np.pi - np.angle(theta)
+    n = disk.n_blades
+    shift = np.exp(1j * 2 * np.pi * e * np.arange(n) / n) * np.exp(1j * alpha)
+    y = np.zeros(2 * n, complex)
+    y[0::2], y[1::2] = theta * shift, x * shift
+    t = time.perf_counter()
+    r = ring_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(), disk, e, force, freq,
+                      h_c_mm=H_C_MM, h_l_mm=H_L_MM, x0=np.real(y),
+                      v0=np.real(1j * 2 * np.pi * freq * y), force_phase_rad=alpha,
+                      n_periods=PERIODS, steps_per_period=STEPS)
+    jax.block_until_ready(r.amplitude_mm)
     return dict(frequency_hz=float(freq), amplitude_mm=float(np.mean(np.asarray(r.amplitude_mm))),
-                spread=float(r.spread), change=float(r.change),
-                extrapolated_mm=float(abs(limit)), status=jd.RESULTS.name_of(int(r.status)),
-                newton_failures=int(r.newton_failures), seconds=time.perf_counter() - t,
-                history_blade0_mm=[float(abs(h)) for h in hist[:, 0]])
+                spread=float(r.spread), change_per_period=float(r.change),
+                status=jd.RESULTS.name_of(int(r.status)), seconds=time.perf_counter() - t)
 
 
 def parabola_peak(rows):
@@ -206,55 +247,73 @@ def main() -> dict:
     disk = LumpedDisk(n_blades=N_SMALL)
     family = jd.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM))
     damper = Damper()
+    orders = list(range(N_SMALL // 2 + 1))
+    reds, row_seconds = reduction(disk, family, orders)
+    print(f"row_response: {row_seconds:.0f} s", flush=True)
     rows = []
-    for e in range(N_SMALL // 2 + 1):
-        scene, force, one, two, sol = reductions(disk, family, damper, e)
-        eta_eff = (disk.eta * one["k_b"] + 1e-3 * one["r_mrad_per_mm"] ** 2 * one["k_im"]) / (
-            one["k_b"] + 1e-3 * one["r_mrad_per_mm"] ** 2 * one["k_re"])
+    for e, red in zip(orders, reds):
+        force = FORCES[e]
+        one, two = cross_checks(disk, family, damper, e, red)
         f2 = two["frequency_hz"]
-        width = 0.25 * eta_eff * f2  # a quarter of the half-power band around the peak
-        # Enough periods for the transient left by the start to decay by e^-3 (the slowest mode
-        # decays as exp(-pi eta_eff per period)).
-        periods = int(min(900, max(PERIODS, 3.0 / (np.pi * eta_eff))))
-        runs = [ring_at(disk, e, force, f2 + d * width, sol, periods=periods)
-                for d in (-1.0, 0.0, 1.0)]
+        width = 0.25 * one["eta_eff"] * f2  # a quarter of the half-power band around the peak
+        runs = [ring_at(disk, e, force, f2 + d * width) for d in (-1.0, 0.0, 1.0)]
         fv, _ = parabola_peak(runs)
-        runs.append(ring_at(disk, e, force, fv, sol, periods=periods))
+        runs.append(ring_at(disk, e, force, fv, rho=two["rho_mrad_per_rad"]))
         f_ring, a_ring = parabola_peak(runs)
-        from_rest = ring_at(disk, e, force, f_ring, sol, from_rest=True,
-                            periods=int(min(1200, max(PERIODS, 8.0 / (np.pi * eta_eff)))))
-        rows.append(dict(engine_order=e, nodal_diameter=scene.nodal_diameter,
-                         ibpa_deg=scene.ibpa_deg, force_n=force, eta_eff=eta_eff,
-                         reduction=one, two_family=two,
-                         ring=dict(peak_mm=a_ring, frequency_hz=f_ring, runs=runs,
-                                   seconds=sum(r["seconds"] for r in runs),
-                                   from_rest=from_rest),
-                         rel_diff_one_mode=one["peak_mm"] / a_ring - 1.0,
+        # The damper in the ring against the reduction's cycle (history assembly) at the same
+        # amplitude of its path: what the ring's dampers dissipate, from their moments.
+        near = runs[-1]
+        k_cycle, st = damper.k(jd.nodal_scene(family, e, Q_STAR_MM, H_L_MM), near["psi_mrad"])
+        damper_check = dict(frequency_hz=near["frequency_hz"], psi_mrad=near["psi_mrad"],
+                            k_re_ring=near["k_re"], k_im_ring=near["k_im"], k_re_cycle=k_cycle.real,
+                            k_im_cycle=k_cycle.imag, cycle_status=st,
+                            rel_diff_k_im=near["k_im"] / k_cycle.imag - 1.0,
+                            rel_diff_k_re=near["k_re"] / k_cycle.real - 1.0)
+        rows.append(dict(engine_order=e, nodal_diameter=e, force_n=force, reduction=red,
+                         one_mode_check=one, two_family=two, damper_in_ring=damper_check,
+                         ring=dict(peak_mm=a_ring, frequency_hz=f_ring,
+                                   runs=sorted(runs, key=lambda r: r["frequency_hz"]),
+                                   seconds=sum(r["seconds"] for r in runs)),
+                         rel_diff_reduction=red["peak_mm"] / a_ring - 1.0,
                          rel_diff_two_family=two["peak_mm"] / a_ring - 1.0,
-                         rel_diff_freq_one_mode=one["frequency_hz"] / f_ring - 1.0,
-                         rel_diff_freq_two_family=two["frequency_hz"] / f_ring - 1.0,
-                         rel_diff_from_rest=from_rest["amplitude_mm"] / a_ring - 1.0))
-        print(f"ND {e}: F {force:.4g} N, one-mode {one['peak_mm']:.5g} mm at "
-              f"{one['frequency_hz']:.2f} Hz, two-family {two['peak_mm']:.5g} at "
+                         rel_diff_freq_reduction=red["frequency_hz"] / f_ring - 1.0,
+                         rel_diff_freq_two_family=two["frequency_hz"] / f_ring - 1.0))
+        if e == 0:
+            # The history: the same frequency started the reduction's way (assembly, a straight
+            # move to X(pi), then the path) against from rest.
+            nearest = min(runs, key=lambda r: abs(r["frequency_hz"] - f_ring))
+            assembled = ring_from_assembly(disk, e, force, nearest["frequency_hz"], two,
+                                           nearest["amplitude_mm"])
+            assembled["rel_diff_from_rest"] = assembled["amplitude_mm"] / nearest["amplitude_mm"] - 1
+            rows[-1]["ring"]["from_assembly"] = assembled
+            print(f"  ND 0 from assembly at {assembled['frequency_hz']:.2f} Hz: "
+                  f"{assembled['amplitude_mm']:.5g} mm ({assembled['rel_diff_from_rest']:+.2%} "
+                  f"against from rest)", flush=True)
+        worst = max(runs, key=lambda r: r["change_per_period"])
+        print(f"ND {e}: F {force:.4g} N, row_response {red['peak_mm']:.5g} mm at "
+              f"{red['frequency_hz']:.2f} Hz ({red['status']}), two-family {two['peak_mm']:.5g} at "
               f"{two['frequency_hz']:.2f}, ring {a_ring:.5g} at {f_ring:.2f} "
-              f"(from rest {from_rest['amplitude_mm']:.5g}); ring {rows[-1]['ring']['seconds']:.0f} s",
-              flush=True)
-    # Step-size convergence, once: ND 0 at its ring peak, 64 and 256 steps per period.
+              f"({rows[-1]['rel_diff_reduction']:+.2%}); worst change/period "
+              f"{worst['change_per_period']:.1e}; ring {rows[-1]['ring']['seconds']:.0f} s; damper in "
+              f"the ring at psi {near['psi_mrad']:.4g}: k_Im {damper_check['rel_diff_k_im']:+.2%}, "
+              f"k_Re {damper_check['rel_diff_k_re']:+.2%} against the cycle", flush=True)
+    # Step-size convergence, once: nodal diameter 0 at its ring peak, 64, 128 and 256 steps.
     e0 = rows[0]
-    _, _, _, _, sol0 = reductions(disk, family, damper, 0)
-    steps = {s: ring_at(disk, 0, e0["force_n"], e0["ring"]["frequency_hz"], sol0, steps=s)
+    steps = {s: ring_at(disk, 0, e0["force_n"], e0["ring"]["frequency_hz"], steps=s)
              for s in (64, STEPS, 256)}
     doc = dict(machine=machine(), seconds=time.perf_counter() - started,
                disk=dict(disk._asdict()), damper=dict(shape="60sym", mu=MU, contacts="default",
                                                        load="default", q_star_mm=Q_STAR_MM,
                                                        h_c_mm=H_C_MM, h_l_mm=H_L_MM),
-               steps_per_period=STEPS, periods=PERIODS, kernel_calls=damper.calls,
-               kernel_seconds=damper.seconds, rows=rows,
+               history=dict(reduction="assembly", ring="from rest"),
+               steps_per_period=STEPS, periods=PERIODS, row_response_seconds=row_seconds,
+               kernel_calls=damper.calls, kernel_seconds=damper.seconds, rows=rows,
                step_convergence={str(s): dict(amplitude_mm=r["amplitude_mm"], seconds=r["seconds"])
                                  for s, r in steps.items()})
     RESULTS.mkdir(exist_ok=True)
     (RESULTS / "ring_check.json").write_text(json.dumps(doc, indent=1))
     plot(doc)
+    print(f"total {doc['seconds']:.0f} s")
     return doc
 
 
@@ -267,14 +326,14 @@ def plot(doc: dict) -> None:
     rows = doc["rows"]
     fig, axes = plt.subplots(1, len(rows), figsize=(3.2 * len(rows), 3.4), constrained_layout=True)
     for ax, row in zip(np.atleast_1d(axes), rows):
-        runs = sorted(row["ring"]["runs"], key=lambda r: r["frequency_hz"])
+        runs = row["ring"]["runs"]
         ax.plot([r["frequency_hz"] for r in runs], [r["amplitude_mm"] for r in runs], "ko-",
-                ms=4, label="ring (time integration)")
+                ms=4, label="ring from rest (time integration)")
         ax.plot(row["ring"]["frequency_hz"], row["ring"]["peak_mm"], "k*", ms=9, label="ring peak")
         ax.plot(row["two_family"]["frequency_hz"], row["two_family"]["peak_mm"], "bs", ms=6,
                 label="two families, 1st harmonic")
         ax.plot(row["reduction"]["frequency_hz"], row["reduction"]["peak_mm"], "r^", ms=7,
-                label="one-mode reduction")
+                label="row_response (one mode)")
         ax.set_title(f"ND {row['nodal_diameter']} (EO {row['engine_order']}), "
                      f"F = {row['force_n']:.3g} N", fontsize=9)
         ax.set_xlabel("frequency (Hz)")
