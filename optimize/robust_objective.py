@@ -3,8 +3,9 @@ magnification A*/F (mm/N) over a force range and what the designer does not know
 damper curve, under the strict no-liftoff constraint.
 
 Uncertain: mu (the problem's mu set), F_D (+/- fd_spread), kn and kt (a factor each way), and
-optionally the contact history (history="band": the larger A*/F of the gross-slip and the assembly
-histories, the cheap upper edge of the history band).
+by default the contact history (history="band": the larger A*/F of the gross-slip and the
+assembly histories, the cheap upper edge of the history band; history="gross_slip" is half the
+curves, but its optimum exploits the gross-slip assumption: issue 35).
 
 The descent sees, per design, one exact curve per (mu, contact corner, history): the corners are
 nominal and (kn, kt) scaled by (1/f or f, 1/f or f) on every pair together. The F_D spread costs
@@ -48,15 +49,17 @@ PREVIOUS_OPTIMA = {"k_Im,BC optimum": (81.08627870410612, 72.3580712759619, 0.02
 
 class RobustSpec(NamedTuple):
     """What the robust objective covers. force_range_n: (F_min, F_max) in N; fd_spread: relative
-    F_D spread; kn_factor, kt_factor: contact stiffness range factor each way; history:
-    "gross_slip" or "band"; objective: "worst" or "q95"; n_forces: forces in the descent;
-    temperature: of the smooth maximum on log A*/F; n_samples: Monte Carlo samples of "q95"."""
+    F_D spread; kn_factor, kt_factor: contact stiffness range factor each way; history: "band"
+    (default: the larger peak of the gross-slip and assembly histories, so that a design is not
+    tuned to one history) or "gross_slip"; objective: "worst" or "q95"; n_forces: forces in the
+    descent; temperature: of the smooth maximum on log A*/F; n_samples: Monte Carlo samples of
+    "q95"."""
 
     force_range_n: tuple = (2.0, 20.0)
     fd_spread: float = 0.2
     kn_factor: float = 2.0
     kt_factor: float = 2.0
-    history: str = "gross_slip"
+    history: str = "band"
     objective: str = "worst"
     n_forces: int = 6
     temperature: float = 0.02
