@@ -44,8 +44,7 @@ import numpy as np  # noqa: E402
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family, sector_matrices, sector_modes  # noqa: E402
 from jaxdamp.baselines.ring import ring_response  # noqa: E402
-from jaxdamp.response.scene import BladeMode, prepare_scene  # noqa: E402
-from jaxdamp.response.stiffness import path_cycle_kernel  # noqa: E402
+from jaxdamp import BladeMode, path_cycle_kernel, prepare_scene  # noqa: E402
 
 from bench_common import machine  # noqa: E402
 

@@ -62,6 +62,7 @@ from .diagram import DesignerDiagram as DesignerDiagram
 from .diagram import designer_diagram as designer_diagram
 from .diagram import diagram_program as diagram_program
 from .stiffness import path_damper as path_damper
+from .stiffness import path_cycle_kernel as path_cycle_kernel
 from .modes import ModalFamily as ModalFamily
 from .modes import NodalScene as NodalScene
 from .modes import validate_family as validate_family
@@ -80,6 +81,7 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
            "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
            "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band", "peak_band_kernel",
-           "tabulated_stiffness", "path_damper", "ModalFamily", "NodalScene", "validate_family",
+           "tabulated_stiffness", "path_damper", "path_cycle_kernel", "ModalFamily", "NodalScene",
+           "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
            "row_response", "row_program", "engine_orders_of"]
