@@ -68,6 +68,15 @@ def rigid_displacement(direction, offsets_mm):
                       direction[1] + turn * offsets_mm[..., 0]], -1)
 
 
+def platform_directions(q_star_mm, h_c_mm):
+    """(left, right): a blade's left-hand and right-hand platform motion at D, (u mm, v mm, theta
+    rad), per rad of the blade's rotation theta about its centre C (the paper's Fig. 4: C lies
+    h_C below D and q*/2 to the side; theta clockwise, so that in-phase the right platform of a
+    damper rises by q* theta relative to its left one: the convention of `interblade_direction`)."""
+    q, h = float(q_star_mm), float(h_c_mm)
+    return np.array([h, 0.5 * q, -1.0]), np.array([h, -0.5 * q, -1.0])
+
+
 def interblade_direction(phi_deg, h_c_mm, q_star_mm):
     """X_hat (complex (3,): du mm, dv mm, dtheta mrad) per mrad of the left-hand blade's platform
     rotation for an interblade phase angle phi (the convention above). phi = 0 and 180 degrees are
@@ -137,5 +146,5 @@ def warn_small_rotation(psi_mrad, name="psi_BC", stacklevel=2):
 
 __all__ = ["MRAD_PER_RAD", "CONTACT_NAMES", "START_FRICTION_SIGNS", "PLATFORM_MOTION",
            "CENTRIFUGAL_LOAD", "MOMENT_SIDE", "psi_mrad", "travel_mm", "platform_arm",
-           "moment_coefficients", "rigid_displacement", "interblade_direction", "stiffness_from_fourier", "stiffness_from_rfft",
+           "moment_coefficients", "rigid_displacement", "platform_directions", "interblade_direction", "stiffness_from_fourier", "stiffness_from_rfft",
            "SMALL_ROTATION_MRAD", "SmallRotationWarning", "warn_small_rotation"]

@@ -62,10 +62,11 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_int, check_range
+from ..conventions import platform_directions
 from ..response.modes import FAMILY_FIELDS, ModalFamily
 
 __all__ = ["LumpedDisk", "sector_matrices", "full_matrices", "sector_modes", "modal_family",
-           "platform_directions", "example_family", "write_example_family", "EXAMPLE_PATH",
+           "example_family", "write_example_family", "EXAMPLE_PATH",
            "EXAMPLE_GEOMETRY"]
 
 # The example file and the damper geometry it is written for (those of benchmarks/ibpa_sweep.py).
@@ -138,13 +139,6 @@ def sector_modes(disk: LumpedDisk, phi_rad) -> tuple[np.ndarray, np.ndarray]:
     modes = scale[:, None] * v
     modes = modes * np.where(modes[1] < 0.0, -1.0, 1.0)[None, :]
     return lam, modes
-
-
-def platform_directions(q_star_mm: float, h_c_mm: float) -> tuple[np.ndarray, np.ndarray]:
-    """(left, right): the blade's left-hand and right-hand platform motion at D per rad of its
-    rotation theta about C ((u mm, v mm, theta rad), the paper's Fig. 4; module docstring)."""
-    q, h = float(q_star_mm), float(h_c_mm)
-    return np.array([h, 0.5 * q, -1.0]), np.array([h, -0.5 * q, -1.0])
 
 
 def modal_family(disk: LumpedDisk, q_star_mm: float, h_c_mm: float, name: str = "") -> ModalFamily:

@@ -11,7 +11,7 @@ the relative platform motion
     X_j(t) = theta_{j+1}(t) d_L - theta_j(t) d_R      (u mm, v mm, theta mrad; theta_j in mrad)
 
 with d_L, d_R the left-hand and right-hand platform's motion at D per mrad of the blade's rotation
-(the paper's Fig. 4, `lumped_disk.platform_directions`): two scalar coordinates per damper, driven
+(the paper's Fig. 4, `conventions.platform_directions`): two scalar coordinates per damper, driven
 the way `ellipse_march` drives its two components (each pad's platform motion is u1 nw_1 + u2 nw_2
 with u = travel_mm(theta in mrad)). Each damper is the quasi-static, massless contact model of
 `timemarch` (three Jenkins contacts, Newton with return mapping; no tracts, no harmonic balance).
@@ -45,11 +45,11 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_int, check_range
-from ..conventions import MRAD_PER_RAD
+from ..conventions import MRAD_PER_RAD, platform_directions
 from ..motion import Motion, motion_moment_coefficients, pad_motion
 from ..params import prepare_inputs
 from ..status import from_flags, number_repr, status_repr
-from .lumped_disk import LumpedDisk, full_matrices, platform_directions
+from .lumped_disk import LumpedDisk, full_matrices
 from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_model, newton, respond
 
 __all__ = ["RingResponse", "ring_response", "travelling_force", "linear_ring_response"]

@@ -29,7 +29,7 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_int, check_param, check_range
-from ..conventions import MRAD_PER_RAD
+from ..conventions import MRAD_PER_RAD, platform_directions
 from ..motion import Motion, general_motion
 from .scene import BladeMode
 
@@ -203,8 +203,7 @@ def family_from_blade_mode(mode: BladeMode, q_star_mm: float, h_c_mm: float = 0.
     tip force). `nodal_scene(family, 0, q*, h_L)` gives `mode` back (r, f0, k_b,
     eta) with the in-phase path: the reduction's check against the one-mode blade."""
     theta = float(mode.r) / MRAD_PER_RAD  # rad per mm of tip
-    left = theta * np.array([h_c_mm, 0.5 * q_star_mm, -1.0])
-    right = theta * np.array([h_c_mm, -0.5 * q_star_mm, -1.0])
+    left, right = (theta * d for d in platform_directions(q_star_mm, h_c_mm))
     scale = 2.0 * np.pi * float(mode.f0_hz) / np.sqrt(float(mode.k_b))  # tip mm per unit q
     return ModalFamily(n_blades, np.array([0]), np.array([float(mode.f0_hz)]),
                        np.array([float(mode.eta)]), np.array([scale + 0j]),
