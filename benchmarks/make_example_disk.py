@@ -1,6 +1,6 @@
 """The example disk's modal file and its figure (issue 35, item 4).
 
-Writes jaxdamp/data/example_disk_modes.npz (`jaxdamp.baselines.lumped_disk.write_example_family`:
+Writes jaxdamp/data/example_disk_modes.npz (`jaxdamp.baselines.lumped_disk.write_example_family`, through `modal_file.save_modal_family`:
 the first family of `LumpedDisk()` with 24 blades, q* = 100 mm, h_C = 20 mm) and
 docs/example_disk_frequencies.png (natural frequency against nodal diameter, both families).
 

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.baselines.lumped_disk import (EXAMPLE_PATH, LumpedDisk, example_family, full_matrices,
-                                           modal_family, sector_matrices, sector_modes,
-                                           write_example_family)
+from jaxdamp.baselines.lumped_disk import (LumpedDisk, example_family, full_matrices, modal_family,
+                                           sector_matrices, sector_modes, write_example_family)
+from jaxdamp.modal_file import EXAMPLE_PATH
 from jaxdamp.response.modes import FAMILY_FIELDS
 
 from helpers import assert_tree_allclose
@@ -104,7 +104,8 @@ def test_other_nodal_diameters_give_the_interblade_path():
 def test_example_file_is_what_the_generator_makes_now(tmp_path):
     fresh = write_example_family(tmp_path / "modes.npz")
     with np.load(EXAMPLE_PATH) as stored, np.load(fresh) as new:
-        assert set(stored.files) == set(new.files) == set(FAMILY_FIELDS) | {"n_blades", "name"}
+        assert set(stored.files) == set(new.files) == set(FAMILY_FIELDS) | {"n_blades", "name",
+                                                                      "unit_system"}
         for name in new.files:
             assert stored[name].dtype == new[name].dtype, name
             if stored[name].dtype.kind in "fc":

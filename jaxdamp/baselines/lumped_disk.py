@@ -63,14 +63,14 @@ import numpy as np
 
 from .._validate import check_int, check_range
 from ..conventions import platform_directions
-from ..response.modes import FAMILY_FIELDS, ModalFamily
+from ..modal_file import EXAMPLE_PATH, save_modal_family
+from ..response.modes import ModalFamily
 
 __all__ = ["LumpedDisk", "sector_matrices", "full_matrices", "sector_modes", "modal_family",
-           "example_family", "write_example_family", "EXAMPLE_PATH",
-           "EXAMPLE_GEOMETRY"]
+           "example_family", "write_example_family", "EXAMPLE_GEOMETRY"]
 
-# The example file and the damper geometry it is written for (those of benchmarks/ibpa_sweep.py).
-EXAMPLE_PATH = Path(__file__).resolve().parent.parent / "data" / "example_disk_modes.npz"
+# The damper geometry the example file (`modal_file.EXAMPLE_PATH`) is written for (that of
+# benchmarks/ibpa_sweep.py).
 EXAMPLE_GEOMETRY = {"n_blades": 24, "q_star_mm": 100.0, "h_c_mm": 20.0}
 
 
@@ -174,14 +174,6 @@ def example_family() -> ModalFamily:
 
 
 def write_example_family(path=EXAMPLE_PATH) -> Path:
-    """Write `example_family()` with numpy's savez: one array per ModalFamily field (n_blades and
-    name 0-d, the complex fields complex). Returns the path."""
-    family = example_family()
-    arrays = {"n_blades": np.array(family.n_blades), "name": np.array(family.name)}
-    for field in FAMILY_FIELDS:
-        arrays[field] = np.asarray(getattr(family, field))
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with open(path, "wb") as f:  # a file object: savez appends no ".npz" to the name
-        np.savez(f, **arrays)
-    return path
+    """Write `example_family()` as a modal file (`modal_file.save_modal_family`). Returns the
+    path."""
+    return save_modal_family(example_family(), path)
