@@ -34,7 +34,7 @@ from ..motion import Motion, general_motion
 from .scene import BladeMode
 
 __all__ = ["ModalFamily", "NodalScene", "validate_family", "excited_nodal_diameter", "nodal_scene",
-           "family_from_blade_mode", "FAMILY_FIELDS"]
+           "nodal_scenes", "family_from_blade_mode", "FAMILY_FIELDS"]
 
 # The modal file's fields: name -> (shape after the nodal-diameter axis, complex allowed, unit).
 FAMILY_FIELDS = {
@@ -157,8 +157,19 @@ def nodal_scene(family: ModalFamily, engine_order: int, q_star_mm: float, h_l_mm
     r is a scale of the path, not the platforms' rotation per mm of tip: where the platforms turn
     relative to each other, the relative rotation (mrad) dominates |X_hat| and r is larger than
     the blade's own platform rotation per tip mm (only r^2 k(r A) enters the response)."""
+    return nodal_scenes(family, [engine_order], q_star_mm, h_l_mm)[0]
+
+
+def nodal_scenes(family: ModalFamily, engine_orders, q_star_mm: float,
+                 h_l_mm: float) -> list[NodalScene]:
+    """`nodal_scene` of each engine order, the family and the damper checked once."""
     family = validate_family(family)
     check_param("q_star", q_star_mm)
+    return [_reduced(family, e, q_star_mm, h_l_mm) for e in engine_orders]
+
+
+def _reduced(family: ModalFamily, engine_order, q_star_mm, h_l_mm) -> NodalScene:
+    """One engine order's reduction (module docstring) on a checked family."""
     e = check_int("engine_order", engine_order, 0)
     n_blades = family.n_blades
     nd, backward = excited_nodal_diameter(e, n_blades)

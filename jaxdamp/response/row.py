@@ -17,7 +17,7 @@ import numpy as np
 from ..params import check_param
 from ..runtime import batch_jit, padded_size
 from ..status import RESULTS, number_repr, status_repr
-from .modes import ModalFamily, NodalScene, nodal_scene, validate_family
+from .modes import ModalFamily, nodal_scenes
 from .peaks import Peaks, peak_response
 from .scene import BladeMode, prepare_scene
 from .stiffness import PATH_HISTORIES, path_cycle_kernel, path_damper
@@ -135,15 +135,13 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
     shape, mu, contacts, load, _ = prepare_scene(shape, mu, contacts, load, BladeMode())
-    family = validate_family(modes)
     forces = np.asarray(force_n, float).reshape(-1)
     check_param("force_n", forces)
     check_param("h_l", h_l_mm)
     orders = [int(e) for e in np.asarray(engine_orders).reshape(-1)]
     if not orders:
         raise ValueError("engine_orders must hold at least one integer >= 0")
-    scenes: list[NodalScene] = [nodal_scene(family, e, float(load.q_star), float(h_l_mm))
-                                for e in orders]
+    scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
     elliptic = np.array([not s.straight for s in scenes])
     if initial == "gross_slip" and elliptic.any():
         bad = [s.engine_order for s in scenes if not s.straight]
