@@ -18,9 +18,11 @@ from . import exported
 
 __all__ = ["add_row_args", "check_row_args", "run_row"]
 
-# Flags of the one-mode blade that a modal file replaces, with their defaults.
-_MODE_FLAGS = {"f0_hz": "--f0-hz", "modal_stiffness_n_per_mm": "--modal-stiffness-n-per-mm",
-               "loss_factor": "--loss-factor", "psi_per_mm": "--psi-per-mm"}
+# Flags of the one-mode blade that a modal file replaces: argument name -> (flag, BladeMode field
+# whose default the flag has).
+_MODE_FLAGS = {"f0_hz": ("--f0-hz", "f0_hz"),
+               "modal_stiffness_n_per_mm": ("--modal-stiffness-n-per-mm", "k_b"),
+               "loss_factor": ("--loss-factor", "eta"), "psi_per_mm": ("--psi-per-mm", "r")}
 
 
 def add_row_args(p) -> None:
@@ -52,10 +54,8 @@ def check_row_args(args) -> None:
         raise C.CliError("--stiffness interpolated is the paper's in-phase curve; with --modes "
                          "every engine order runs the exact cycle on its own path")
     default = BladeMode()
-    for name, flag in _MODE_FLAGS.items():
-        if getattr(args, name) != getattr(default, {"modal_stiffness_n_per_mm": "k_b",
-                                                    "loss_factor": "eta",
-                                                    "psi_per_mm": "r"}.get(name, name)):
+    for name, (flag, field) in _MODE_FLAGS.items():
+        if getattr(args, name) != getattr(default, field):
             raise C.CliError(f"{flag} describes the one-mode blade; with --modes the modal file "
                              f"gives each nodal diameter's")
     if args.h_l is None:
