@@ -59,7 +59,8 @@ ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone toleranc
 INITIAL_STATES = ("gross_slip", "assembly")
 
 __all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
-           "gross_slip_state", "check_admissible", "transitions_chart", "moment_loop", "slip_fraction",
+           "gross_slip_state", "gross_slip_on_path", "check_admissible", "transitions_chart",
+           "moment_loop", "slip_fraction",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
 
 
@@ -233,7 +234,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
     if initial == "gross_slip" and motion is None:
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
     elif initial == "gross_slip":
-        N0, T0, ok0 = _gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
+        N0, T0, ok0 = gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
     elif initial == "assembly":
         N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
         n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
@@ -306,7 +307,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
                           gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"], motion)
 
 
-def _gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
+def gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
     """(N, T, ok) at the top of a straight path in gross slip: from assembly, the platforms move up
     the path (s increasing) until every pad that can slip does (zero force rates); the forces then
     stay as they are up to the top, from where the forward half starts."""

@@ -17,8 +17,12 @@ of the sets consistent for the platforms' direction of motion at its start), wit
 check where the first order leaves a tie (`choose_on_arc`).
 
 The cycle is run period after period from tau = 0 until the forces repeat. Histories: explicit
-forces at tau = 0, or assembly: F_D applied at X = 0, a straight move to X(pi) = -a X_r, then
-the path from tau = pi (in-phase, X_i = 0, this is `amplitude`'s assembly exactly).
+forces at tau = 0; assembly: F_D applied at X = 0, a straight move to X(pi) = -a X_r, then
+the path from tau = pi (in-phase, X_i = 0, this is `amplitude`'s assembly exactly); gross slip:
+from assembly, the platforms move straight along +X_r until every pad that can slip does (the
+forces then stay as they are) and the period starts from there at X(0) = a X_r: the state the
+damper is left in by a large motion along the ellipse's tau = 0 direction. On a straight path
+(X_i = 0) it is `amplitude`'s gross slip on that path exactly.
 
 Outputs: k = (M_r^ - i M_i^) / a, from the first harmonics of the modal forces M_r, M_i
 conjugate to the motions along X_r and X_i (`motion.motion_moment_coefficients`): in-phase it is
@@ -35,7 +39,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_int, check_range
-from .amplitude import assembly_state, check_admissible
+from .amplitude import assembly_state, check_admissible, gross_slip_on_path
 from .conventions import travel_mm, warn_small_rotation
 from .cycle import mechanics
 from .geometry import DamperShape
@@ -56,7 +60,7 @@ TAU_TOL = 1e-12  # rad: an event nearer than this to the tract's start is the st
 LOOKAHEAD = 1e-4
 LOOKAHEAD_TOL = 1e-13
 NO_EVENT_TAU = 1e3  # rad: "no event in this tract" (finite: masked arithmetic stays finite)
-INITIAL_STATES = ("assembly",)
+INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["Arc", "EllipticCycle", "elliptic_cycle", "elliptic_kernel", "run_arc", "MAX_TRACTS",
            "MAX_PERIODS", "INITIAL_STATES"]
@@ -294,8 +298,9 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
                     T_init=None, *, initial="assembly", max_tracts: int = MAX_TRACTS,
                     max_periods: int = MAX_PERIODS, loop: str = "auto") -> EllipticCycle:
     """The steady cycle on the elliptic path of `motion` (a Motion with a quadrature part) at
-    amplitude a (mrad): pure JAX (jit / vmap / jvp), no validation. initial: "assembly" or
-    "explicit" (N_init, T_init at tau = 0, units of F_D). loop: as `amplitude_kernel`'s."""
+    amplitude a (mrad): pure JAX (jit / vmap / jvp), no validation. initial: "assembly",
+    "gross_slip" (module doc) or "explicit" (N_init, T_init at tau = 0, units of F_D). loop: as
+    `amplitude_kernel`'s."""
     def impl(*design_and_loop):
         *design, loop = design_and_loop
         return _elliptic_impl(*design, initial=initial, max_tracts=max_tracts,
@@ -322,12 +327,16 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
                        max_tracts=max_tracts, loop=loop)
         N0, T0 = half.N_end, half.T_end
         pre = jnp.stack([to_start.status, half.status])
+    elif initial == "gross_slip":
+        # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
+        N0, T0, ok0 = gross_slip_on_path(mech_r, shape, contacts, load, max_tracts, loop)
+        pre = jnp.zeros(2, jnp.int32)
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
         ok0 = jnp.min(N0) > 0.0
         pre = jnp.zeros(2, jnp.int32)
     else:
-        raise ValueError(f"initial must be one of assembly, explicit; got {initial!r}")
+        raise ValueError(f"initial must be one of assembly, gross_slip, explicit; got {initial!r}")
     bad0 = ~ok0 | jnp.any(pre != RESULTS.ok)
     N0 = jnp.where(bad0, jnp.ones(3), N0)  # keep the masked iteration finite
     T0 = jnp.where(bad0, 0.0, T0)
@@ -391,7 +400,9 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     than 0 or 180 degrees, or `general_motion` of a complex X_hat) at amplitude a (mrad).
 
     initial: "assembly" (F_D applied at X = 0, a straight move to X(pi) = -a X_r, then the path
-    from tau = pi) or an explicit (N, T) pair at tau = 0 (units of F_D, in equilibrium with F_D).
+    from tau = pi), "gross_slip" (from assembly a straight move along +X_r until every pad that
+    can slip does, then the path from X(0) = a X_r) or an explicit (N, T) pair at tau = 0 (units
+    of F_D, in equilibrium with F_D).
     Returns an EllipticCycle; its status says whether its numbers are valid (ok, shakedown) or
     not (liftoff: a pad opened, which is not computed yet; singular; not_converged). Inputs are
     checked here (ValueError naming the parameter and its range); `elliptic_kernel` is the
@@ -409,8 +420,8 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     N_init = T_init = None
     if isinstance(initial, str):
         if initial not in INITIAL_STATES:
-            raise ValueError(f"initial must be assembly or an (N, T) pair of (3,) arrays on an "
-                             f"elliptic path; got {initial!r}")
+            raise ValueError(f"initial must be assembly, gross_slip or an (N, T) pair of (3,) "
+                             f"arrays on an elliptic path; got {initial!r}")
         mode = initial
     else:
         N_init, T_init = (np.asarray(v, float) for v in initial)

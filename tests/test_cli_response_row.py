@@ -38,7 +38,6 @@ def modes_file(tmp_path):
     (["--stiffness", "interpolated"], "--stiffness interpolated"),
     (["--f0-hz", "400"], "--f0-hz describes the one-mode blade"),
     (["--engine-order", "x"], "--engine-order must be"),
-    (["--initial", "gross_slip", "--engine-order", "1"], "initial gross_slip needs straight"),
 ])
 def test_bad_row_arguments_exit_2_in_one_line(capsys, modes_file, extra, needle):
     code, out, err = run(capsys, "response", "--shape", "60sym", "--modes", str(modes_file),

@@ -35,7 +35,6 @@ def test_engine_order_specs():
 
 
 @pytest.mark.parametrize("kwargs, needle", [
-    (dict(engine_orders=[1], initial="gross_slip"), "initial gross_slip needs straight paths"),
     (dict(engine_orders=[0], initial="steady"), "initial must be one of assembly, gross_slip"),
     (dict(engine_orders=[], initial="assembly"), "engine_orders must hold at least one"),
     (dict(engine_orders=[0], force_n=[-1.0]), "force_n must be"),

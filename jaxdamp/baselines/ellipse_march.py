@@ -7,8 +7,12 @@ path), and the damper's position solves equilibrium by Newton iterations with th
 return mapping (`timemarch.respond`, `timemarch.newton`): no tracts, no event logic, no closed
 forms. The first harmonics come from the uniform samples of the modal forces (the rectangle rule,
 exact for trigonometric polynomials and second order for the loop's kinks), the energies from the
-trapezoid rule on T d(slip). History: assembly (`timemarch.assemble`), a straight move to
-X(pi) = -a X_r in n_steps/2 steps, then the path from tau = pi, as `elliptic_cycle`.
+trapezoid rule on T d(slip). Histories, as `elliptic_cycle`'s: assembly (`timemarch.assemble`),
+a straight move to X(pi) = -a X_r in n_steps/2 steps, then the path from tau = pi; or gross
+slip: from assembly a straight move along +X_r of GROSS_SLIP_TRAVEL_MM beyond a (n_steps/2
+steps; every pad that can slip does long before), then the path shifted by that travel so that
+its tau = 0 point is where the move ended (a constant shift of the platforms changes nothing
+but where the pads' anchors sit).
 """
 
 from __future__ import annotations
@@ -24,6 +28,10 @@ from ..motion import Motion, motion_moment_coefficients, pad_motion, path_parts,
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
 from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_half, march_model, newton, respond
+
+
+HISTORIES = ("assembly", "gross_slip")
+GROSS_SLIP_TRAVEL_MM = 5.0  # mm of s beyond a; a pad's stick range is mu F_D / kt ~ 0.1 mm
 
 
 class EllipseMarch(NamedTuple):
@@ -42,9 +50,9 @@ class EllipseMarch(NamedTuple):
                 f"k_re={number_repr(self.k_re, 'N mm/mrad')}, k_im={number_repr(self.k_im, 'N mm/mrad')})")
 
 
-@partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton"))
+@partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton", "initial"))
 def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
-                   n_load: int, max_newton: int):
+                   n_load: int, max_newton: int, initial: str):
     along_r, along_i = path_parts(motion)
     m, _ = march_model(shape, mu, contacts, load, along_r)
     nw_r, tw_r = pad_motion(shape, along_r, load.q_star)
@@ -53,7 +61,11 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     fn_i, ft_i = motion_moment_coefficients(nw_i, tw_i, load)
     s_a = travel_mm(amplitude, load.q_star)
     m0, s, ok = assemble(m, n_load, max_newton)
-    s, straight = march_half(m0, s, -1.0, s_a / (n_steps // 2), n_steps // 2, max_newton)
+    gross = initial == "gross_slip"
+    shift = GROSS_SLIP_TRAVEL_MM if gross else 0.0  # mm of s: where the path's tau = 0 point sits
+    move = (s_a + shift) if gross else s_a
+    s, straight = march_half(m0, s, 1.0 if gross else -1.0, move / (n_steps // 2), n_steps // 2,
+                             max_newton)
     fails = jnp.where(ok, 0, 1) + jnp.sum(~straight.samples.newton_ok)
     lift = jnp.any(straight.samples.code == 3)
 
@@ -61,7 +73,7 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
         q, p = carry
         # The pads' platform displacement at tau: both components of the path at once (the
         # model's dv = 1 then carries it).
-        u1, u2 = s_a * jnp.cos(tau), -s_a * jnp.sin(tau)
+        u1, u2 = s_a * jnp.cos(tau) + shift, -s_a * jnp.sin(tau)
         here = m0._replace(nw=u1 * nw_r + u2 * nw_i, tw=u1 * tw_r + u2 * tw_i)
 
         def residual(x):
@@ -75,8 +87,12 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
         return (q, r.p), sample
 
     h = 2.0 * jnp.pi / n_steps
-    carry, first = jax.lax.scan(step, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
-    fails, lift = fails + jnp.sum(~first[5]), lift | jnp.any(first[6])
+    if gross:  # the period starts where the straight move ended
+        carry = (s.q, s.p)
+        first = jax.eval_shape(lambda c: jax.lax.scan(step, c, h * jnp.arange(1, 2))[1], carry)
+    else:
+        carry, first = jax.lax.scan(step, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
+        fails, lift = fails + jnp.sum(~first[5]), lift | jnp.any(first[6])
     taus = h * jnp.arange(1, n_steps + 1)
 
     def period(c, _):
@@ -105,10 +121,12 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
 
 def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts = Contacts(),
                   load: LoadCase = LoadCase(), *, n_steps: int, periods: int = 4, n_load: int = 16,
-                  max_newton: int = MAX_NEWTON) -> EllipseMarch:
+                  max_newton: int = MAX_NEWTON, initial: str = "assembly") -> EllipseMarch:
     """The steady cycle on an elliptic path by time marching (module docstring), for checking
     `jaxdamp.elliptic_cycle` independently: n_steps (even) steps of tau per period, `periods`
-    periods after the history; k and energies from the last one."""
+    periods after the history ("assembly" or "gross_slip"); k and energies from the last one."""
+    if initial not in HISTORIES:
+        raise ValueError(f"initial must be one of {', '.join(HISTORIES)}; got {initial!r}")
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
     check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     n_steps = check_int("n_steps", n_steps, 2)
@@ -120,7 +138,7 @@ def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts 
                          "timemarch.march_amplitude)")
     return _march_ellipse(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
                           n_steps, check_int("periods", periods, 2), check_int("n_load", n_load, 1),
-                          check_int("max_newton", max_newton, 1))
+                          check_int("max_newton", max_newton, 1), initial)
 
 
 __all__ = ["EllipseMarch", "march_ellipse"]

@@ -53,7 +53,7 @@ def register(sub) -> None:
                         "microslip interpolation")
     p.add_argument("--initial", default=None, choices=("gross_slip", "assembly"),
                    help="contact history of the exact curve (default gross_slip; with --modes "
-                        "assembly, the only one defined on the elliptic paths)")
+                        "assembly)")
     p.add_argument("--band", action="store_true",
                    help="also the peak's bounds over every admissible contact history (the band "
                         "of k(psi_a) tabulated on 24 amplitudes; about a minute)")

@@ -126,8 +126,8 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     modes: a ModalFamily (`jaxdamp.modal_file.load_modal_family` reads one); engine_orders: a
     list of integers >= 0 (each must excite a nodal diameter the family has); h_l_mm: the damper's
     size (its left flank's length, mm; the platforms turn relative to each other at every nodal
-    diameter but 0). initial: the contact history, "assembly" (every path) or "gross_slip"
-    (straight paths only). Inputs are checked here (ValueError naming the parameter and its
+    diameter but 0). initial: the contact history, "assembly" or "gross_slip" (on an ellipse: a
+    straight move along its tau = 0 direction to gross slip, `jaxdamp.ellipse`). Inputs are checked here (ValueError naming the parameter and its
     range) before anything is compiled. Engine orders (per path kind) and forces are padded to
     bucket sizes, so that one compiled program serves rows of similar size. runner(program,
     args): how to call a compiled program (default program(*args); the CLI passes one that
@@ -143,10 +143,6 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
         raise ValueError("engine_orders must hold at least one integer >= 0")
     scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
     elliptic = np.array([not s.straight for s in scenes])
-    if initial == "gross_slip" and elliptic.any():
-        bad = [s.engine_order for s in scenes if not s.straight]
-        raise ValueError(f"initial gross_slip needs straight paths; engine orders {bad} give "
-                         f"elliptic ones: use initial assembly")
     tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
     program = row_program(initial)
     runner = runner or (lambda prog, args: prog(*args))

@@ -98,7 +98,7 @@ def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> Damp
     return base._replace(k_of_psi=curve(design), k_values=curve(jax.lax.stop_gradient(design)))
 
 
-PATH_HISTORIES = ("assembly", "gross_slip")  # gross_slip: straight paths only
+PATH_HISTORIES = ("assembly", "gross_slip")
 STUCK_FRACTION = 1e-6  # of psi_ref: an amplitude at which every pad sticks (the stuck limit)
 
 
@@ -106,16 +106,13 @@ def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str
                       loop: str = "auto"):
     """(k_re, k_im, status) of the steady cycle at `amplitude` (mrad of the path's parameter) on
     a platform path: motion None is the paper's in-phase motion (`amplitude_kernel`), a straight
-    Motion runs `amplitude_kernel(..., motion=)`, an elliptic one `elliptic_kernel` (from assembly
-    only: gross slip is not defined on an ellipse). loop: the kernels' (`amplitude_kernel`).
-    Unchecked, traceable (jit, vmap, grad)."""
+    Motion runs `amplitude_kernel(..., motion=)`, an elliptic one `elliptic_kernel` (its gross
+    slip: a straight move along the ellipse's tau = 0 direction to gross slip, `jaxdamp.ellipse`).
+    loop: the kernels' (`amplitude_kernel`). Unchecked, traceable (jit, vmap, grad)."""
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
     if motion is not None and motion.quadrature is not None:
-        if initial != "assembly":
-            raise ValueError("initial must be assembly on an elliptic path (gross slip is defined "
-                             "on straight paths only)")
-        c = elliptic_kernel(shape, mu, contacts, load, amplitude, motion, loop=loop)
+        c = elliptic_kernel(shape, mu, contacts, load, amplitude, motion, initial=initial, loop=loop)
     else:
         c = amplitude_kernel(shape, mu, contacts, load, amplitude, initial=initial, motion=motion,
                              loop=loop)
