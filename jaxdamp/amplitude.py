@@ -231,10 +231,13 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
     a_dv = travel_mm(psi, load.q_star)
     travel = 2.0 * a_dv
     n_pre = 0
+    unreachable = jnp.array(False)
     if initial == "gross_slip" and motion is None:
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
     elif initial == "gross_slip":
-        N0, T0, ok0 = gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
+        N0, T0, ok0, reached = gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
+        unreachable = ok0 & ~reached
+        ok0 = ok0 & reached
     elif initial == "assembly":
         N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
         n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
@@ -291,11 +294,12 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
     k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd, motion)
     singular0 = statics_singular(shape, mech.mu)  # no full-slip statics: as the Base-Cycle says
     halves = jnp.stack([fwd.status, bwd.status])
-    liftoff = (pre_lift & ~singular0) | jnp.any(halves == RESULTS.liftoff)
+    liftoff = (pre_lift & ~singular0 & ~unreachable) | jnp.any(halves == RESULTS.liftoff)
     failed = singular0 | pre_fail | jnp.any(halves == RESULTS.singular)
     slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
     status = jnp.zeros((), jnp.int32)
     status = RESULTS.promote(status, above_validated_range(mech.kn, mech.kt), RESULTS.ill_conditioned)
+    status = RESULTS.promote(status, unreachable & ~singular0, RESULTS.unreachable)
     status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
     status = RESULTS.promote(status, failed | ~psi_ok, RESULTS.singular)
     status = RESULTS.promote(status, ~closed, RESULTS.not_converged)
@@ -308,13 +312,15 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
 
 
 def gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
-    """(N, T, ok) at the top of a straight path in gross slip: from assembly, the platforms move up
-    the path (s increasing) until every pad that can slip does (zero force rates); the forces then
-    stay as they are up to the top, from where the forward half starts."""
+    """(N, T, assembled, reached) at the top of a straight path in gross slip: from assembly, the
+    platforms move up the path (s increasing) until every pad that can slip does (zero force
+    rates); the forces then stay as they are up to the top, from where the forward half starts.
+    assembled: F_D is held at assembly; reached: the move got to gross slip (on a path that turns
+    the platforms relative to each other a pad may open first: then there is no such state)."""
     Na, Ta, ok = assembly_state(shape, mech.mu, contacts, load)
     Na = jnp.where(ok, Na, jnp.ones(3))  # keep the masked half finite
     up = run_half(mech, Na, jnp.where(ok, Ta, 0.0), 1.0, max_tracts=max_tracts, loop=loop)
-    return up.N_end, up.T_end, ok & (up.status == RESULTS.ok) & up.gross_slip
+    return up.N_end, up.T_end, ok, (up.status == RESULTS.ok) & up.gross_slip
 
 
 _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))

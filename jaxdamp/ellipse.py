@@ -318,6 +318,7 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     a = jnp.where(a_ok, amplitude, 1.0)
     s_a = travel_mm(a, load.q_star)
     two_pi = 2.0 * jnp.pi
+    unreachable = jnp.array(False)
     if initial == "assembly":
         Na, Ta, ok0 = assembly_state(shape, mech_r.mu, contacts, load)
         Na = jnp.where(ok0, Na, jnp.ones(3))
@@ -329,7 +330,9 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         pre = jnp.stack([to_start.status, half.status])
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
-        N0, T0, ok0 = gross_slip_on_path(mech_r, shape, contacts, load, max_tracts, loop)
+        N0, T0, ok0, reached = gross_slip_on_path(mech_r, shape, contacts, load, max_tracts, loop)
+        unreachable = ok0 & ~reached
+        ok0 = ok0 & reached
         pre = jnp.zeros(2, jnp.int32)
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
@@ -369,10 +372,12 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     work = jnp.pi * a * a * jnp.imag(k) / 1e3
     slip_fraction = jnp.sum(jnp.where(arc.active[:, None] & (arc.state == SLIP), arc.dtau[:, None],
                                       0.0), axis=0) / two_pi
-    liftoff = (~ok0 | jnp.any(pre == RESULTS.liftoff) | (arc.status == RESULTS.liftoff))
+    liftoff = ((~ok0 & ~unreachable) | jnp.any(pre == RESULTS.liftoff)
+               | (arc.status == RESULTS.liftoff))
     failed = jnp.any(pre == RESULTS.singular) | (arc.status == RESULTS.singular) | ~a_ok
     status = jnp.zeros((), jnp.int32)
     status = RESULTS.promote(status, above_validated_range(mech_r.kn, mech_r.kt), RESULTS.ill_conditioned)
+    status = RESULTS.promote(status, unreachable, RESULTS.unreachable)
     status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
     status = RESULTS.promote(status, failed, RESULTS.singular)
     status = RESULTS.promote(status, ~end["closed"], RESULTS.not_converged)

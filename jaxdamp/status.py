@@ -26,6 +26,7 @@ class RESULTS(enum.IntEnum):
     ill_conditioned = 4
     shakedown = 5
     no_root = 6
+    unreachable = 7
 
     @staticmethod
     def promote(status, condition, code: "RESULTS"):
@@ -63,6 +64,8 @@ _MESSAGES = {
                               "tolerance): the numbers are not trustworthy"),
     RESULTS.shakedown: "the steady cycle is elastic (shakedown): no slip, k_Im = 0",
     RESULTS.no_root: "no solution of the scalar equation in the searched range",
+    RESULTS.unreachable: ("the stated contact history does not exist on this path: moving along "
+                          "it opens a pad before every pad slips (no gross-slip state)"),
 }
 
 

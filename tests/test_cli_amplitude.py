@@ -106,8 +106,8 @@ def test_out_of_phase_path_json(capsys):
 
 @pytest.mark.parametrize("extra, message", [
     (["--ibpa", "400", "--h-c", "20", "--h-l", "10"], "--ibpa must be a finite angle in [-360, 360] deg"),
-    (["--ibpa", "90", "--h-c", "20", "--h-l", "10", "--initial", "gross_slip"],
-     "--initial must be one of assembly on an elliptic path"),
+    (["--ibpa", "90", "--h-c", "20", "--h-l", "10", "--initial", "steady"],
+     "--initial must be one of gross_slip, assembly; got 'steady'"),
     (["--ibpa", "180", "--h-c", "20", "--h-l", "0"], "--h-l must be in (0, 10000] mm; got 0"),
     (["--ibpa", "180", "--h-l", "10"], "--h-c (depth of the blades' rotation centre"),
     (["--ibpa", "180", "--h-c", "20"], "--h-l must be given for a motion that turns the platforms"),

@@ -122,6 +122,24 @@ def test_shakedown_through_every_amplitude_path():
     assert abs(k["k_im"]) <= 1e-9 * k["k_re"]  # elastic: no energy lost, to rounding
 
 
+def test_unreachable_gross_slip_through_every_path_history():
+    """Out-of-phase (relative rotation and horizontal motion only), 60sym at mu 0.7: pushed along
+    the path from assembly, a pad opens before every pad slips, so there is no gross-slip state
+    to start from (the assembly history exists: its cycle is valid)."""
+    shape = jd.family_shape("60sym")
+    motion = jd.interblade_motion(180.0, 20.0, 100.0, 10.0)
+    gross = jd.amplitude_cycle(shape, 0.7, 5.0, motion=motion, initial="gross_slip")
+    assert R.name_of(gross.status) == "unreachable" and float(gross.k_im) == 0.0
+    assert bool(R.valid(jd.amplitude_cycle(shape, 0.7, 5.0, motion=motion,
+                                           initial="assembly").status))
+    tilted = jd.interblade_motion(175.0, 20.0, 100.0, 10.0)  # an ellipse near out-of-phase
+    assert R.name_of(jd.elliptic_cycle(shape, 0.7, 5.0, tilted, initial="gross_slip").status) \
+        == "unreachable"
+    doc = cli("amplitude", "--shape", "60sym", "--mu", "0.7", "--psi-a", "5", "--ibpa", "180",
+              "--h-c", "20", "--h-l", "10", "--initial", "gross_slip", "--json")
+    assert doc["amplitudes"][0]["status"] == "unreachable" and doc["status"] == "unreachable"
+
+
 def test_no_root_through_the_design_rule():
     shape = jd.DamperShape(10.0, 10.0, 0.0)
     res = jd.design_br(shape, 0.7)

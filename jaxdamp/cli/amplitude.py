@@ -11,7 +11,8 @@ ellipse), `--motion du,dv,dtheta` any path (mm, mm, mrad per mrad of --psi-a; co
 re+imj: an ellipse unless real up to one common phase). Both need the damper's size --h-l (its
 left flank's length, mm) where the platforms turn; k is then that of the modal force
 (jaxdamp.motion), and each row adds energy_nmm and slip_fraction per pad and
-dissipated_energy_nmm. On an ellipse the history is assembly (the default there).
+dissipated_energy_nmm. On an ellipse the default history is assembly; its gross slip is a straight
+move along the path's tau = 0 direction until every pad slips (docs/motions.md).
 
 k_Re, k_Im in N mm/mrad (the Base-Cycle's sign and units), psi_a in mrad. JSON:
 {"inputs": {...}, "status": .., "amplitudes": [{"psi_a_mrad", "k_re", "k_im", "status", "cycles",
@@ -31,8 +32,8 @@ def register(sub) -> None:
     p.add_argument("--psi-a", required=True,
                    help="platform rotation amplitudes, mrad, comma-separated, each in (0, 10000]")
     p.add_argument("--initial", default=None,
-                   help="initial contact state: gross_slip (default) or assembly (the only one, and "
-                   "the default, on an elliptic path)")
+                   help="initial contact state: gross_slip (default) or assembly (the default on an "
+                   "elliptic path)")
     p.add_argument("--band", action="store_true",
                    help="also the min/max of k_Re, k_Im over all statically admissible initial states "
                    "(in-phase motion only)")
@@ -110,10 +111,8 @@ def run(args) -> int:
     elliptic = motion is not None and motion.quadrature is not None
     if args.initial is None:
         args.initial = "assembly" if elliptic else "gross_slip"
-    valid_initial = ("assembly",) if elliptic else INITIAL_STATES
-    if args.initial not in valid_initial:
-        where = " on an elliptic path" if elliptic else ""
-        raise ValueError(f"--initial must be one of {', '.join(valid_initial)}{where}; got {args.initial!r}")
+    if args.initial not in INITIAL_STATES:
+        raise ValueError(f"--initial must be one of {', '.join(INITIAL_STATES)}; got {args.initial!r}")
     if motion is not None and args.band:
         raise C.CliError("--band is computed for the paper's in-phase motion only; drop --ibpa / --motion")
 
