@@ -165,6 +165,7 @@ from .response import validate_family as validate_family
 from .response import nodal_scene as nodal_scene
 from .response import RowResponse as RowResponse
 from .response import row_response as row_response
+from .response import engine_orders_of as engine_orders_of
 from .response import path_damper as path_damper
 from .response import path_cycle_kernel as path_cycle_kernel
 from .response import prepare_scene as prepare_scene
@@ -217,7 +218,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "FRF", "frf", "frf_amplitude_grid", "linear_frf", "Peaks", "peak_response",
            "design_peaks", "peak_band", "ResponseCurves", "response_curves", "DesignerDiagram",
            "ModalFamily", "NodalScene", "validate_family", "nodal_scene", "RowResponse",
-           "row_response", "path_damper", "path_cycle_kernel", "prepare_scene",
+           "row_response", "engine_orders_of", "path_damper", "path_cycle_kernel", "prepare_scene",
            "designer_diagram", "DIAGRAM_MUS", "Uncertainty", "Scenarios", "PeakDistribution",
            "sample_scenarios", "peak_distribution", "magnification_kernel", "LoopFit", "fit_loops",
            "fit_problem", "sample_loop"]

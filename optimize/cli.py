@@ -131,9 +131,9 @@ def run(args) -> int:
     doc = document(status, payload, contacts=contacts_echo(_contacts(args)),
                    load=load_echo(_load()))
     if payload["objective_name"].startswith("peak:"):
-        from .robust_cli import robust_text
+        from .robust_cli import robust_text, row_text
 
-        emit(args, doc, robust_text(payload))
+        emit(args, doc, (row_text if "modes" in payload else robust_text)(payload))
         return 0
     emit(args, doc, _text(payload))
     return 0

@@ -55,4 +55,24 @@ def feasible_descent(z, value: float, gradient: Callable, evaluate: Callable, *,
     return Descent(z, float(value), evaluations, accepted)
 
 
-__all__ = ["Descent", "feasible_descent", "GROW", "SHRINK"]
+def descend_from_best(Z, values, gradient: Callable, evaluate: Callable, *, starts: int,
+                      steps: int, step_size: float, tries: int, min_step: float = 0.0,
+                      tick: Callable = lambda n: None):
+    """`feasible_descent` from each of the `starts` best points of Z (finite values only):
+    (best z or None where no start is finite, its value, evaluations spent, (start, step, value)
+    of every accepted move). tick(1) after each descent."""
+    best_z, best_val, n_desc, hist = None, np.inf, 0, []
+    for k, i in enumerate(np.argsort(values)[:starts]):
+        if not np.isfinite(values[i]):
+            continue
+        run = feasible_descent(Z[i], float(values[i]), gradient, evaluate, steps=steps,
+                               step_size=step_size, tries=tries, min_step=min_step)
+        n_desc += run.evaluations
+        hist += [(k, step, val) for step, val in run.accepted]
+        if run.value < best_val:
+            best_z, best_val = run.z, run.value
+        tick(1)
+    return best_z, best_val, n_desc, hist
+
+
+__all__ = ["Descent", "feasible_descent", "descend_from_best", "GROW", "SHRINK"]

@@ -32,7 +32,7 @@ from jaxdamp import (RESULTS, BladeMode, Contacts, LoadCase, Scenarios, Uncertai
                      damper_stiffness_kernel, family_shape, magnification_kernel, peak_distribution,
                      peak_response, sample_scenarios)
 
-from .descent import feasible_descent
+from .descent import descend_from_best
 from .design import VARIABLES, shape_of_vector
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
 from .response_objective import complete_shape
@@ -66,8 +66,8 @@ class RobustSpec(NamedTuple):
     n_samples: int = 64
 
 
-def validate_spec(spec: RobustSpec) -> RobustSpec:
-    """ValueError naming the CLI flag and its valid range."""
+def validate_spec(spec: RobustSpec, histories=HISTORY_CHOICES) -> RobustSpec:
+    """ValueError naming the CLI flag and its valid range (histories: those the caller runs)."""
     f_min, f_max = (float(x) for x in spec.force_range_n)
     if not 0.0 < f_min <= f_max:
         raise ValueError(f"--force-n must be FMIN:FMAX with 0 < FMIN <= FMAX N; got {f_min:g}:{f_max:g}")
@@ -76,8 +76,8 @@ def validate_spec(spec: RobustSpec) -> RobustSpec:
     for flag, f in (("--kn-range", spec.kn_factor), ("--kt-range", spec.kt_factor)):
         if not 1.0 <= f <= 100.0:
             raise ValueError(f"{flag} must be a factor in [1, 100]; got {f:g}")
-    if spec.history not in HISTORY_CHOICES:
-        raise ValueError(f"--history must be one of {', '.join(HISTORY_CHOICES)}; got {spec.history!r}")
+    if spec.history not in histories:
+        raise ValueError(f"--history must be one of {', '.join(histories)}; got {spec.history!r}")
     if spec.objective not in OBJECTIVES:
         raise ValueError(f"--objective must be peak:worst or peak:q95; got peak:{spec.objective}")
     if int(spec.n_forces) < 1 or int(spec.n_samples) < 2 or not spec.temperature > 0:
@@ -92,7 +92,8 @@ def descent_forces(spec: RobustSpec) -> np.ndarray:
                         int(spec.n_forces))
 
 
-def _corners(spec: RobustSpec) -> np.ndarray:
+def contact_corners(spec: RobustSpec) -> np.ndarray:
+    """(5, 2) kn and kt factors: nominal, then every pair of (1/f, f)."""
     fn, ft = spec.kn_factor, spec.kt_factor
     return np.array([(1.0, 1.0)] + [(a, b) for a in (1 / fn, fn) for b in (1 / ft, ft)])
 
@@ -161,7 +162,7 @@ def objective_args(problem: Problem, spec: RobustSpec, mode: BladeMode = BladeMo
     mode = BladeMode(*(jnp.asarray(x, float) for x in mode))
     load = tuple(jnp.asarray(x, float) for x in problem.load)
     if spec.objective == "worst":
-        return (jnp.asarray(problem.mus), jnp.asarray(_corners(spec)), forces, mode,
+        return (jnp.asarray(problem.mus), jnp.asarray(contact_corners(spec)), forces, mode,
                 jnp.asarray(problem.kn), jnp.asarray(problem.kt), load)
     # q95: common random numbers (one fixed sample set for every design), F_D sampled explicitly
     u = Uncertainty(min(problem.mus), max(problem.mus), spec.fd_spread, spec.kn_factor,
@@ -294,7 +295,6 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
     tick(1)
     span = np.asarray(sp.upper) - np.asarray(sp.lower)
     free_idx = [VARIABLES.index(n) for n in sp.free]
-    best_z, best_val, n_desc, hist = None, np.inf, 0, []
 
     def gradient(z):
         g, _ = grad(jnp.asarray(complete_shape(problem, z)), spec.temperature, *args)
@@ -304,16 +304,9 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
         vn, fn = robust_values(complete_shape(problem, z), problem, spec, args)
         return float(vn[0]), bool(fn[0])
 
-    for k, i in enumerate(np.argsort(vals)[:starts]):
-        if not np.isfinite(vals[i]):
-            continue
-        run = feasible_descent(Z[i], float(vals[i]), gradient, evaluate, steps=steps,
-                               step_size=0.1, tries=4)
-        n_desc += run.evaluations
-        hist += [(k, step, val) for step, val in run.accepted]
-        if run.value < best_val:
-            best_z, best_val = run.z, run.value
-        tick(1)
+    best_z, best_val, n_desc, hist = descend_from_best(
+        Z, vals, gradient, evaluate, starts=starts, steps=steps, step_size=0.1, tries=4,
+        tick=tick)
     if best_z is None:
         raise ValueError("no feasible design on the grid: widen the bounds or the margins")
     best = certify("robust optimum", complete_shape(problem, best_z), problem, spec, mode)
@@ -327,5 +320,5 @@ def optimize_robust(problem: Problem | None = None, spec: RobustSpec = RobustSpe
 
 __all__ = ["RobustSpec", "CertifiedDesign", "RobustOptimum", "ROBUST_MU_SET", "PREVIOUS_OPTIMA",
            "OBJECTIVES", "HISTORY_CHOICES", "validate_spec", "descent_forces", "objective_args",
-           "robust_values", "dense_scenarios", "certify", "uncertified_reason", "reference_shapes",
-           "optimize_robust"]
+           "robust_values", "contact_corners", "dense_scenarios", "certify", "uncertified_reason",
+           "reference_shapes", "optimize_robust"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_robust"]
+__all__ = ["plot_robust", "plot_row"]
 
 
 def plot_robust(designs, ax=None, limit_mm_per_n=None):
@@ -31,4 +31,32 @@ def plot_robust(designs, ax=None, limit_mm_per_n=None):
     ax.set_title("band over mu, F_D, kn, kt (shaded); line: its upper edge")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3, which="both")
+    return ax
+
+
+def _curve(values) -> np.ndarray:
+    return np.array([np.nan if v is None else v for v in values], float)
+
+
+def plot_row(designs, ax=None):
+    """Worst A*/F (mm/N) per engine order of each `RowCertified`: the history band's upper edge
+    (solid), gross slip (dashed) and assembly (dotted) underneath. Returns the axes."""
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        _, ax = plt.subplots(figsize=(7.0, 4.6))
+    for i, d in enumerate(designs):
+        c = f"C{i}"
+        e = np.asarray(d.engine_order)
+        band = _curve(d.worst_band)
+        label = (f"{d.name}: worst {d.worst:.3f} mm/N at EO {d.worst_engine_order}" if d.feasible
+                 else f"{d.name}: not certified ({d.reason})")
+        ax.plot(e, band, "o-", color=c, lw=1.8, ms=4, label=label)
+        for h, ls in (("gross_slip", "--"), ("assembly", ":")):
+            ax.plot(e, _curve(d.worst_by_history[h]), ls, color=c, lw=1.0)
+    ax.set_xlabel("engine order")
+    ax.set_ylabel("worst A*/F over the uncertainty grid (mm/N)")
+    ax.set_title("row: band of histories (solid), gross slip (dashed), assembly (dotted)")
+    ax.legend(fontsize=8)
+    ax.grid(alpha=0.3)
     return ax

@@ -165,7 +165,8 @@ MARCHER_CASES = [("60sym", 0.5, 90.0, 10.0, 20.0, 10.0), ("74R", 0.3, -60.0, 5.0
                          # microslip, where gross slip and assembly give other cycles (k_Im
                          # 952 against 229 and 1742 against 1266 N mm/mrad)
                          + [("60sym", 0.5, 60.0, 1.0, 20.0, 10.0, "gross_slip"),
-                            ("60sym", 0.7, -30.0, 1.5, 20.0, 10.0, "gross_slip")])
+                            pytest.param("60sym", 0.7, -30.0, 1.5, 20.0, 10.0, "gross_slip",
+                                         marks=pytest.mark.slow)])
 def test_agrees_with_the_time_marcher_on_the_ellipse(name, mu, phi, psi, h_c, h_l, initial):
     """The marcher (Newton with return mapping at 8000 uniform steps of tau per period, no events)
     converges to the direct method at second order: 1e-6 of the scale at 2000 steps, 1e-8 at

@@ -28,7 +28,7 @@ CHECKED = {
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
-    "validate_family", "nodal_scene", "row_response", "prepare_scene",
+    "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
     # jaxdamp.baselines
     "hbm_aft", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",

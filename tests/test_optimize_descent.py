@@ -3,7 +3,7 @@ known in closed form (independent of the damper)."""
 
 import numpy as np
 
-from jaxdamp_optimize.descent import feasible_descent
+from jaxdamp_optimize.descent import descend_from_best, feasible_descent
 
 from helpers import assert_tree_allclose
 
@@ -52,3 +52,27 @@ def test_zero_gradient_stops_at_once():
     out = feasible_descent(np.array([0.5]), 1.0, lambda z: np.zeros(1),
                            lambda z: (0.0, True), steps=10, step_size=0.1, tries=3)
     assert out.evaluations == 0 and out.accepted == [] and out.value == 1.0
+
+
+def test_descents_start_from_the_best_finite_points_and_keep_the_best_end():
+    """Two basins: f = min of two quadratics, the deeper one at (0.8, 0.8); an infinite value
+    (an infeasible grid point) is never a start."""
+    a, b = np.array([0.2, 0.2]), np.array([0.8, 0.8])
+
+    def evaluate(z):
+        return float(min(np.sum((z - a) ** 2) + 0.1, np.sum((z - b) ** 2))), True
+
+    def gradient(z):
+        return 2.0 * (z - (a if np.sum((z - a) ** 2) + 0.1 < np.sum((z - b) ** 2) else b))
+
+    Z = np.array([[0.3, 0.1], [0.6, 0.9], [0.5, 0.5], [0.0, 0.0]])
+    values = np.array([evaluate(z)[0] for z in Z])
+    values[2] = np.inf
+    ticks = []
+    z, value, n, hist = descend_from_best(Z, values, gradient, evaluate, starts=4, steps=40,
+                                          step_size=0.1, tries=6, tick=ticks.append)
+    assert_tree_allclose(z, b, rtol=0, atol=2e-3)
+    assert value == min(v for _, _, v in hist) and len(ticks) == 3 and n > 0
+    none = descend_from_best(Z, np.full(4, np.inf), gradient, evaluate, starts=2, steps=5,
+                             step_size=0.1, tries=2)
+    assert none[0] is None and none[2] == 0

@@ -5,7 +5,7 @@ import pytest
 
 from jaxdamp.cli import main
 from jaxdamp_optimize.cli import register
-from jaxdamp_optimize.robust_cli import robust_text
+from jaxdamp_optimize.robust_cli import robust_text, row_text
 
 from helpers import one_error_line
 
@@ -25,6 +25,19 @@ def run(capsys, *argv):
     (["--objective", "peak:worst", "--kt-range", "101"], "--kt-range must be a factor in [1, 100]"),
     (["--objective", "peak:worst", "--mu-set", "0.3,-1"], "mu"),
     (["--objective", "peak:worst", "--plot", "/nonexistent/dir/x.png"], "--plot"),
+    # the blade row (--modes): its flags, the history and the file, before any work
+    (["--objective", "peak:worst", "--h-l", "10"], "--engine-order, --h-l and --corners need --modes"),
+    (["--objective", "peak:worst", "--corners", "all"], "need --modes"),
+    (["--objective", "peak:q95", "--modes", "example", "--h-l", "10"],
+     "--objective must be peak:worst with --modes"),
+    (["--objective", "peak:worst", "--modes", "example", "--h-l", "10", "--history", "gross_slip"],
+     "--history must be one of assembly, band"),
+    (["--objective", "peak:worst", "--modes", "example"], "--h-l must be given with --modes"),
+    (["--objective", "peak:worst", "--modes", "example", "--h-l", "10", "--engine-order", "x"],
+     "--engine-order must be"),
+    (["--objective", "peak:worst", "--modes", "/nonexistent/modes.npz", "--h-l", "10"], "modes"),
+    (["--objective", "peak:worst", "--modes", "example", "--h-l", "10", "--plot", "/nonexistent/x.png"],
+     "--plot"),
 ])
 def test_bad_flags_are_one_line_errors_before_any_work(capsys, argv, needle):
     code, out, err = run(capsys, *argv)
@@ -32,10 +45,10 @@ def test_bad_flags_are_one_line_errors_before_any_work(capsys, argv, needle):
     assert needle in one_error_line(err)
 
 
-def test_bad_history_is_refused_by_the_parser(capsys):
+def test_assembly_alone_is_for_the_row_only(capsys):
     code, out, err = run(capsys, "--objective", "peak:worst", "--history", "assembly")
     assert code == 2 and out == ""
-    assert "--history" in err and "gross_slip" in err
+    assert "--history must be one of gross_slip, band" in one_error_line(err)
 
 
 def test_text_names_each_design_and_marks_the_infeasible_one():
@@ -51,3 +64,20 @@ def test_text_names_each_design_and_marks_the_infeasible_one():
     assert "0.9000 | 1.0000 | 0.8000" in text
     line = next(ln for ln in text.splitlines() if "k_Im,BC optimum" in ln)
     assert "not certified: not_converged in 3 of 337 scenarios" in line and "liftoff" not in line
+
+
+def test_row_text_names_the_worst_engine_order_and_the_missing_history():
+    p = {"objective": 1.2, "modes": "example", "n_blades": 24, "engine_orders": [0, 1, 12],
+         "h_l_mm": 10.0, "mu_set": [0.3, 0.7],
+         "spec": {"force_range_n": (2.0, 20.0), "fd_spread": 0.2, "kn_factor": 2.0,
+                  "kt_factor": 2.0, "history": "band"},
+         "designs": [{"name": "row robust optimum", "shape": (45.0, 55.0, 0.3, 0.85),
+                      "feasible": True, "worst": 1.25, "worst_engine_order": 12,
+                      "worst_by_history": {"gross_slip": (0.5, 0.9, None),
+                                           "assembly": (0.6, 1.0, 1.25)}},
+                     {"name": "60sym", "shape": (60.0, 60.0, 0.14, 0.8), "feasible": False,
+                      "reason": "not_converged in 2 of 96 scenarios"}]}
+    text = row_text(p)
+    assert "engine orders 0-12" in text
+    assert "1.2500 | 0.9000 | 1.2500 at engine order 12" in text
+    assert "60sym" in text and "not certified: not_converged in 2 of 96 scenarios" in text
