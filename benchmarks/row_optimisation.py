@@ -53,7 +53,7 @@ def main():
     spec = RobustSpec(n_forces=a.n_forces)
     stamps = [time.perf_counter()]
     res = optimize_row(family, orders, 10.0, problem, spec, grid_points=a.grid_points,
-                       steps=a.steps, certify_options=dict(n_forces=4), progress=lambda n: (stamps.append(time.perf_counter()),
+                       steps=a.steps, progress=lambda n: (stamps.append(time.perf_counter()),
                                                           print(f"stage at {stamps[-1] - stamps[0]:.0f} s",
                                                                 flush=True)))
     stages = np.diff(stamps)

@@ -148,7 +148,7 @@ class RowCertified(NamedTuple):
 
 
 def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask, *,
-                n_forces: int = 8, n_mu: int = 3, n_k: int = 3, n_fd: int = 3,
+                n_forces: int = 4, n_mu: int = 3, n_k: int = 3, n_fd: int = 3,
                 progress=None) -> RowCertified:
     """Independent re-evaluation of one complete shape vector v across the row: every engine
     order, from gross slip and from assembly separately, over n_mu mu of the set's range, n_k kn

@@ -90,3 +90,26 @@ def test_elliptic_peak_solves_the_peak_equation():
     # The two travelling directions of one nodal diameter see the ellipse run both ways: the
     # damper is not symmetric in them (the path couples rotation with dv), so the peaks differ.
     assert abs(row.peaks.peak_amplitude_mm[0, 0] - row.peaks.peak_amplitude_mm[1, 0]) > 1e-3
+
+
+def test_the_row_bound_settles_the_slow_out_of_phase_cycle():
+    """Out-of-phase near gross slip a steady cycle can take 21 pairs of halves to settle (the
+    in-phase robust optimum at mu 0.7 from gross slip, 32.7 mrad of the example disk's nodal
+    diameter 12 path), past the straight kernel's 12: `path_cycle_kernel(..., repeats=)` lifts
+    the bound, and the cycle it closes is the one a far larger bound gives."""
+    import jax
+    from jaxdamp.modal_file import load_modal_family
+    from jaxdamp.params import prepare_inputs
+    from jaxdamp.response.row import ROW_REPEATS
+    from jaxdamp.response.stiffness import path_cycle_kernel
+
+    shape = jd.DamperShape(42.59891282213617, 52.95829312005082, 0.3988034770924406,
+                           0.8876839281573497)
+    motion = nodal_scene(load_modal_family("example"), 12, 100.0, 10.0).motion
+    design = prepare_inputs(shape, 0.7, jd.Contacts(), jd.LoadCase())
+    run = jax.jit(lambda a, n: path_cycle_kernel(*design, a, motion, "gross_slip", "while", n),
+                  static_argnums=1)
+    default, row, far = (run(32.69186086263253, n) for n in (None, ROW_REPEATS, 256))
+    assert jd.RESULTS.name_of(default[2]) == "not_converged"
+    assert jd.RESULTS.name_of(row[2]) == "ok"
+    assert_tree_allclose(row[:2], far[:2], rtol=1e-13, atol=0)

@@ -103,31 +103,37 @@ STUCK_FRACTION = 1e-6  # of psi_ref: an amplitude at which every pad sticks (the
 
 
 def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str = "assembly",
-                      loop: str = "auto"):
+                      loop: str = "auto", repeats: int | None = None):
     """(k_re, k_im, status) of the steady cycle at `amplitude` (mrad of the path's parameter) on
     a platform path: motion None is the paper's in-phase motion (`amplitude_kernel`), a straight
     Motion runs `amplitude_kernel(..., motion=)`, an elliptic one `elliptic_kernel` (its gross
     slip: a straight move along the ellipse's tau = 0 direction to gross slip, `jaxdamp.ellipse`).
-    loop: the kernels' (`amplitude_kernel`). Unchecked, traceable (jit, vmap, grad)."""
+    loop: the kernels' (`amplitude_kernel`). repeats: the bound on the iteration to a periodic
+    cycle (pairs of halves on a straight path, periods on an ellipse; None: the kernels' own).
+    Unchecked, traceable (jit, vmap, grad)."""
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    bound = {} if repeats is None else {"max_periods" if motion is not None
+                                        and motion.quadrature is not None else "max_pairs": repeats}
     if motion is not None and motion.quadrature is not None:
-        c = elliptic_kernel(shape, mu, contacts, load, amplitude, motion, initial=initial, loop=loop)
+        c = elliptic_kernel(shape, mu, contacts, load, amplitude, motion, initial=initial, loop=loop,
+                            **bound)
     else:
         c = amplitude_kernel(shape, mu, contacts, load, amplitude, initial=initial, motion=motion,
-                             loop=loop)
+                             loop=loop, **bound)
     return c.k_re, c.k_im, c.status
 
 
 def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly",
-                loop: str = "auto") -> DamperStiffness:
+                loop: str = "auto", repeats: int | None = None) -> DamperStiffness:
     """k(psi) from the exact steady cycle on a platform path (`path_cycle_kernel`; psi in mrad
     of the path's parameter): the damper of one engine order of a bladed disk
     (`jaxdamp.response.modes`). motion None is `exact_damper`'s in-phase curve. The status and
     the amplitude scale come from the paper's (in-phase) Base-Cycle, the design check; the stuck
     limit is the path's own (the cycle at STUCK_FRACTION psi_ref, where every pad sticks).
     loop: the cycles' (`amplitude_kernel`): "while" traces several times faster where no reverse
-    derivative is needed (forward mode still passes). Unchecked, traceable (jit, vmap, grad)."""
+    derivative is needed (forward mode still passes); repeats: `path_cycle_kernel`'s. Unchecked,
+    traceable (jit, vmap, grad)."""
     if motion is None:
         return exact_damper(shape, mu, contacts, load, initial)
     base = interpolated_damper(shape, mu, contacts, load)
@@ -135,14 +141,15 @@ def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly
     def curve(design, path):
         def k_of_psi(psi):
             psi = jnp.asarray(psi, float)
-            k_re, k_im, _ = jax.vmap(lambda a: path_cycle_kernel(*design, a, path, initial, loop))(
+            k_re, k_im, _ = jax.vmap(lambda a: path_cycle_kernel(*design, a, path, initial, loop,
+                                                                 repeats))(
                 psi.reshape(-1))
             return k_re.reshape(psi.shape), k_im.reshape(psi.shape)
         return k_of_psi
 
     design = (shape, mu, contacts, load)
     stuck, _, _ = path_cycle_kernel(*design, STUCK_FRACTION * base.psi_ref_mrad, motion, initial,
-                                    loop)
+                                    loop, repeats)
     return base._replace(k_of_psi=curve(design, motion), k_re_stuck=stuck,
                          k_values=curve(*jax.lax.stop_gradient((design, motion))))
 
