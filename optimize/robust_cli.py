@@ -93,11 +93,12 @@ def _row_payload(args, problem, spec) -> dict:
     from jaxdamp import engine_orders_of
     from jaxdamp.modal_file import load_modal_family
 
-    from .row_objective import ROW_HISTORIES, optimize_row
+    from .row_objective import FORCE_CHUNK, ROW_HISTORIES, optimize_row
 
     if spec.objective != "worst":
         raise CliError(f"--objective must be peak:worst with --modes; got peak:{spec.objective}")
-    spec = validate_spec(spec, ROW_HISTORIES)
+    # The descent's forces: one row call's worth (each row call holds FORCE_CHUNK forces).
+    spec = validate_spec(spec._replace(n_forces=FORCE_CHUNK), ROW_HISTORIES)
     if args.h_l is None:
         raise CliError("--h-l must be given with --modes: the damper's left flank length in "
                        "(0, 10000] mm")

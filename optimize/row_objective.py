@@ -47,7 +47,7 @@ IN_PHASE_ROBUST_OPTIMUM = (42.59891282213617, 52.95829312005082, 0.3988034770924
                            0.8876839281573497)
 
 __all__ = ["RowTask", "RowCertified", "RowOptimum", "ROW_HISTORIES", "CORNER_CHOICES",
-           "IN_PHASE_ROBUST_OPTIMUM", "row_magnification", "row_values", "certify_row",
+           "FORCE_CHUNK", "IN_PHASE_ROBUST_OPTIMUM", "row_magnification", "row_values", "certify_row",
            "optimize_row", "row_reference_shapes"]
 
 
