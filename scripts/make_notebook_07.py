@@ -38,7 +38,7 @@ from jaxdamp_optimize.row_objective import RowCertified
 jd.enable_x64()
 t_start = time.perf_counter()
 family = load_modal_family("example")
-print(family.n_blades, "blades; nodal diameters", list(family.nodal_diameter))
+print(family.n_blades, "blades; nodal diameters", [int(n) for n in family.nodal_diameter])
 print("frequencies (Hz):", np.round(family.frequency_hz, 1))"""),
     new_markdown_cell("""\
 ## The committed optimisation
@@ -75,7 +75,7 @@ three forces per blade: `jaxdamp.row_response`, the function behind `jaxdamp res
 The first call builds the row's programs (about two minutes on two cores)."""),
     new_code_cell("""\
 forces = np.array([2.0, 5.0, 20.0])
-rows = {d.name: jd.row_response(shape_of_vector(d.shape), 0.5, modes=family,
+rows = {d.name: jd.row_response(shape_of_vector(np.asarray(d.shape)), 0.5, modes=family,
                                 engine_orders=list(range(13)), force_n=forces, h_l_mm=10.0)
         for d in designs[:2]}
 fig, axes = plt.subplots(1, 3, figsize=(10, 3.2), sharey=True)
@@ -87,6 +87,16 @@ for j, ax in enumerate(axes):
     ax.set_title(f"F = {forces[j]:g} N"); ax.set_xlabel("engine order"); ax.grid(alpha=0.3)
 axes[0].set_ylabel("A*/F (mm/N)"); axes[0].legend(fontsize=7)
 plt.tight_layout(); plt.show()"""),
+    new_markdown_cell("""\
+## What the row shows
+
+- At the highest nodal diameter the platforms barely move relative to each other, and at the
+  lowest force, with kt doubled or F_D raised, every design's damper sticks there: the worst case
+  over this row and force range is the bare blade's peak (1.81 mm/N), whatever the shape.
+- Below that, the shape decides: 60sym sticks from engine order 4 on, where the robust designs
+  still slip, and at engine order 0 their peak is 0.64 against 1.56 mm/N.
+- The in-phase robust optimum of notebook 6 was already a good row design: the row optimiser moved
+  it by less than 1 % (docs/robust.md, "Over a blade row")."""),
     new_code_cell("""\
 print(f"notebook ran in {time.perf_counter() - t_start:.0f} s")"""),
 ]
