@@ -86,7 +86,7 @@ def test_a_small_row_optimisation_improves_and_is_certified_everywhere():
     # One grid point is the nominal scenario: the certified worst per engine order is the
     # largest A*/F of the public row response at the certification's forces.
     assert res.best.feasible and res.best.scenarios == 1
-    row = jd.row_response(shape_of_vector(res.best.shape), 0.5,
+    row = jd.row_response(shape_of_vector(np.asarray(res.best.shape)), 0.5,
                           modes=family, engine_orders=[0, 12], force_n=res.best.force_n,
                           h_l_mm=10.0, initial="assembly")
     expected = np.max(row.peaks.peak_amplitude_mm / np.asarray(res.best.force_n)[None], axis=1)
