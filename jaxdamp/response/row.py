@@ -133,8 +133,8 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     list of integers >= 0 (each must excite a nodal diameter the family has); h_l_mm: the damper's
     size (its left flank's length, mm; the platforms turn relative to each other at every nodal
     diameter but 0). initial: the contact history, "assembly" or "gross_slip" (on an ellipse: a
-    straight move along its tau = 0 direction to gross slip, `jaxdamp.ellipse`). Inputs are checked here (ValueError naming the parameter and its
-    range) before anything is compiled. Engine orders (per path kind) and forces are padded to
+    straight move along its tau = 0 direction to gross slip, `jaxdamp.ellipse`). Inputs are
+    checked here (ValueError naming the parameter and its range) before anything is compiled. Engine orders (per path kind) and forces are padded to
     bucket sizes, so that one compiled program serves rows of similar size. runner(program,
     args): how to call a compiled program (default program(*args); the CLI passes one that
     saves it traced, `cli.exported`)."""
