@@ -35,7 +35,7 @@ def test_notebooks_exist():
 # worker-seconds in the run of 2026-11-25 belong to the full tier (`bash scripts/test.sh --full`).
 SLOW_NOTEBOOKS = {"02_family_comparison.ipynb": 26, "03_design_space_and_optimisation.ipynb": 120,
                   "04_speed_vs_accuracy.ipynb": 37, "05_forced_response.ipynb": 258,
-                  "06_robust_design.ipynb": 319}
+                  "06_robust_design.ipynb": 319, "07_row_robust_design.ipynb": 218}
 
 
 @pytest.mark.parametrize("path", [pytest.param(p, marks=pytest.mark.slow)
