@@ -40,6 +40,7 @@ from .geometry import DamperShape as DamperShape
 from .geometry import SectionGeometry as SectionGeometry
 from .geometry import section_geometry as section_geometry
 from .geometry import family_shape as family_shape
+from .geometry import pad_names as pad_names
 from .geometry import FAMILY as FAMILY
 from .geometry import CONTACT_NAMES as CONTACT_NAMES
 from .geometry import paper_tables as paper_tables
@@ -100,6 +101,7 @@ from .motion import straight_motion as straight_motion
 from .motion import general_motion as general_motion
 from .ellipse import EllipticCycle as EllipticCycle
 from .ellipse import elliptic_cycle as elliptic_cycle
+from .ellipse import interblade_sweep as interblade_sweep
 from .ellipse import elliptic_kernel as elliptic_kernel
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
@@ -193,7 +195,7 @@ def enable_x64() -> None:
 
 
 __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometry",
-           "section_geometry", "family_shape", "FAMILY", "CONTACT_NAMES", "paper_tables",
+           "section_geometry", "family_shape", "pad_names", "FAMILY", "CONTACT_NAMES", "paper_tables",
            "platform_moment", "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT",
            "validate_mu", "validate_contacts", "validate_load",
            "VALIDATED_STIFFNESS_OVER_FD_PER_MM", "VALIDATED_KT_OVER_KN",
@@ -205,7 +207,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "five_numbers_kernel", "CycleNumbers", "cycle_numbers", "complex_stiffness",
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "Motion", "in_phase_motion", "interblade_motion",
-           "straight_motion", "general_motion", "EllipticCycle", "elliptic_cycle",
+           "straight_motion", "general_motion", "EllipticCycle", "elliptic_cycle", "interblade_sweep",
            "elliptic_kernel", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
            "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",

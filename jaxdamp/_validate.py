@@ -72,6 +72,7 @@ RANGES = {
     "theta_r": (0.0, 90.0, True, False, "deg"),
     "br_over_hr": (-0.5, 0.5, False, False, ""),
     "bl2_over_hl": (0.0, 1.0, True, False, ""),
+    "br2_over_hr": (0.0, 1.0, True, False, ""),
     "x_d": (-1e6, 1e6, False, False, ""),
     "mu": (0.0, 5.0, True, False, ""),
     "kn": (0.0, INF, True, True, "N/mm"),

@@ -19,6 +19,7 @@ from .linalg import rowdot
 
 from .conventions import CONTACT_NAMES as CONTACT_NAMES  # noqa: E402  (re-exported)
 FAMILY = ("90L", "74L", "60sym", "74R", "90R")
+WEDGE_PAD_NAMES = ("R1", "R2", "L1", "L2")
 
 
 class DamperShape(NamedTuple):
@@ -29,6 +30,11 @@ class DamperShape(NamedTuple):
     bl2_over_hl: pad spacing 2 b_L between L1 and L2 in units of the left flank length h_L, in (0, 1].
     x_d: horizontal position of the centre of mass (where F_D acts) in units of the height H,
         measured from the left base corner; None means the triangle's centroid.
+    br2_over_hr: None for the paper's curved-flat damper (one curved pad R1 on the right flank);
+        a number in (0, 1] makes it a wedge: two pads R1 (upper) and R2 (lower) at +-b from the
+        right flank's midpoint, 2 b = br2_over_hr h_R (br_over_hr is then unused). A wedge is
+        computed on platform paths (`path_cycle`, `elliptic_cycle`, MODEL.md "Any in-plane
+        motion"); the in-phase Base-Cycle and statics take the curved-flat damper only.
     """
 
     theta_l: jnp.ndarray | float
@@ -36,6 +42,7 @@ class DamperShape(NamedTuple):
     br_over_hr: jnp.ndarray | float
     bl2_over_hl: jnp.ndarray | float = 0.8
     x_d: jnp.ndarray | float | None = None
+    br2_over_hr: jnp.ndarray | float | None = None
 
 
 def validate_shape(shape: DamperShape) -> DamperShape:
@@ -45,7 +52,37 @@ def validate_shape(shape: DamperShape) -> DamperShape:
         check_param(name, getattr(shape, name))
     if shape.x_d is not None:
         check_param("x_d", shape.x_d)
+    if shape.br2_over_hr is not None:
+        check_param("br2_over_hr", shape.br2_over_hr)
     return shape
+
+
+def is_wedge(shape: DamperShape) -> bool:
+    """True for a wedge (pads R1, R2 | L1, L2), False for the curved-flat damper (R1 | L1, L2)."""
+    return shape.br2_over_hr is not None
+
+
+def pad_names(shape: DamperShape) -> tuple[str, ...]:
+    """The pads of a damper in the order of every per-pad array: (R1, L1, L2) or (R1, R2, L1, L2).
+    Unchecked, traceable (it reads only whether the shape is a wedge)."""
+    return WEDGE_PAD_NAMES if is_wedge(shape) else CONTACT_NAMES
+
+
+def pad_geometry(shape: DamperShape):
+    """(points, normals, tangents, geometry) of every pad (`pad_names` order), (P, 2) each:
+    `section_geometry`'s for the curved-flat damper; for a wedge R1, R2 at +-b from the right
+    flank's midpoint (2 b = br2_over_hr h_R), then L1, L2. Unchecked, traceable."""
+    geo = section_geometry(shape)
+    if not is_wedge(shape):
+        return geo.points, geo.normals, geo.tangents, geo
+    e_r = geo.tangents[0]
+    mid = geo.B + 0.5 * geo.h_r * e_r
+    b = 0.5 * jnp.asarray(shape.br2_over_hr, float) * geo.h_r
+    r1, r2 = mid + b * e_r, mid - b * e_r
+    points = jnp.stack([r1, r2, geo.points[1], geo.points[2]])
+    normals = jnp.stack([geo.normals[0], geo.normals[0], geo.normals[1], geo.normals[2]])
+    tangents = jnp.stack([e_r, e_r, geo.tangents[1], geo.tangents[2]])
+    return points, normals, tangents, geo
 
 
 def paper_tables() -> dict:
@@ -145,6 +182,7 @@ def platform_moment(shape: DamperShape, load, N, T):
     return rowdot(N, fn) + rowdot(T, ft)
 
 
-__all__ = ["CONTACT_NAMES", "FAMILY", "DamperShape", "validate_shape", "paper_tables",
+__all__ = ["CONTACT_NAMES", "WEDGE_PAD_NAMES", "FAMILY", "DamperShape", "validate_shape", "is_wedge",
+           "pad_names", "pad_geometry", "paper_tables",
            "family_shape", "SectionGeometry", "section_geometry", "full_slip_slide_rates",
            "platform_moment_coefficients", "platform_moment"]

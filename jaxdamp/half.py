@@ -183,7 +183,8 @@ def accelerate(mu, s0, s1, s2, have_history):
     ok = ok & collinear & (rho > -0.95) & (rho < 0.95)
     step = jnp.where(ok, rho / jnp.where(ok, 1.0 - rho, 1.0), 0.0)
     guess = s2 + step * d2
-    N, T = guess[:3], guess[3:]
+    n_pads = s2.shape[0] // 2
+    N, T = guess[:n_pads], guess[n_pads:]
     admissible = jnp.all(N > 0.0) & jnp.all(jnp.abs(T) <= mu * N + LIMIT_TOL)
     return jnp.where(ok & admissible, guess, s2)
 

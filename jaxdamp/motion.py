@@ -33,7 +33,7 @@ import numpy as np
 from ._validate import check_param
 from .conventions import (MRAD_PER_RAD, PLATFORM_MOTION, interblade_direction, platform_arm,
                           rigid_displacement)
-from .geometry import DamperShape, platform_moment_coefficients, section_geometry
+from .geometry import DamperShape, is_wedge, pad_geometry, platform_moment_coefficients
 
 # |Im| / |X_hat| above which a direction is not straight up to one phase (an ellipse).
 STRAIGHT_TOL = 1e-9
@@ -142,14 +142,16 @@ def pad_motion(shape: DamperShape, motion: Motion | None, q_star_mm):
     motion None: the paper's in-phase motion, per mm of dv (the same numbers as
     `in_phase_motion(q_star_mm)`, without its rounding). The direction of a Motion is its real
     part (`path_parts` splits an ellipse). Unchecked, traceable (jit, vmap, grad)."""
-    geo = section_geometry(shape)
+    points, normals, tangents, geo = pad_geometry(shape)
+    # R1 (and a wedge's R2) move with the right platform; L1, L2 (the reference) do not.
+    on_right = np.array([1.0, 1.0, 0.0, 0.0]) if is_wedge(shape) else PLATFORM_MOTION
     if motion is None:
-        return geo.normals[:, 1] * PLATFORM_MOTION, geo.tangents[:, 1] * PLATFORM_MOTION
+        return normals[:, 1] * on_right, tangents[:, 1] * on_right
     height_mm = motion.h_l * jnp.sin(jnp.deg2rad(jnp.asarray(shape.theta_l, float)))  # H = h_L sin(theta_L)
-    offsets = (geo.points - geo.D[None, :]) * height_mm
+    offsets = (points - geo.D[None, :]) * height_mm
     per_s = jnp.asarray(motion.direction, float) / (jnp.asarray(q_star_mm, float) / MRAD_PER_RAD)
-    w = rigid_displacement(per_s, offsets) * PLATFORM_MOTION[:, None]
-    return jnp.sum(geo.normals * w, -1), jnp.sum(geo.tangents * w, -1)
+    w = rigid_displacement(per_s, offsets) * on_right[:, None]
+    return jnp.sum(normals * w, -1), jnp.sum(tangents * w, -1)
 
 
 def loop_moment_coefficients(shape: DamperShape, load, motion: Motion | None):

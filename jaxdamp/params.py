@@ -153,19 +153,30 @@ def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
     return True
 
 
-def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase):
+def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase, *, wedge_ok: bool = False):
     """Validate a solver's inputs (ValueError naming the parameter and its range; Float64Required
     in float32) and convert them to float arrays with kn, kt per contact, so that every entry point
-    compiles the same program. Plain numbers take a one-comparison fast path."""
+    compiles the same program. Plain numbers take a one-comparison fast path. wedge_ok: the
+    solver computes a wedge (`DamperShape.br2_over_hr`); the others refuse one."""
     require_x64()
-    if not fast_ok(shape, mu, contacts, load):
+    wedge = shape.br2_over_hr is not None
+    if wedge and not wedge_ok:
+        raise ValueError("br2_over_hr: this function computes the curved-flat damper only (leave "
+                         "br2_over_hr None); a wedge runs on platform paths: elliptic_cycle, "
+                         "path_cycle, jaxdamp cycle/amplitude --damper wedge with --ibpa or --motion")
+    if wedge or not fast_ok(shape, mu, contacts, load):
         validate_shape(shape)
         validate_mu(mu)
         validate_contacts(contacts)
         validate_load(load)
+    n_pads = 4 if wedge else 3
+    for name, k in zip(("kn", "kt"), contacts):
+        if np.ndim(k) not in (0,) and np.shape(k) != (n_pads,):
+            raise ValueError(f"{name}: one value, or one per pad ({n_pads} for this damper); "
+                             f"got shape {np.shape(k)}")
     shape = DamperShape(*(None if v is None else _float_array(v) for v in shape))
-    # A shared stiffness runs as three equal ones: one compiled program for both forms.
-    contacts = Contacts(*(_per_contact(_float_array(k)) for k in contacts))
+    # A shared stiffness runs as equal ones per pad: one compiled program for both forms.
+    contacts = Contacts(*(_per_contact(_float_array(k), n_pads) for k in contacts))
     load = LoadCase(*(_float_array(v) for v in load))
     return shape, _float_array(mu), contacts, load
 
@@ -180,9 +191,10 @@ def _float_array(v):
     return np.asarray(v, dtype=float)
 
 
-def _per_contact(k):
+def _per_contact(k, n_pads: int = 3):
     if np.ndim(k) == 0:
-        return np.full(3, k) if isinstance(k, (np.ndarray, np.generic)) else jnp.broadcast_to(k, (3,))
+        return (np.full(n_pads, k) if isinstance(k, (np.ndarray, np.generic))
+                else jnp.broadcast_to(k, (n_pads,)))
     return k
 
 

@@ -27,6 +27,7 @@ class RESULTS(enum.IntEnum):
     shakedown = 5
     no_root = 6
     unreachable = 7
+    unseated = 8
 
     @staticmethod
     def promote(status, condition, code: "RESULTS"):
@@ -51,7 +52,8 @@ class RESULTS(enum.IntEnum):
         """True where the computation stopped part-way (liftoff, or a singular / failed solve), so
         that it has no numbers at all; not_converged and ill_conditioned results have numbers that
         are not to be trusted."""
-        return (status == RESULTS.liftoff) | (status == RESULTS.singular)
+        return ((status == RESULTS.liftoff) | (status == RESULTS.singular)
+                | (status == RESULTS.unseated))
 
 
 _MESSAGES = {
@@ -66,6 +68,8 @@ _MESSAGES = {
     RESULTS.no_root: "no solution of the scalar equation in the searched range",
     RESULTS.unreachable: ("the stated contact history does not exist on this path: moving along "
                           "it opens a pad before every pad slips (no gross-slip state)"),
+    RESULTS.unseated: ("no set of closed pads holds the damper in equilibrium: with pads open, "
+                       "the rest cannot carry F_D (the damper is unseated)"),
 }
 
 

@@ -115,6 +115,10 @@ def test_out_of_phase_path_json(capsys):
     (["--motion", "0,1,0", "--ibpa", "0", "--h-c", "1"], "--ibpa and --motion are two ways"),
     (["--h-l", "5"], "--h-l is the damper's size on a path that turns the platforms"),
     (["--ibpa", "180", "--h-c", "20", "--h-l", "10", "--band"], "--band is computed for the paper's"),
+    (["--damper", "wedge", "--band"], "--band is computed for the curved-flat damper only"),
+    (["--br2", "0.8"], "--br2 places a wedge's right pads: give --damper wedge"),
+    (["--damper", "wedge", "--br2", "1.5"], "br2_over_hr must be in (0, 1]"),
+    (["--damper", "cone"], "invalid choice: 'cone'"),
 ])
 def test_bad_paths_are_one_line_and_exit_2(capsys, extra, message):
     code, out, err = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a", "5",
@@ -163,3 +167,27 @@ def test_a_complex_motion_is_an_elliptic_path(capsys):
     assert rows[0]["status"] == rows[1]["status"] == "ok"
     assert rows[0]["k_im"] == pytest.approx(rows[1]["k_im"], rel=1e-12)
     assert rows[0]["k_re"] == pytest.approx(rows[1]["k_re"], rel=1e-12)
+
+
+def test_a_wedge_runs_on_the_engine_with_its_pads_in_the_json(capsys):
+    """--damper wedge: the library's wedge cycle (elliptic_cycle), four pads named in the JSON with
+    their energies, slip and open fractions; --br is refused for a wedge."""
+    code, out, _ = run(capsys, "amplitude", "--theta-l", "70", "--theta-r", "50", "--bl2", "0.6",
+                       "--damper", "wedge", "--mu", "0.5", "--kn", "17900", "--kt", "3580",
+                       "--psi-a", "20", "--ibpa", "120", "--h-c", "20", "--h-l", "10", "--json")
+    assert code == 0
+    d = json.loads(out)
+    assert d["inputs"]["damper"] == "wedge" and d["inputs"]["pads"] == ["R1", "R2", "L1", "L2"]
+    assert d["inputs"]["br2_over_hr"] == 0.8 and d["inputs"]["br_over_hr"] is None
+    row = d["amplitudes"][0]
+    ref = jd.elliptic_cycle(jd.DamperShape(70.0, 50.0, 0.0, 0.6, None, 0.8), 0.5, 20.0,
+                            jd.interblade_motion(120, 20.0, 100.0, 10.0), jd.Contacts(17900.0, 3580.0))
+    assert row["status"] == "ok"
+    assert row["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
+    assert list(row["open_fraction"]) == ["R1", "R2", "L1", "L2"]
+    assert list(row["open_fraction"].values()) == pytest.approx(np.asarray(ref.open_fraction).tolist(),
+                                                                abs=1e-12)
+    assert max(row["open_fraction"].values()) > 0.1
+    code, out, err = run(capsys, "amplitude", "--theta-l", "70", "--theta-r", "50", "--br", "0.1",
+                         "--damper", "wedge", "--mu", "0.5", "--psi-a", "5")
+    assert code == 2 and out == "" and "--br places the curved-flat damper's pad R1" in err

@@ -173,6 +173,7 @@ def test_band_and_diagram_check_every_input_once(capsys):
     assert code == 0
     d = json.loads(out)
     assert d["designer_diagram"] is not None and "band" in d["peaks"][0]
-    # no --x-d given: the shape has none to check; the response takes no platform path
-    inputs = set(RANGES) - {"x_d"} - MOTION_RANGES
+    # no --x-d given: the shape has none to check (nor a wedge's pads); the response takes no
+    # platform path
+    inputs = set(RANGES) - {"x_d", "br2_over_hr"} - MOTION_RANGES
     assert dict(RANGE_CHECKS) == {name: 1 for name in inputs}

@@ -82,14 +82,14 @@ def test_every_tract_balances_the_damper_and_keeps_the_cone():
     ec = jd.elliptic_cycle(SHAPE, 0.5, 10.0, jd.interblade_motion(90.0, 20.0, 100.0, 10.0), CONTACTS)
     arc, s_a = ec.period, 10.0 * 100.0 / 1e3
     act = np.asarray(arc.active)
-    assert abs(float(np.sum(np.asarray(arc.dtau)[act])) - 2 * np.pi) < 1e-12  # one whole period
+    assert abs(float(np.sum(np.asarray(arc.dp)[act])) - 2 * np.pi) < 1e-12  # one whole period
     mech_a = jd.cycle.mechanics(*prepare_inputs(SHAPE, 0.5, CONTACTS, jd.LoadCase()))
     for k in np.flatnonzero(act):
-        t0, t1 = float(arc.tau0[k]), float(arc.tau0[k] + arc.dtau[k])
+        t0, t1 = float(arc.p0[k]), float(arc.p0[k] + arc.dp[k])
         for t in (t0, 0.5 * (t0 + t1), t1):
             dc, ds = np.cos(t) - np.cos(t0), np.sin(t) - np.sin(t0)
-            N = np.asarray(arc.N0[k] + s_a * (arc.dN_r[k] * dc - arc.dN_i[k] * ds))
-            T = np.asarray(arc.T0[k] + s_a * (arc.dT_r[k] * dc - arc.dT_i[k] * ds))
+            N = np.asarray(arc.N0[k] + s_a * (arc.dN[k, 0] * dc - arc.dN[k, 1] * ds))
+            T = np.asarray(arc.T0[k] + s_a * (arc.dT[k, 0] * dc - arc.dT[k, 1] * ds))
             residual = -N @ np.asarray(mech_a.a) + T @ np.asarray(mech_a.c) + np.array([0.0, 1.0, 0.0])
             assert np.max(np.abs(residual)) <= 1e-12
             assert np.all(N > 0.0) and np.all(np.abs(T) <= 0.5 * N + 1e-12)
@@ -109,11 +109,11 @@ def test_a_shift_of_the_time_origin_leaves_the_cycle():
     # The forces at tau = 0 of the shifted path are those of the reference at tau = alpha
     # (s_a = a q* / 1e3 = 1 mm).
     arc, act = ref.period, np.asarray(ref.period.active)
-    starts, ends = np.asarray(arc.tau0), np.asarray(arc.tau0 + arc.dtau)
+    starts, ends = np.asarray(arc.p0), np.asarray(arc.p0 + arc.dp)
     k = int(np.flatnonzero((starts <= alpha) & (ends > alpha) & act)[0])
     dc, ds = np.cos(alpha) - np.cos(starts[k]), np.sin(alpha) - np.sin(starts[k])
-    N = np.asarray(arc.N0[k] + arc.dN_r[k] * dc - arc.dN_i[k] * ds)
-    T = np.asarray(arc.T0[k] + arc.dT_r[k] * dc - arc.dT_i[k] * ds)
+    N = np.asarray(arc.N0[k] + arc.dN[k, 0] * dc - arc.dN[k, 1] * ds)
+    T = np.asarray(arc.T0[k] + arc.dT[k, 0] * dc - arc.dT[k, 1] * ds)
     shifted = jd.general_motion(x * np.exp(1j * alpha), 10.0)
     got = jd.elliptic_cycle(SHAPE, 0.5, 10.0, shifted, CONTACTS, initial=(N, T))
     assert jd.RESULTS.name_of(got.status) == "ok"
@@ -153,7 +153,7 @@ def test_elliptic_inputs_are_checked_and_paths_go_to_their_solver():
 
 
 # The last case: L1 and L2, on one flank, stop slipping together in gross slip, and only L2 may
-# stick; the first order ties, the second order decides (`ellipse.choose_on_arc`). Without that
+# stick; the first order ties, the second order decides (`engine.choose`). Without that
 # check k was 1.4e-4 of its scale off the marcher at every step count.
 MARCHER_CASES = [("60sym", 0.5, 90.0, 10.0, 20.0, 10.0), ("74R", 0.3, -60.0, 5.0, 20.0, 10.0),
                  ("90L", 0.7, 150.0, 10.0, 20.0, 10.0),

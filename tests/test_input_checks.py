@@ -27,7 +27,7 @@ CHECKED = {
     "five_numbers_jacobian", "k_im_gradient_at", "batch_jacobian", "damper_stiffness",
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
-    "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle",
+    "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
     "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
     # jaxdamp.baselines
     "hbm_aft", "regularized_aft", "time_march", "march_ellipse", "modal_family",
@@ -44,6 +44,7 @@ UNCHECKED = {
     "polytope_vertices", "curve_at", "cycle_work", "moment", "contact_energies",
     "work_shape_factors", "frf", "frf_amplitude_grid", "linear_frf", "stuck_damper",
     "scaled_stiffness", "tabulated_stiffness", "peak_response", "run_half", "path_damper",
+    "pad_names",
     # jaxdamp.baselines
     "first_harmonic", "march", "march_model",
 }

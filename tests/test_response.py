@@ -294,7 +294,8 @@ def test_a_scene_is_checked_once_and_taken_as_it_is():
     scene = prepare_scene(SHAPE, 0.5, Contacts(), LoadCase(), MODE)
     assert isinstance(scene, Scene)
     # A scene has no platform path (MOTION_RANGES) and no forces.
-    assert dict(RANGE_CHECKS) == {n: 1 for n in set(RANGES) - {"x_d", "force_n"} - MOTION_RANGES}
+    assert dict(RANGE_CHECKS) == {n: 1 for n in set(RANGES) - {"x_d", "br2_over_hr", "force_n"}
+                                  - MOTION_RANGES}
     assert all(np.asarray(v).dtype == np.float64 for v in jax.tree_util.tree_leaves(scene))
     assert np.shape(scene.contacts.kn) == (3,)
     RANGE_CHECKS.clear()

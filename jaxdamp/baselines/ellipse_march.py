@@ -24,10 +24,12 @@ import jax
 import jax.numpy as jnp
 from .._validate import check_int, check_range
 from ..conventions import travel_mm
-from ..motion import Motion, motion_moment_coefficients, pad_motion, path_parts, validate_motion
+from ..ellipse import path_pads
+from ..geometry import is_wedge
+from ..motion import Motion, motion_moment_coefficients, path_parts, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
-from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_half, march_model, newton, respond
+from .timemarch import MAX_NEWTON, NEWTON_TOL, MarchModel, assemble, march_half, newton, respond
 
 
 HISTORIES = ("assembly", "gross_slip")
@@ -35,12 +37,16 @@ GROSS_SLIP_TRAVEL_MM = 5.0  # mm of s beyond a; a pad's stick range is mu F_D / 
 
 
 class EllipseMarch(NamedTuple):
-    """k (N mm/mrad) and energies (N mm per cycle) of the last period marched, with the forces'
-    change over it (units of F_D), Newton failures and the status (liftoff where a pad opened)."""
+    """k (N mm/mrad) and energies (N mm per cycle) of the last period marched, the fractions of
+    its samples in which each pad slips and is open, the forces' change over it (units of F_D),
+    Newton failures and the status (singular where Newton failed: no equilibrium found). Per-pad
+    arrays in `geometry.pad_names` order."""
 
     k_re: jnp.ndarray
     k_im: jnp.ndarray
-    energy: jnp.ndarray  # (3,) sum of T d(slip) per pad
+    energy: jnp.ndarray  # (P,) sum of T d(slip) per pad
+    slip_fraction: jnp.ndarray  # (P,) of the last period's samples
+    open_fraction: jnp.ndarray  # (P,)
     closure: jnp.ndarray
     newton_failures: jnp.ndarray
     status: jnp.ndarray
@@ -54,9 +60,12 @@ class EllipseMarch(NamedTuple):
 def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
                    n_load: int, max_newton: int, initial: str):
     along_r, along_i = path_parts(motion)
-    m, _ = march_model(shape, mu, contacts, load, along_r)
-    nw_r, tw_r = pad_motion(shape, along_r, load.q_star)
-    nw_i, tw_i = pad_motion(shape, along_i, load.q_star)
+    # The model's platform motion is set per step below; its pads are the damper's (any pad set).
+    pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
+    nw_r, tw_r, nw_i, tw_i = pads.nw[0], pads.tw[0], pads.nw[1], pads.tw[1]
+    zero = jnp.zeros_like(pads.kn)
+    m = MarchModel(pads.a, pads.c, nw_r, tw_r, pads.kn, pads.kt, pads.mu, zero, zero, zero, zero,
+                   jnp.asarray(load.q_star, float), jnp.asarray(load.F_D, float))
     fn_r, ft_r = motion_moment_coefficients(nw_r, tw_r, load)
     fn_i, ft_i = motion_moment_coefficients(nw_i, tw_i, load)
     s_a = travel_mm(amplitude, load.q_star)
@@ -67,7 +76,6 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     s, straight = march_half(m0, s, 1.0 if gross else -1.0, move / (n_steps // 2), n_steps // 2,
                              max_newton)
     fails = jnp.where(ok, 0, 1) + jnp.sum(~straight.samples.newton_ok)
-    lift = jnp.any(straight.samples.code == 3)
 
     def step(carry, tau):
         q, p = carry
@@ -83,7 +91,7 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
         q, res, _ = newton(residual, q, max_newton)
         r = respond(here, q, 1.0, p)
         sample = (r.N, r.T, r.p, r.N @ fn_r + r.T @ ft_r, r.N @ fn_i + r.T @ ft_i,
-                  res <= NEWTON_TOL, ~jnp.all(r.closed))
+                  res <= NEWTON_TOL, ~r.closed, r.slip)
         return (q, r.p), sample
 
     h = 2.0 * jnp.pi / n_steps
@@ -92,7 +100,7 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
         first = jax.eval_shape(lambda c: jax.lax.scan(step, c, h * jnp.arange(1, 2))[1], carry)
     else:
         carry, first = jax.lax.scan(step, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
-        fails, lift = fails + jnp.sum(~first[5]), lift | jnp.any(first[6])
+        fails = fails + jnp.sum(~first[5])
     taus = h * jnp.arange(1, n_steps + 1)
 
     def period(c, _):
@@ -103,9 +111,8 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     init_smp = jax.tree_util.tree_map(lambda x: jnp.zeros((n_steps,) + x.shape[1:], x.dtype), first)
     (carry, smp), (N_end, T_end, p_end) = jax.lax.scan(period, (carry, init_smp), None,
                                                        length=periods)
-    N, T, p, M_r, M_i, newton_ok, opened = smp
+    N, T, p, M_r, M_i, newton_ok, opened, slipping = smp
     fails = fails + jnp.sum(~newton_ok)
-    lift = lift | jnp.any(opened)
     # First harmonics of the periodic samples at tau_k = k h (k = 1..n: the same as 0..n-1).
     e = jnp.exp(-1j * taus)
     m_r, m_i = jnp.sum(M_r * e) * h, jnp.sum(M_i * e) * h
@@ -115,8 +122,9 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     p_prev = jnp.concatenate([p_end[-2][None], p[:-1]])
     energy = -load.F_D * jnp.sum(0.5 * (T + T_prev) * (p - p_prev), axis=0)
     closure = jnp.maximum(jnp.max(jnp.abs(N_end[-1] - N_end[-2])), jnp.max(jnp.abs(T_end[-1] - T_end[-2])))
-    return EllipseMarch(jnp.real(k), jnp.imag(k), energy, closure, fails,
-                        from_flags(lift, False, fails == 0))
+    return EllipseMarch(jnp.real(k), jnp.imag(k), energy, jnp.mean(slipping.astype(float), axis=0),
+                        jnp.mean(opened.astype(float), axis=0), closure, fails,
+                        from_flags(False, fails > 0))
 
 
 def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts = Contacts(),
@@ -127,15 +135,17 @@ def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts 
     periods after the history ("assembly" or "gross_slip"); k and energies from the last one."""
     if initial not in HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(HISTORIES)}; got {initial!r}")
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
     check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     n_steps = check_int("n_steps", n_steps, 2)
     if n_steps % 2:
         raise ValueError(f"n_steps must be an even integer in [2, inf); got {n_steps}")
     motion = validate_motion(motion)
     if motion.quadrature is None:
-        raise ValueError("motion must be elliptic for march_ellipse (a straight path: "
-                         "timemarch.march_amplitude)")
+        if not is_wedge(shape):
+            raise ValueError("motion must be elliptic for march_ellipse (a straight path: "
+                             "timemarch.march_amplitude)")
+        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
     return _march_ellipse(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
                           n_steps, check_int("periods", periods, 2), check_int("n_load", n_load, 1),
                           check_int("max_newton", max_newton, 1), initial)

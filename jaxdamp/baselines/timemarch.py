@@ -242,7 +242,8 @@ def march_half(m: MarchModel, s: MarchState, direction, h, n_steps: int, max_new
     (+1 or -1). Returns (end state, HalfMarch) with the n_steps + 1 samples, start included."""
     path = s.dv + direction * h * jnp.arange(1, n_steps + 1, dtype=float)
     end, smp = march(m, s, path, max_newton)
-    first = Sample(s.dv, s.N, s.T, s.p, moment_of(m, s.N, s.T), jnp.zeros(3, int), jnp.array(False),
+    first = Sample(s.dv, s.N, s.T, s.p, moment_of(m, s.N, s.T), jnp.zeros(s.N.shape, int),
+                   jnp.array(False),
                    jnp.array(True), jnp.array(0))
     smp = jax.tree_util.tree_map(lambda x0, xs: jnp.concatenate([x0[None], xs]), first, smp)
     idx = jnp.arange(n_steps + 1)
@@ -419,7 +420,8 @@ def assemble(m: MarchModel, n_load: int, max_newton: int = MAX_NEWTON):
     """Apply F_D from zero in n_load equal steps with the platforms held (dv = 0), from zero contact
     forces: Newton with return mapping at each load level. Returns (model with zero reference
     forces, the state at full load, Newton converged at every level)."""
-    m0 = m._replace(N_ref=jnp.zeros(3), T_ref=jnp.zeros(3))
+    z = jnp.zeros_like(m.kn)  # one per pad
+    m0 = m._replace(N_ref=z, T_ref=z)
     K0 = (jnp.einsum("i,ij,ik->jk", m0.kn, m0.a, m0.a) + jnp.einsum("i,ij,ik->jk", m0.kt, m0.c, m0.c))
     q_unit, _ = solve3(K0, CENTRIFUGAL_LOAD)  # all-stick response to F_D: the first level's predictor
 
@@ -436,7 +438,7 @@ def assemble(m: MarchModel, n_load: int, max_newton: int = MAX_NEWTON):
         return (qn, r.p, lam), res <= NEWTON_TOL
 
     lams = jnp.arange(1, n_load + 1, dtype=float) / n_load
-    (q, p, _), conv = jax.lax.scan(level, (jnp.zeros(3), jnp.zeros(3), jnp.asarray(0.0)), lams)
+    (q, p, _), conv = jax.lax.scan(level, (jnp.zeros(3), z, jnp.asarray(0.0)), lams)
     r = respond(m0, q, 0.0, p)
     _, _, vel, _ = force_rates(m0, r)
     return m0, MarchState(q, jnp.zeros(()), r.p, r.N, r.T, vel), jnp.all(conv)

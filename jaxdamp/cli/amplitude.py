@@ -29,6 +29,7 @@ def register(sub) -> None:
     p = sub.add_parser("amplitude", help="exact steady cycles at prescribed amplitudes psi_a "
                        "(microslip included), from a named initial state; optionally the band")
     C.add_design_args(p)
+    C.add_damper_args(p)
     p.add_argument("--psi-a", required=True,
                    help="platform rotation amplitudes, mrad, comma-separated, each in (0, 10000]")
     p.add_argument("--initial", default=None,
@@ -98,17 +99,26 @@ def run(args) -> int:
 
     from ..amplitude import INITIAL_STATES, amplitude_cycle, slip_fraction
     from ..ellipse import elliptic_cycle
-    from ..geometry import CONTACT_NAMES
+    from ..geometry import is_wedge, pad_names
+    from ..motion import in_phase_motion
     from ..params import prepare_inputs
     from ..status import RESULTS
 
     # Every input is checked before any work (ValueError / CliError -> one line, exit code 2).
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     psis = _amplitudes(args.psi_a)
-    shape = C.shape_from_args(args)
-    prepare_inputs(shape, args.mu, contacts, load)
+    wedge = args.damper == "wedge"
+    shape = C.damper_from_args(args, C.shape_from_args(args, need_br=not wedge))
+    prepare_inputs(shape, args.mu, contacts, load, wedge_ok=wedge)
     motion = motion_from_args(args, load)
-    elliptic = motion is not None and motion.quadrature is not None
+    if wedge and args.band:
+        raise C.CliError("--band is computed for the curved-flat damper only; drop --band or "
+                         "--damper wedge")
+    if wedge and motion is None:
+        motion = in_phase_motion(load.q_star)  # a wedge runs on the path engine, in-phase too
+    # The path engine runs ellipses, and a wedge on any path (a straight one as an ellipse of
+    # zero width); the straight-path solver the curved-flat damper's straight paths.
+    elliptic = motion is not None and (motion.quadrature is not None or is_wedge(shape))
     if args.initial is None:
         args.initial = "assembly" if elliptic else "gross_slip"
     if args.initial not in INITIAL_STATES:
@@ -133,10 +143,12 @@ def run(args) -> int:
                "cycles": int(ac.periods if elliptic else ac.cycles)}
         if motion is not None:
             fractions = np.asarray(ac.slip_fraction) if elliptic else slip_fraction(ac)
-            row.update(
-                dissipated_energy_nmm=C.number(np.sum(ac.energy)) if valid else None,
-                energy_nmm={p: C.number(e) if valid else None for p, e in zip(CONTACT_NAMES, np.asarray(ac.energy))},
-                slip_fraction={p: C.number(f) if valid else None for p, f in zip(CONTACT_NAMES, fractions)})
+            per_pad = lambda values: {p: C.number(v) if valid else None  # noqa: E731
+                                      for p, v in zip(pad_names(shape), np.asarray(values))}
+            row.update(dissipated_energy_nmm=C.number(np.sum(ac.energy)) if valid else None,
+                       energy_nmm=per_pad(ac.energy), slip_fraction=per_pad(fractions))
+            if elliptic:
+                row["open_fraction"] = per_pad(ac.open_fraction)
         if args.band:
             from ..band import amplitude_band
 
@@ -145,15 +157,19 @@ def run(args) -> int:
         bar.update(1)
     bar.close()
     bad = [r["status"] for r in rows if r["status"] not in ("ok", "shakedown")]
-    inputs = {"shape": args.shape and C.shape_name(args.shape), "theta_l": float(shape.theta_l),
-              "theta_r": float(shape.theta_r), "br_over_hr": float(shape.br_over_hr),
+    inputs = {"shape": args.shape and C.shape_name(args.shape), "damper": args.damper,
+              "pads": list(pad_names(shape)), "theta_l": float(shape.theta_l),
+              "theta_r": float(shape.theta_r),
+              "br_over_hr": None if wedge else float(shape.br_over_hr),
+              "br2_over_hr": float(shape.br2_over_hr) if wedge else None,
               "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
               "band": bool(args.band), "motion": None if motion is None else {
                   "ibpa_deg": args.ibpa, "h_c_mm": args.h_c, "h_l_mm": args.h_l,
                   "direction": [float(v) for v in motion.direction],
-                  "quadrature": None if not elliptic else [float(v) for v in motion.quadrature],
+                  "quadrature": (None if motion.quadrature is None
+                                 else [float(v) for v in motion.quadrature]),
                   "direction_units": "du mm, dv mm, dtheta mrad per mrad of psi_a"}}
     status = bad[0] if bad else "ok"
     doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
@@ -162,10 +178,12 @@ def run(args) -> int:
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
     path = ("in-phase" if motion is None else
             "{} path (du, dv, dtheta) = ({}) mm, mm, mrad per mrad".format(
-                "elliptic" if elliptic else "straight",
+                "straight" if motion.quadrature is None else "elliptic",
                 ", ".join(f"{complex(float(r), float(i)):.4g}".strip("()").replace("+0j", "")
-                          for r, i in zip(motion.direction, motion.quadrature if elliptic else [0.0] * 3))))
-    lines = [f"Steady cycles at prescribed amplitude from {args.initial}, mu = {args.mu:g}, "
+                          for r, i in zip(motion.direction, [0.0] * 3 if motion.quadrature is None
+                                          else motion.quadrature))))
+    damper = (f"wedge R1, R2 | L1, L2 (2b/h_R = {float(shape.br2_over_hr):g}), " if wedge else "")
+    lines = [f"Steady cycles at prescribed amplitude from {args.initial}, {damper}mu = {args.mu:g}, "
              f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad), {path}",
              f"{'psi_a':>8} {'k_Re':>10} {'k_Im':>10} {'status':>14} {'cycles':>6}"
              + ("   band k_Re [min, max]   band k_Im [min, max]" if args.band else "")]

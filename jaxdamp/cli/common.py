@@ -190,6 +190,33 @@ def add_design_args(p, mu_default=None) -> None:
     add_load_args(p)
 
 
+def add_damper_args(p) -> None:
+    """--damper and --br2: the paper's curved-flat damper or a wedge (`DamperShape.br2_over_hr`)."""
+    p.add_argument("--damper", choices=("curved-flat", "wedge"), default="curved-flat",
+                   help="the paper's curved-flat damper R1 | L1, L2 (default) or a wedge R1, R2 | "
+                   "L1, L2 (two flat pads on each flank; computed on the platform path, pads that "
+                   "open and close included)")
+    p.add_argument("--br2", type=float, default=None,
+                   help="a wedge's right pad spacing 2b/h_R, in (0, 1] (default 0.8, like --bl2): R1 "
+                   "and R2 at +-b from the right flank's midpoint")
+
+
+def damper_from_args(args, shape):
+    """The shape of --damper/--br2: unchanged for the curved-flat damper; a wedge otherwise
+    (its right pads from --br2, --br refused: it places the curved pad R1). Checked."""
+    from ..geometry import validate_shape
+
+    if args.damper != "wedge":
+        if args.br2 is not None:
+            raise CliError("--br2 places a wedge's right pads: give --damper wedge, or drop --br2")
+        return shape
+    if getattr(args, "br", None) is not None:
+        raise CliError("--br places the curved-flat damper's pad R1; a wedge's right pads are "
+                       "placed by --br2 (2b/h_R, default 0.8)")
+    return validate_shape(shape._replace(br_over_hr=0.0,
+                                         br2_over_hr=0.8 if args.br2 is None else args.br2))
+
+
 def add_json_arg(p) -> None:
     p.add_argument("--json", action="store_true", help="machine-readable output (one JSON document)")
 

@@ -1,0 +1,432 @@
+"""The tract engine for any pad set on any platform path, with pads that open and close.
+
+A run goes tract by tract along a platform path from given pad forces. Within a tract every pad's
+state is fixed (stick, slip, open), so the damper's incremental equilibrium is linear and every
+force is affine in the path's basis functions phi(p):
+
+    F(p) = F(p0) + sum_b R_b (phi_b(p) - phi_b(p0))
+
+with R_b the rates for a unit motion along basis direction b (one 3x3 solve per direction).
+Two paths (`Line`, `Ellipse`):
+
+- a straight line, phi(s) = s (mm of travel along one direction): every event is linear in s;
+- an ellipse, X(tau) = s_a (X_r cos tau - X_i sin tau), phi(tau) = s_a (cos tau, -sin tau):
+  every event is a root of c + alpha cos tau + beta sin tau = 0, in closed form.
+
+Pads (any number P, `Pads`): the curved-flat damper R1 | L1, L2 or the wedge R1, R2 | L1, L2.
+A pad is closed (N > 0, a normal spring kn and a tangential spring kt in series with a Coulomb
+slider) or open: N = 0 and its springs released. An open pad's normal gap is carried in its N as
+the virtual force kn * (-gap) < 0, affine along the path like every other force; it closes (in
+stick, with a fresh tangential anchor: T = 0) where that reaches zero. Events: a stick pad reaching
+its friction limit, a slipping pad whose slip rate reverses (an ellipse only: on a line it is
+constant in a tract), a closed pad's N reaching zero (it opens), an open pad's gap closing, and the
+end of the path. The state set of each tract is the consistent one (`choose`) that keeps the most
+pads in stick and closed; none consistent means no set of pads holds the damper: it is unseated.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+
+from .linalg import rowdot, solve3
+from .loops import bounded_loop, zeros_of
+from .status import RESULTS
+from .tract import LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK
+
+TAU_TOL = 1e-12  # rad: an event nearer than this to the tract's start is the start itself
+TRAVEL_TOL = 1e-12  # relative: travel left below this fraction of a line's length is none
+NO_EVENT = 1e6  # path units: "no event in this tract" (finite: masked arithmetic stays finite)
+# rad ahead of a tract's start where a state set's second-order behaviour is checked on an
+# ellipse, and the tolerance of that check (units of F_D; of s_a for slips): see `choose`.
+LOOKAHEAD = 1e-4
+LOOKAHEAD_TOL = 1e-13
+# Global mode of the pads that close at a tract's start (N = 0, not opening): stick, slip up, slip
+# down. A pad may touch down while the platforms slide along it, and then slip at once.
+_CLOSING_MODES = 3
+
+
+class Pads(NamedTuple):
+    """Everything a tract needs that does not change along a path (a pytree of arrays).
+
+    P pads, B basis directions of the path (1 for a line, 2 for an ellipse: X_r, X_i)."""
+
+    a: jnp.ndarray  # (P, 3) generalised outward normals about D
+    c: jnp.ndarray  # (P, 3) generalised up-flank tangents
+    kn: jnp.ndarray  # (P,) normal stiffness / F_D, 1/mm
+    kt: jnp.ndarray  # (P,) tangential stiffness / F_D, 1/mm
+    mu: jnp.ndarray  # () or (P,)
+    nw: jnp.ndarray  # (B, P) platform motion along each pad's normal per mm of s along basis b
+    tw: jnp.ndarray  # (B, P) along its tangent
+
+
+class Rates(NamedTuple):
+    """Rates of every candidate state set per unit motion along each basis direction."""
+
+    dN: jnp.ndarray  # (C, B, P); an open pad's is the rate of its virtual force kn * (-gap)
+    dT: jnp.ndarray  # (C, B, P)
+    dslip: jnp.ndarray  # (C, B, P) sliding of the damper relative to the platform, along t
+    ok: jnp.ndarray  # (C,) the tract's 3x3 system is regular
+
+
+def candidate_table(n_pads: int):
+    """(weak (C, P) bool, closing mode (C,) int) of every candidate state set: per pad a strong
+    (stick, closed) or weak (slip at its limit; open at N = 0) choice, times the closing mode of
+    the pads that close at the tract's start (numpy: the table is static)."""
+    bits = np.array([[(c >> i) & 1 for i in range(n_pads)] for c in range(2 ** n_pads)], bool)
+    weak = np.concatenate([bits] * _CLOSING_MODES)
+    mode = np.repeat(np.arange(_CLOSING_MODES), 2 ** n_pads)
+    return weak, mode
+
+
+def _rates(pads: Pads, closed, slipping, signs) -> Rates:
+    """Rates of C state sets at once: closed, slipping (C, P) bool, signs (C, P) (T = s mu N).
+
+    Written as explicit products and sums over the pads and the 3 components (no einsum): under
+    vmap a tiny contraction becomes a batched dot_general, which XLA on CPU runs as a loop of small
+    matrix products, while products and sums fuse (`linalg.rowdot`)."""
+    K, (wn, wt, wx), (stick, slip, mu) = _stiffness(pads, closed, slipping, signs)
+    a, c = pads.a, pads.c
+    n_pads, n_basis = a.shape[0], pads.nw.shape[0]
+    rhs = jnp.stack([sum((wn[:, i, None] * pads.nw[b, i]) * a[i][None]
+                         + (wt[:, i, None] * pads.tw[b, i] - wx[:, i, None] * pads.nw[b, i])
+                         * c[i][None] for i in range(n_pads))
+                     for b in range(n_basis)], axis=1)  # (C, B, 3)
+    dq, ok = solve3(K[:, None], rhs)  # (C, B, 3): one 3x3 system, B right-hand sides
+    gn = jnp.stack([rowdot(dq, a[i]) for i in range(n_pads)], -1) - pads.nw[None]
+    gt = jnp.stack([rowdot(dq, c[i]) for i in range(n_pads)], -1) - pads.tw[None]
+    per = lambda x: x[:, None]  # noqa: E731  (C or 1, P) -> (C or 1, 1, P) against (C, B, P)
+    kn, kt = pads.kn[None], pads.kt[None]
+    dN = per(kn) * gn
+    dT = per(stick) * (-per(kt) * gt) + per(slip * signs * mu) * dN
+    dslip = per(slip) * (gt + dT / per(kt))
+    return Rates(dN, dT, dslip, jnp.all(ok, axis=1))
+
+
+def _stiffness(pads: Pads, closed, slipping, signs):
+    """(K (C, 3, 3), pad weights (wn, wt, wx), (stick, slip, mu)) of C state sets: the damper's
+    incremental stiffness sum_closed kn a a^T + sum_stick kt c c^T - sum_slip s mu kn c a^T."""
+    f = lambda b: b.astype(float)  # noqa: E731
+    kn, kt = pads.kn[None], pads.kt[None]  # (1, P) against the (C, P) table
+    mu = jnp.broadcast_to(pads.mu, pads.kn.shape)[None]
+    stick = f(closed & ~slipping)
+    slip = f(closed & slipping)
+    wn, wt, wx = f(closed) * kn, stick * kt, slip * signs * mu * kn
+    a, c = pads.a, pads.c
+    outer = lambda u, v: (u[:, None] * v[None, :])[None]  # noqa: E731  (1, 3, 3)
+    K = sum(wn[:, i, None, None] * outer(a[i], a[i]) + wt[:, i, None, None] * outer(c[i], c[i])
+            - wx[:, i, None, None] * outer(c[i], a[i]) for i in range(a.shape[0]))
+    return K, (wn, wt, wx), (stick, slip, mu)
+
+
+def _along(weights, x):
+    """sum_b weights[b] x[:, b] for rates x (C, B, P): the rates along a direction of motion."""
+    return sum(weights[b] * x[:, b] for b in range(x.shape[1]))
+
+
+class Choice(NamedTuple):
+    closed: jnp.ndarray  # (P,) bool
+    slipping: jnp.ndarray  # (P,) bool
+    signs: jnp.ndarray  # (P,) friction direction of a slipping pad
+    dN: jnp.ndarray  # (B, P) rates per unit motion along each basis direction
+    dT: jnp.ndarray
+    dslip: jnp.ndarray
+    consistent: jnp.ndarray  # () bool: some candidate set is consistent
+
+
+def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
+    """The state set of a tract starting at (N, T) with the platforms moving along `heading` (B,)
+    (basis weights of the path's direction of motion, scaled to unit pad speed).
+
+    Pads inside the friction cone stick; a pad on its limit sticks (if its stick increment stays
+    inside the cone) or slips against its friction force; a pad with a gap stays open; a pad at
+    N = 0 opens (if its gap grows) or closes, in stick or slipping. Among the sets consistent to
+    first order, those still consistent at `ahead` (B,) basis increments on (an ellipse's
+    second-order check: a rate can be zero at a tract's start without changing sign), if any;
+    then the one with the most pads strong (stick, closed), closing pads preferably in stick."""
+    n_pads = N.shape[0]
+    weak_np, mode_np = candidate_table(n_pads)
+    weak, mode = jnp.asarray(weak_np), jnp.asarray(mode_np)
+    mode2 = mode[:, None]  # against the (C, P) table
+    mu = jnp.broadcast_to(pads.mu, N.shape)
+    zero = jnp.abs(N) <= LIMIT_TOL
+    gap = N < -LIMIT_TOL
+    limit = ~zero & ~gap & (jnp.abs(T) >= mu * N - LIMIT_TOL)
+    inside = ~zero & ~gap & ~limit
+    t_sign = jnp.where(T >= 0.0, 1.0, -1.0)
+    zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
+    closed = ~(weak & (zero2 | gap2))
+    slipping = (weak & limit2) | (~weak & zero2 & (mode2 > 0))
+    signs = jnp.where(zero2, jnp.where(mode2 == 2, -1.0, 1.0), t_sign[None])
+    closing_slips = jnp.any(~weak & zero2, axis=1)
+    allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
+               & ((mode == 0) | closing_slips))
+    r = _rates(pads, closed, slipping, signs)
+    dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
+    scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
+    tol = RATE_TOL * scale
+    mu2 = mu[None]
+    stick = closed & ~slipping
+    ok_pad = jnp.where(stick & limit2, t_sign[None] * dT - mu2 * dN <= tol, True)
+    ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
+    ok_pad &= jnp.where(slipping, signs * dslip <= RATE_TOL, True)
+    ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
+    ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
+    good = allowed & r.ok & jnp.all(ok_pad, axis=1)
+    if ahead is not None:
+        N1, T1, slid = (N[None] + _along(ahead, r.dN), T[None] + _along(ahead, r.dT),
+                        _along(ahead, r.dslip))
+        stays = jnp.where(stick & (limit2 | zero2), jnp.abs(T1) <= mu2 * N1 + LOOKAHEAD_TOL, True)
+        stays &= jnp.where(slipping, signs * slid <= LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)),
+                           True)
+        stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
+        stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
+        second = good & jnp.all(stays, axis=1)
+        good = jnp.where(jnp.any(second), second, good)
+    score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + (mode == 0), 0)
+    best = jnp.argmax(score)
+    return Choice(closed[best], slipping[best], signs[best], r.dN[best], r.dT[best],
+                  r.dslip[best], good[best])
+
+
+def assemble(pads: Pads, load_vector):
+    """(N, T, ok): the pad forces after F_D is applied from zero with the platforms held.
+
+    Every contact law is positively homogeneous and the forces start at zero, so the response is
+    proportional to the load and one state set holds throughout: per pad stick, slip either way
+    or open (4^P candidates), the consistent one that keeps the most pads stuck and closed.
+    load_vector: the generalised load on the damper per unit F_D (3,). An open pad's N is its
+    virtual force kn * (-gap) <= 0."""
+    n_pads = pads.kn.shape[0]
+    codes = jnp.asarray(np.array([[(c // 4 ** i) % 4 for i in range(n_pads)]
+                                  for c in range(4 ** n_pads)]))
+    closed, slipping = codes != 3, (codes == 1) | (codes == 2)
+    signs = jnp.where(codes == 2, -1.0, 1.0)
+    K, _, (_, _, mu) = _stiffness(pads, closed, slipping, signs)
+    q, ok = solve3(K, jnp.broadcast_to(jnp.asarray(load_vector, float), (codes.shape[0], 3)))
+    kn, kt = pads.kn[None], pads.kt[None]
+    N = kn * jnp.stack([rowdot(q, a_i) for a_i in pads.a], -1)
+    gt = jnp.stack([rowdot(q, c_i) for c_i in pads.c], -1)
+    T = jnp.where(slipping, signs * mu * N, jnp.where(closed, -kt * gt, 0.0))
+    slid = gt + T / kt  # slip of the damper relative to the platform, along t
+    tol = LIMIT_TOL
+    good = (ok & jnp.all(jnp.where(closed & ~slipping, jnp.abs(T) <= mu * N + tol, True), axis=1)
+            & jnp.all(jnp.where(slipping, signs * slid <= tol, True), axis=1)
+            & jnp.all(jnp.where(closed, N >= -tol, N <= tol), axis=1))
+    score = jnp.where(good, 10 + jnp.sum(codes == 0, axis=1) + 4 * jnp.sum(closed, axis=1), 0)
+    best = jnp.argmax(score)
+    return N[best], T[best], good[best]
+
+
+class Line(NamedTuple):
+    """A straight path: p is mm of travel s along the basis direction (B = 1), from 0."""
+
+    def basis(self, p):
+        return p[None]
+
+    def heading(self, pads, p):
+        return jnp.ones(1) / _pad_speed(pads, jnp.ones(1))
+
+    def ahead(self, p):
+        return None
+
+    def first_descent(self, f0, A, p0):
+        """Travel to where f0 + A (s - s0) falls through zero (f0 > 0); A (..., B)."""
+        rate = A[..., 0]
+        falls = (rate < 0.0) & (f0 > LIMIT_TOL)
+        return jnp.where(falls, f0 / jnp.where(falls, -rate, 1.0), NO_EVENT)
+
+    def reversal(self, A, p0):
+        return jnp.full(A.shape[:-1], NO_EVENT)
+
+
+class Ellipse(NamedTuple):
+    """X(tau) = s_a (X_r cos tau - X_i sin tau): p is tau (rad), basis s_a (cos tau, -sin tau)."""
+
+    s_a: jnp.ndarray  # mm of s: the path's size
+
+    def basis(self, p):
+        return self.s_a * jnp.stack([jnp.cos(p), -jnp.sin(p)])
+
+    def heading(self, pads, p):
+        """Basis weights of the direction of motion at tau, at unit pad speed (at a turning point
+        of a degenerate ellipse, the direction just after it)."""
+        v = jnp.stack([-jnp.sin(p), -jnp.cos(p)])
+        unit = jnp.maximum(_pad_speed(pads, jnp.array([1.0, 0.0])),
+                           _pad_speed(pads, jnp.array([0.0, 1.0])))
+        turning = _pad_speed(pads, v) <= 1e-9 * unit
+        v = jnp.where(turning, jnp.stack([-jnp.sin(p + 1e-6), -jnp.cos(p + 1e-6)]), v)
+        speed = _pad_speed(pads, v)
+        return v / jnp.where(speed > 0.0, speed, 1.0)
+
+    def ahead(self, p):
+        return self.basis(p + LOOKAHEAD) - self.basis(p)
+
+    def first_descent(self, f0, A, p0):
+        """rad from tau0 to the first zero after tau0 where f = f0 + A.(phi(tau) - phi(tau0))
+        falls; a dip of LIMIT_TOL or less is a touch, not a crossing (a pad that reaches its
+        limit exactly at a turning point, where rounding would split the double root)."""
+        alpha, beta = self.s_a * A[..., 0], -self.s_a * A[..., 1]
+        c = f0 - alpha * jnp.cos(p0) - beta * jnp.sin(p0)
+        return _sinusoid_descent(c, alpha, beta, p0, LIMIT_TOL)
+
+    def reversal(self, A, p0):
+        """rad to where the slip rate s A.phi'(tau) turns from sliding against friction (<= 0)
+        to along it; A (..., B) = s dslip."""
+        # s p'(tau) = s_a (-A_0 sin tau - A_1 cos tau): it turns positive where
+        # f = s_a (A_1 cos tau + A_0 sin tau) falls through zero.
+        return _sinusoid_descent(0.0, self.s_a * A[..., 1], self.s_a * A[..., 0], p0, 0.0)
+
+
+def _pad_speed(pads: Pads, v):
+    """Largest platform speed at a pad for basis weights v (B,)."""
+    return jnp.max(jnp.abs(jnp.concatenate([v @ pads.nw, v @ pads.tw])))
+
+
+def _sinusoid_descent(c, alpha, beta, tau0, depth_tol):
+    """rad from tau0 to the first zero of f = c + alpha cos tau + beta sin tau after tau0 where f
+    falls (NO_EVENT where it never does, or dips by depth_tol or less). Guarded for gradients."""
+    rho2 = alpha * alpha + beta * beta
+    rho_safe = jnp.sqrt(jnp.where(rho2 > 1e-300, rho2, 1.0))
+    has = (rho2 > 1e-300) & (c * c < rho2) & (rho_safe - c > depth_tol)
+    rho = jnp.sqrt(jnp.where(has, rho2, 1.0))
+    phase = jnp.arctan2(jnp.where(has, beta, 0.0), jnp.where(has, alpha, 1.0))
+    x = jnp.where(has, -c / rho, 0.0)
+    # f = c + rho cos(tau - phase) falls through zero where tau - phase = arccos(-c / rho).
+    t = jnp.mod(phase + jnp.arccos(x) - tau0, 2.0 * jnp.pi)
+    t = jnp.where(t <= TAU_TOL, t + 2.0 * jnp.pi, t)  # a touch at tau0 itself is not an event
+    return jnp.where(has, t, NO_EVENT)
+
+
+class Tracts(NamedTuple):
+    """The tracts of a run (leading tract axis). The forces of tract k at p are
+    N0 + dN . (phi(p) - phi(p0)), likewise T and the slip; state per pad."""
+
+    p0: jnp.ndarray  # (nt,) where the tract starts (mm of travel, or rad)
+    dp: jnp.ndarray  # (nt,) its length
+    N0: jnp.ndarray  # (nt, P) forces at its start, units of F_D (open pads: kn * (-gap))
+    T0: jnp.ndarray
+    dN: jnp.ndarray  # (nt, B, P)
+    dT: jnp.ndarray
+    dslip: jnp.ndarray
+    state: jnp.ndarray  # (nt, P) STICK / SLIP / OPEN
+    active: jnp.ndarray  # (nt,) bool
+    N_end: jnp.ndarray  # (P,) forces at the run's end
+    T_end: jnp.ndarray
+    p_end: jnp.ndarray  # where the run ended
+    gross_slip: jnp.ndarray  # bool: a run to gross slip reached it
+    # RESULTS code: ok; unseated (no consistent state set with a pad open or at N = 0: the closed
+    # pads cannot hold the damper); singular (no consistent set otherwise, no event before gross
+    # slip, or the tracts ran out)
+    status: jnp.ndarray
+
+
+def _rows(n_pads: int, n_basis: int) -> dict:
+    f = jax.ShapeDtypeStruct((), float)
+    v = jax.ShapeDtypeStruct((n_pads,), float)
+    m = jax.ShapeDtypeStruct((n_basis, n_pads), float)
+    return dict(p0=f, dp=f, N0=v, T0=v, dN=m, dT=m, dslip=m,
+                state=jax.ShapeDtypeStruct((n_pads,), int), active=jax.ShapeDtypeStruct((), bool))
+
+
+def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
+        loop: str = "scan") -> Tracts:
+    """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
+    (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
+    where no force changes any more. loop: as `loops.bounded_loop`. Unchecked, traceable."""
+    to_gross = p_end is None
+    n_pads, n_basis = N.shape[0], pads.nw.shape[0]
+    scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
+    mu = jnp.broadcast_to(pads.mu, N.shape)
+    p_start = jnp.asarray(p_start, float)
+    span = jnp.abs(jnp.asarray(1.0 if to_gross else p_end, float) - p_start) + 1.0
+    init = dict(N=N, T=T, p=p_start, done=jnp.array(False), gross=jnp.array(False),
+                failed=jnp.array(False), unseated=jnp.array(False))
+
+    def step(carry, _):
+        N, T, p0 = carry["N"], carry["T"], carry["p"]
+        heading = path.heading(pads, p0)
+        ch = choose(pads, N, T, heading, path.ahead(p0))
+        stick = ch.closed & ~ch.slipping
+        dN_h, dT_h = heading @ ch.dN, heading @ ch.dT
+        # Gross slip: no closed pad's force changes any more, and no open pad's gap closes.
+        frozen = jnp.max(jnp.where(ch.closed, jnp.maximum(jnp.abs(dN_h), jnp.abs(dT_h)),
+                                   jnp.maximum(dN_h, 0.0))) <= RATE_TOL * scale
+        gross = ch.consistent & frozen
+
+        def event(f0, A, where):  # a quantity that must stay >= 0 falls through zero
+            return jnp.where(where, path.first_descent(f0, A, p0), NO_EVENT)
+
+        tr = lambda x: jnp.swapaxes(x, 0, 1)  # noqa: E731  (B, P) -> (P, B)
+        mu_b = mu[None]  # against the (B, P) rates
+        up = event(mu * N - T, tr(mu_b * ch.dN - ch.dT), stick)
+        down = event(mu * N + T, tr(mu_b * ch.dN + ch.dT), stick)
+        opens = event(N, tr(ch.dN), ch.closed)
+        closes = event(-N, tr(-ch.dN), ~ch.closed)
+        rev = jnp.where(ch.slipping, path.reversal(tr(ch.signs[None] * ch.dslip), p0), NO_EVENT)
+        cand = jnp.stack([up, down, opens, closes, rev])  # (5 kinds, P pads)
+        flat = jnp.argmin(cand.reshape(-1))
+        kind, pad = flat // n_pads, flat % n_pads
+        d_event = cand.reshape(-1)[flat]
+        if to_gross:
+            live = ~carry["done"]
+            failed_now = ~ch.consistent | (~gross & (d_event >= NO_EVENT))
+            advance = live & ~gross & ~failed_now
+            by_end = jnp.array(False)
+            dp = jnp.where(advance, d_event, 0.0)
+        else:
+            d_end = p_end - p0
+            live = ~carry["done"] & (d_end > TRAVEL_TOL * span)
+            failed_now = ~ch.consistent
+            advance = live & ~failed_now
+            by_end = d_end <= d_event
+            dp = jnp.where(advance, jnp.where(by_end, d_end, d_event), 0.0)
+        p1 = p0 + dp
+        dphi = path.basis(p1) - path.basis(p0)
+        N1 = N + dphi @ ch.dN
+        T1 = T + dphi @ ch.dT
+        # Snap: slipping pads stay on their limit line, open pads carry no T, the event pad lands
+        # on its limit, opens or closes.
+        T1 = jnp.where(ch.slipping, ch.signs * mu * N1, T1)
+        T1 = jnp.where(ch.closed, T1, 0.0)
+        at_event = advance & ~by_end
+        hit = at_event & (jnp.arange(n_pads) == pad)
+        T1 = jnp.where(hit & (kind == 0), mu * N1, T1)
+        T1 = jnp.where(hit & (kind == 1), -mu * N1, T1)
+        N1 = jnp.where(hit & ((kind == 2) | (kind == 3)), 0.0, N1)
+        T1 = jnp.where(hit & ((kind == 2) | (kind == 3)), 0.0, T1)
+        state = jnp.where(ch.closed, jnp.where(ch.slipping, SLIP, STICK), OPEN)
+        out = dict(p0=p0, dp=dp, N0=N, T0=T, dN=ch.dN, dT=ch.dT, dslip=ch.dslip, state=state,
+                   active=advance)
+        new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
+                   p=jnp.where(advance, jnp.where(by_end, p_end if not to_gross else p1, p1), p0),
+                   done=(carry["done"] | ~live | (live & failed_now) | (advance & by_end)
+                         | (to_gross & live & gross)),
+                   gross=carry["gross"] | (live & gross),
+                   failed=carry["failed"] | (live & failed_now),
+                   # No consistent set with a pad open or at N = 0: the closed pads cannot hold
+                   # the damper (a failure of the design, not of the solve).
+                   unseated=carry["unseated"] | (live & ~ch.consistent
+                                                 & jnp.any(N <= LIMIT_TOL)))
+        return new, out
+
+    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis))
+    failed = end["failed"] | ~end["done"]
+    status = jnp.where(failed, jnp.where(end["unseated"], jnp.int32(RESULTS.unseated),
+                                         jnp.int32(RESULTS.singular)), jnp.int32(RESULTS.ok))
+    return Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"], gross_slip=end["gross"],
+                  status=status)
+
+
+def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
+    """A Tracts of zeros (the initial value of an iteration over runs)."""
+    zp = jnp.zeros(n_pads)
+    return Tracts(**zeros_of(_rows(n_pads, n_basis), max_tracts), N_end=zp, T_end=zp,
+                  p_end=jnp.zeros(()), gross_slip=jnp.array(False), status=jnp.zeros((), jnp.int32))
+
+
+__all__ = ["Pads", "Rates", "Choice", "Line", "Ellipse", "Tracts", "candidate_table", "choose",
+           "assemble", "run", "empty_tracts", "TAU_TOL", "TRAVEL_TOL", "NO_EVENT", "LOOKAHEAD"]
