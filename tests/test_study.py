@@ -422,3 +422,43 @@ def test_report_shows_the_gaps_and_the_peak_response(full):
     a = s["peak_response"]["results"]["60sym"]["0.5"]["exact"]["amplitude_mm"][0]
     assert f"| 60sym | 0.5 | {a:.3f} |" in report
     assert "| 74L | 0.7 | LIFTOFF |" in report
+
+
+@pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
+def test_the_platform_claim_is_computed_and_reported(full):
+    from jaxdamp.paper.claim import CLAIM_AMPLITUDES_MRAD, CLAIM_PHIS_DEG
+
+    out, summary = full
+    claim = summary["platform_claim"]
+    assert {c["damper"] for c in claim["curves"]} == {"60sym", "wedge"}
+    assert len(claim["curves"]) == 2 * len(summary["meta"]["mus"]) * len(CLAIM_AMPLITUDES_MRAD)
+    for c in claim["curves"]:
+        assert [r["ibpa_deg"] for r in c["rows"]] == list(CLAIM_PHIS_DEG)
+        assert len(c["pads"]) == (4 if c["damper"] == "wedge" else 3)
+        first = c["rows"][0]
+        assert first["status"] == "ok" and first["k_im_over_in_phase"] == 1.0
+    report = (out / "report.md").read_text()
+    assert "# Curved-flat against wedge on every platform motion" in report
+
+
+def test_the_claim_section_counts_what_its_table_shows():
+    from jaxdamp.paper.claim import claim_section
+    from jaxdamp.paper.report import Doc
+
+    def curve(damper, pads, opened, status):
+        return {"damper": damper, "pads": pads, "mu": 0.5, "amplitude_mrad": 10.0,
+                "rows": [{"ibpa_deg": p, "status": s, "k_im_over_in_phase": 1.0 - p / 360,
+                          "open_fraction": o} for p, o, s in zip((0.0, 90.0, 180.0), opened, status)]}
+
+    claim = {"h_c_mm": 20.0, "h_l_mm": 10.0, "wedge_br2_over_hr": 0.8, "curves": [
+        curve("60sym", ["R1", "L1", "L2"], [[0.0] * 3] * 3, ["ok", "ok", "shakedown"]),
+        curve("wedge", ["R1", "R2", "L1", "L2"], [[0.0] * 4, [0.25, 0.0, 0.1, 0.0], [0.5] * 4],
+              ["ok", "ok", "unseated"])]}
+    doc = Doc("t")
+    claim_section(doc, claim, [])
+    text = doc.markdown()
+    assert "| 60sym | 0.5 | 10 | 1.00 / 0.00 | 0.75 / 0.00 | 0.50 / 0.00 |" in text
+    assert "| wedge | 0.5 | 10 | 1.00 / 0.00 | 0.75 / 0.25 | unseated |" in text
+    assert "- 60sym: no pad opens at any phase angle, amplitude or μ." in text
+    assert ("- wedge: a pad opens in 1 of 2 valid cycles, for up to 25.00 % of the period "
+            "(μ = 0.5, a = 10 mrad, φ = 90°); 1 without a valid cycle.") in text

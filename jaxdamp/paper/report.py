@@ -9,6 +9,7 @@ from __future__ import annotations
 import html
 import re
 
+from .claim import PLATFORM_CLAIM_SECTION, claim_section
 from .scoring import MARK_SYMBOLS
 
 FIVE = (("psi_fs_mrad", "ψ_fs (mrad)", 3), ("k_re_fs", "k_Re,fs (N mm/mrad)", 0),
@@ -201,7 +202,9 @@ def build_report(summary: dict) -> Doc:
     _work(doc, res, summary.get("energies", {}), shapes)
     _statics(doc, summary.get("statics", {}), shapes)
     _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}), shapes)
-    _figures(doc, [f for f in figures if f.get("section") != KEY_FIGURE_SECTION], shapes)
+    claim_section(doc, summary.get("platform_claim"), figures)
+    _figures(doc, [f for f in figures if f.get("section") not in (KEY_FIGURE_SECTION,
+                                                                   PLATFORM_CLAIM_SECTION)], shapes)
     return doc
 
 

@@ -9,6 +9,7 @@ Writes into the output directory:
   {shape: {mu: exact k(psi_a) from both named initial states, the band over all admissible initial
   states, the paper's interpolation and its largest gap to the band}}; "peak_response": the peak
   blade response A* and its frequency at PEAK_FORCES_N for the default BladeMode;
+  "platform_claim": 60sym against a wedge over the interblade phase angle (`claim.py`);
 - `figures/*.png`, `tables/*.csv`, `report.md` and `report.html`.
 
 Every jit-compiled function is compiled once and reused across shapes and mu (same array shapes).
@@ -26,6 +27,7 @@ import numpy as np
 
 from .. import __version__
 from ..status import RESULTS
+from .claim import platform_claim
 from .files import atomic_file, write_text
 
 SCHEMA_VERSION = 2  # study.json: 2 adds "status", "schema_version", "jaxdamp_version"
@@ -457,6 +459,8 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
             if progress is not None:
                 progress.update(1)
     t_peaks = time.perf_counter() - t0 - t_cases - t_band
+    claim = platform_claim(mus, contacts, load, progress)  # curved-flat against wedge (claim.py)
+    t_claim = time.perf_counter() - t0 - t_cases - t_band - t_peaks
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
@@ -480,10 +484,11 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
         "stiffness_band": stiffness_band,
         "peak_response": {"mode": blade_mode_dict(), "forces_n": [float(f) for f in peak_forces],
                           "results": peaks},
+        "platform_claim": claim,
         "meta": {"shapes": list(shapes), "mus": [mu_key(m) for m in mus], "version": _version(),
                  "jax": jax.__version__, "runtime_s": time.perf_counter() - t0,
                  "runtime_parts_s": {"base_cycles": t_cases, "stiffness_band": t_band,
-                                     "peak_response": t_peaks}},
+                                     "peak_response": t_peaks, "platform_claim": t_claim}},
     }
     return summary, cycles, summaries
 

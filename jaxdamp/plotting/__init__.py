@@ -19,10 +19,12 @@ from .study import run_study as run_study
 from .study import study_figures as study_figures
 from .amplitude import amplitude_stiffness_data as amplitude_stiffness_data
 from .amplitude import plot_amplitude_stiffness as plot_amplitude_stiffness
+from .motions import plot_ibpa_claim as plot_ibpa_claim
 
 
 __all__ = ["default_amplitudes", "force_track", "mu_color", "plot_complex_stiffness",
            "plot_energy", "plot_equilibrium_tracks", "plot_family_comparison",
            "plot_moment_cycles", "plot_section", "plot_stretched_cycles",
            "section_lines_of_action", "heatmap_figure", "write_sweep", "key_figure", "run_study",
-           "study_figures", "amplitude_stiffness_data", "plot_amplitude_stiffness"]
+           "study_figures", "amplitude_stiffness_data", "plot_amplitude_stiffness",
+           "plot_ibpa_claim"]

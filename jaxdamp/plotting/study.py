@@ -8,6 +8,7 @@ import time
 from pathlib import Path
 
 from ..paper.files import save_figure
+from ..paper.claim import PLATFORM_CLAIM_SECTION
 from ..paper.report import KEY_FIGURE_SECTION
 from ..paper.study import (DEFAULT_MU, DEFAULT_SHAPES, check_study_inputs, compute_study, mu_key,
                            paper_values, write_study)
@@ -80,6 +81,16 @@ def _study_figures(cycles, summaries, summary):
     yield (P.plot_family_comparison(summary["results"], paper_values()), "family.png",
            "The family side by side: the five numbers and w_M for each μ; black ticks: the paper's "
            "Tables B3.1-B5.1.", "Family comparison (Table 11)")
+    claim = summary.get("platform_claim")
+    if claim:
+        yield (P.plot_ibpa_claim(claim["curves"], title=(
+                   "60sym (curved-flat, solid) and the 60/60 wedge (dashed) against the interblade "
+                   f"phase angle: h_C = {claim['h_c_mm']:g} mm, h_L = {claim['h_l_mm']:g} mm, from "
+                   "assembly (x: no valid cycle)")), "platform_claim.png",
+               "The curved-flat damper (60sym) and the wedge of the same base angles against the "
+               "interblade phase angle (the paper's Fig. 4 kinematics): damping per mrad of blade "
+               "rotation relative to in-phase (top) and the fraction of the period each pad is "
+               "open (bottom).", PLATFORM_CLAIM_SECTION)
     if "60sym" in cycles and mu_key(0.7) in cycles["60sym"]:
         yield (key_figure(cycles["60sym"][mu_key(0.7)], summaries["60sym"][mu_key(0.7)]), "key_figure.png",
                "60sym, μ = 0.7: stretched moment cycles with their first harmonics (left) and the complex "
@@ -192,8 +203,8 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     t0 = time.perf_counter()
     check_study_inputs(shapes, mus, kn, kt)
     out = Path(out)
-    n_fig = (6 * len(shapes) + 2 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
-    bar = tqdm(total=3 * len(shapes) * len(mus) + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
+    n_fig = (6 * len(shapes) + 3 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
+    bar = tqdm(total=3 * len(shapes) * len(mus) + 2 + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
     summary, cycles, summaries = compute_study(shapes, mus, kn, kt, bar)
     if figures:
         bar.set_description("Figures")
