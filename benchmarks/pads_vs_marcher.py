@@ -36,7 +36,7 @@ K_TOL = 1e-4  # of max(|k_Re|, |k_Im|): the issue's tolerance
 FRACTION_TOL = 2.0 / STEPS[-1]  # two of the finest marcher's steps
 
 
-def main(n_cases: int = 200) -> dict:
+def main(n_cases: int = 230) -> dict:
     jax.config.update("jax_enable_x64", True)
     import jaxdamp as jd
     from jaxdamp.baselines import march_ellipse
@@ -128,4 +128,4 @@ def main(n_cases: int = 200) -> dict:
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 200)
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 230)

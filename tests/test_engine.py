@@ -197,3 +197,24 @@ def test_derivatives_through_opening_pads_match_central_differences():
         e = jnp.zeros(2).at[i].set(h)
         fd = (f(x + e) - f(x - e)) / (2 * h)
         assert_tree_allclose(jac[:, i], fd, rtol=1e-5, atol=1e-6 * float(jnp.max(jnp.abs(f(x)))))
+
+
+@pytest.mark.slow  # the reverse derivative program of the wedge's elliptic kernel
+def test_reverse_mode_through_opening_pads_matches_central_differences():
+    """d k_Im / d(theta_L, kn, kt) by reverse mode (the masked scans' transpose) for the wedge with
+    pads that open, against central differences, away from switches."""
+    _, mu, c, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
+
+    def k_im(x):
+        shape = jd.DamperShape(x[0], 50.0, 0.0, 0.6, None, 0.8)
+        contacts = jd.Contacts(x[1] * jnp.ones(4), x[2] * jnp.ones(4))
+        return elliptic_kernel(shape, mu, contacts, load, jnp.asarray(20.0), PATH).k_im
+
+    x = jnp.array([70.0, 17900.0, 3580.0])
+    grad = jax.jit(jax.grad(k_im))(x)
+    f = jax.jit(k_im)
+    assert np.all(np.isfinite(np.asarray(grad)))
+    for i, h in enumerate((1e-4, 1e-1, 1e-2)):
+        e = jnp.zeros(3).at[i].set(h)
+        fd = (f(x + e) - f(x - e)) / (2 * h)
+        assert_tree_allclose(grad[i], fd, rtol=1e-5, atol=1e-9 * float(abs(f(x))))
