@@ -13,6 +13,7 @@ NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
 def register(sub) -> None:
     p = sub.add_parser("cycle", help="the Base-Cycle: five numbers, transitions, energies")
     C.add_design_args(p)
+    C.add_damper_args(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
 
@@ -72,6 +73,7 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
 def run(args) -> int:
     from ..params import prepare_inputs
 
+    C.refuse_wedge(args, "cycle", "the Base-Cycle starts from the full-slip statics of three pads")
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     shape = C.shape_from_args(args)
     # A saved program (exported.call): a repeat call neither traces nor lowers it, which was

@@ -37,6 +37,7 @@ def register(sub) -> None:
     p = sub.add_parser("response", help="blade forced response with the damper: peaks, FRFs, "
                        "designer's diagram", description=__doc__ + "\n" + STIFFNESS_NOTE)
     C.add_design_args(p, mu_default=0.5)
+    C.add_damper_args(p)
     g = p.add_argument_group("blade mode (illustrative defaults, see jaxdamp.response.BladeMode)")
     g.add_argument("--f0-hz", type=float, default=m.f0_hz,
                    help=f"frequency with the platforms free, Hz, > 0 (default {m.f0_hz:g})")
@@ -140,6 +141,8 @@ def prepare(args):
     """Every check before any work, once: (the Scene, the forces, the shape, contacts and load as
     the flags give them, for the echo). The library checks each input once (`prepare_scene`); the
     compiled programs take the Scene as it is."""
+    C.refuse_wedge(args, "response", "the damper's k(psi) and its amplitude scale come from the "
+                   "paper's Base-Cycle")
     shape = C.shape_from_args(args, check=False)
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)

@@ -42,7 +42,9 @@ class RowResponse(NamedTuple):
     engine_order, nodal_diameter, ibpa_deg: (m,); frequency_hz: (m,) the nodal diameter's natural
     frequency with the platforms free. peaks: `Peaks` with fields (m, n_f) (mm, Hz, mrad of the
     path's parameter), its status the damper's unless the steady cycle at the peak says more
-    (liftoff where a pad opens there, not_converged, shakedown where the damper sticks). free_peak_mm: (m, n_f) the peak without the
+    (liftoff where a pad opens there on a straight path; on an elliptic one a pad that opens
+    is part of the cycle, and unseated says that no set of pads holds the damper; not_converged;
+    shakedown where the damper sticks). free_peak_mm: (m, n_f) the peak without the
     damper, F_tip / (eta k_b) (a stuck damper gives the same peak, at its stiffened frequency).
     tip_force_n: (m, n_f) the tip force of each excitation. worst: (n_f,) index of the engine
     order with the largest valid damped peak (-1 where none is valid). elliptic: (m,) whether the
@@ -104,8 +106,9 @@ def row_program(initial: str = "assembly"):
             damper = path_damper(shape, mu, contacts, load, motion, initial, loop=ROW_LOOP,
                                  repeats=ROW_REPEATS)
             peaks = peak_response(damper, mode, forces, differentiable=False)
-            # The steady cycle at each peak: a pad that opens there, or a cycle that does not
-            # settle, makes the peak's numbers meaningless even where the curve's grid missed it;
+            # The steady cycle at each peak: a pad that opens there (a straight path), a damper
+            # unseated (an ellipse), or a cycle that does not settle, makes the peak's numbers
+            # meaningless even where the curve's grid missed it;
             # a damper that sticks there (shakedown: no dissipation) is said too.
             at_peak = jax.vmap(lambda a: path_cycle_kernel(shape, mu, contacts, load, a, motion,
                                                            initial, ROW_LOOP, ROW_REPEATS)[2])(
