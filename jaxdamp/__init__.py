@@ -102,6 +102,7 @@ from .motion import general_motion as general_motion
 from .ellipse import EllipticCycle as EllipticCycle
 from .ellipse import elliptic_cycle as elliptic_cycle
 from .ellipse import interblade_sweep as interblade_sweep
+from .ellipse import elliptic_transitions_chart as elliptic_transitions_chart
 from .ellipse import elliptic_kernel as elliptic_kernel
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
@@ -208,6 +209,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "cycle_work", "moment", "CycleEnergy", "WorkShapeFactors", "contact_energies",
            "work_shape_factors", "Motion", "in_phase_motion", "interblade_motion",
            "straight_motion", "general_motion", "EllipticCycle", "elliptic_cycle", "interblade_sweep",
+           "elliptic_transitions_chart",
            "elliptic_kernel", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
            "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",

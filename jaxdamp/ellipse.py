@@ -42,7 +42,7 @@ from .amplitude import check_admissible
 from .conventions import CENTRIFUGAL_LOAD, interblade_direction, travel_mm, warn_small_rotation
 from .engine import Ellipse, Line, Pads, Tracts, assemble, empty_tracts
 from .engine import run as run_tracts
-from .geometry import DamperShape, is_wedge, pad_geometry
+from .geometry import DamperShape, is_wedge, pad_geometry, pad_names
 from .half import TRAVEL_TOL, accelerate
 from .linalg import generalized
 from .loops import repeat_until, run_by_loop
@@ -50,14 +50,15 @@ from .motion import (Motion, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .status import RESULTS, number_repr, status_repr
-from .tract import OPEN, SLIP
+from .tract import OPEN, SLIP, STATE_NAMES
 
 MAX_TRACTS = 32  # per period: each pad may stick and slip twice per turn of the ellipse
 MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
 CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 INITIAL_STATES = ("assembly", "gross_slip")
 
-__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "path_pads",
+__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep",
+           "elliptic_transitions_chart", "path_pads",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
 
@@ -353,3 +354,22 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     motion = Motion(jnp.asarray(x.real), jnp.full(phis.size, float(h_l_mm)), jnp.asarray(x.imag))
     return _sweep_kernel(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
                          initial=initial)
+
+
+def elliptic_transitions_chart(ec: EllipticCycle) -> list[dict]:
+    """The contact-state chart of a steady elliptic cycle: one row per tract of its period,
+    tau_start_deg and tau_end_deg (degrees of the period) and the state of every pad
+    (`geometry.pad_names`: stick, slip or open), so that the intervals in which a pad is open
+    read off directly (like `cycle.transitions_chart`). Empty for a result without valid
+    numbers."""
+    if not bool(RESULTS.valid(ec.status)):
+        return []
+    period = ec.period
+    rows = []
+    for k in np.flatnonzero(np.asarray(period.active)):
+        t0 = float(period.p0[k])
+        rows.append(dict(tau_start_deg=float(np.rad2deg(t0)),
+                         tau_end_deg=float(np.rad2deg(t0 + float(period.dp[k]))),
+                         **{name: STATE_NAMES[int(s)] for name, s in
+                            zip(pad_names(ec.shape), np.asarray(period.state[k]))}))
+    return rows

@@ -188,6 +188,12 @@ def test_a_wedge_runs_on_the_engine_with_its_pads_in_the_json(capsys):
     assert list(row["open_fraction"].values()) == pytest.approx(np.asarray(ref.open_fraction).tolist(),
                                                                 abs=1e-12)
     assert max(row["open_fraction"].values()) > 0.1
+    # The contact-state chart covers the period, and its open intervals are the open fractions.
+    tracts = row["tracts"]
+    assert tracts[0]["tau_start_deg"] == 0.0 and tracts[-1]["tau_end_deg"] == pytest.approx(360.0)
+    for pad, fraction in row["open_fraction"].items():
+        spans = sum(t["tau_end_deg"] - t["tau_start_deg"] for t in tracts if t[pad] == "open")
+        assert spans / 360.0 == pytest.approx(fraction, abs=1e-12)
     code, out, err = run(capsys, "amplitude", "--theta-l", "70", "--theta-r", "50", "--br", "0.1",
                          "--damper", "wedge", "--mu", "0.5", "--psi-a", "5")
     assert code == 2 and out == "" and "--br places the curved-flat damper's pad R1" in err

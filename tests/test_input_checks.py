@@ -36,6 +36,7 @@ CHECKED = {
 # Take a result made (and checked) by a checked function: a BaseCycle, a batched Design from
 # `stack_designs`, checked contacts and load.
 TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness", "evaluate_designs",
+                  "elliptic_transitions_chart",
                   "validated_range_violations"}
 # Unchecked, traceable helpers (building blocks of the kernels, used inside jit/vmap/grad): their
 # docstrings say "unchecked" and "traceable".

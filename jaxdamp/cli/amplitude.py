@@ -11,7 +11,9 @@ ellipse), `--motion du,dv,dtheta` any path (mm, mm, mrad per mrad of --psi-a; co
 re+imj: an ellipse unless real up to one common phase). Both need the damper's size --h-l (its
 left flank's length, mm) where the platforms turn; k is then that of the modal force
 (jaxdamp.motion), and each row adds energy_nmm and slip_fraction per pad and
-dissipated_energy_nmm. On an ellipse the default history is assembly; its gross slip is a straight
+dissipated_energy_nmm; on the tract engine (an ellipse, or a wedge) also open_fraction per pad and
+tracts, the contact-state chart (tau_start_deg, tau_end_deg, each pad's state), whose open
+intervals the text lists. On an ellipse the default history is assembly; its gross slip is a straight
 move along the path's tau = 0 direction until every pad slips (docs/motions.md).
 
 k_Re, k_Im in N mm/mrad (the Base-Cycle's sign and units), psi_a in mrad. JSON:
@@ -64,6 +66,17 @@ def _amplitudes(text: str) -> list[float]:
     return values
 
 
+def _merged(spans):
+    """Adjacent (start, end) intervals joined: a pad open over several tracts is one interval."""
+    out = []
+    for a, b in spans:
+        if out and abs(out[-1][1] - a) < 1e-9:
+            out[-1] = (out[-1][0], b)
+        else:
+            out.append((a, b))
+    return out
+
+
 def motion_from_args(args, load):
     """The jaxdamp.Motion of --ibpa / --motion (None: the paper's in-phase motion), checked."""
     from ..motion import general_motion, interblade_motion
@@ -98,7 +111,7 @@ def run(args) -> int:
     import numpy as np
 
     from ..amplitude import INITIAL_STATES, amplitude_cycle, slip_fraction
-    from ..ellipse import elliptic_cycle
+    from ..ellipse import elliptic_cycle, elliptic_transitions_chart
     from ..geometry import is_wedge, pad_names
     from ..motion import in_phase_motion
     from ..params import prepare_inputs
@@ -149,6 +162,7 @@ def run(args) -> int:
                        energy_nmm=per_pad(ac.energy), slip_fraction=per_pad(fractions))
             if elliptic:
                 row["open_fraction"] = per_pad(ac.open_fraction)
+                row["tracts"] = elliptic_transitions_chart(ac)
         if args.band:
             from ..band import amplitude_band
 
@@ -195,6 +209,12 @@ def run(args) -> int:
             line += (f"   [{fmt(b['k_re_min'])}, {fmt(b['k_re_max'])}]"
                      f"   [{fmt(b['k_im_min'])}, {fmt(b['k_im_max'])}]")
         lines.append(line)
+        opened = {p: [(t["tau_start_deg"], t["tau_end_deg"]) for t in r.get("tracts", [])
+                      if t[p] == "open"] for p in r.get("open_fraction", {})}
+        for pad, spans in opened.items():
+            if spans:
+                lines.append(f"{'':8} {pad} open over tau = " + ", ".join(
+                    f"{a:.1f}-{b:.1f}" for a, b in _merged(spans)) + " deg")
     lines += [f"  WARNING: {m}" for m in warned]
     C.emit(args, doc, "\n".join(lines))
     return 0
