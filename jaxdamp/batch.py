@@ -25,7 +25,7 @@ from ._validate import require_x64
 from .cycle import MAX_PAIRS, MAX_TRACTS, BaseCycle, base_cycle_kernel
 from .design import Design
 from .energy import work_shape_factors
-from .geometry import DamperShape, validate_shape
+from .geometry import WEDGE_REFUSED, DamperShape, validate_shape
 from .harmonics import five_numbers
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .runtime import batch_jit, padded_size
@@ -92,6 +92,8 @@ def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts
         shapes = list(shapes)
         if not shapes or not all(isinstance(s, DamperShape) for s in shapes):
             raise ValueError("shapes must be a DamperShape or a non-empty sequence of DamperShape")
+        if any(s.br2_over_hr is not None for s in shapes):  # stacking the fields would drop it
+            raise ValueError(WEDGE_REFUSED)
         with_xd = [s.x_d is not None for s in shapes]
         if any(with_xd) and not all(with_xd):
             raise ValueError("x_d must be given for every shape or for none")

@@ -33,8 +33,8 @@ class DamperShape(NamedTuple):
     br2_over_hr: None for the paper's curved-flat damper (one curved pad R1 on the right flank);
         a number in (0, 1] makes it a wedge: two pads R1 (upper) and R2 (lower) at +-b from the
         right flank's midpoint, 2 b = br2_over_hr h_R (br_over_hr is then unused). A wedge is
-        computed on platform paths (`path_cycle`, `elliptic_cycle`, MODEL.md "Any in-plane
-        motion"); the in-phase Base-Cycle and statics take the curved-flat damper only.
+        computed on platform paths (`elliptic_cycle`, `interblade_sweep`, MODEL.md "Any in-plane
+        motion"); the in-phase Base-Cycle, statics and batches take the curved-flat damper only.
     """
 
     theta_l: jnp.ndarray | float
@@ -45,9 +45,17 @@ class DamperShape(NamedTuple):
     br2_over_hr: jnp.ndarray | float | None = None
 
 
-def validate_shape(shape: DamperShape) -> DamperShape:
+WEDGE_REFUSED = ("br2_over_hr: this function computes the curved-flat damper only (leave "
+                 "br2_over_hr None); a wedge runs on platform paths: elliptic_cycle, "
+                 "interblade_sweep, jaxdamp amplitude --damper wedge")
+
+
+def validate_shape(shape: DamperShape, *, wedge_ok: bool = False) -> DamperShape:
     """Raise ValueError naming the parameter and its valid range (concrete values only; the ranges
-    are `params.RANGES`)."""
+    are `params.RANGES`). wedge_ok: the caller computes a wedge (`br2_over_hr`); every other
+    caller refuses one (WEDGE_REFUSED)."""
+    if shape.br2_over_hr is not None and not wedge_ok:
+        raise ValueError(WEDGE_REFUSED)
     for name in ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl"):
         check_param(name, getattr(shape, name))
     if shape.x_d is not None:
@@ -182,7 +190,7 @@ def platform_moment(shape: DamperShape, load, N, T):
     return rowdot(N, fn) + rowdot(T, ft)
 
 
-__all__ = ["CONTACT_NAMES", "WEDGE_PAD_NAMES", "FAMILY", "DamperShape", "validate_shape", "is_wedge",
+__all__ = ["CONTACT_NAMES", "WEDGE_PAD_NAMES", "WEDGE_REFUSED", "FAMILY", "DamperShape", "validate_shape", "is_wedge",
            "pad_names", "pad_geometry", "paper_tables",
            "family_shape", "SectionGeometry", "section_geometry", "full_slip_slide_rates",
            "platform_moment_coefficients", "platform_moment"]

@@ -160,12 +160,8 @@ def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase, *, wedge_ok: b
     solver computes a wedge (`DamperShape.br2_over_hr`); the others refuse one."""
     require_x64()
     wedge = shape.br2_over_hr is not None
-    if wedge and not wedge_ok:
-        raise ValueError("br2_over_hr: this function computes the curved-flat damper only (leave "
-                         "br2_over_hr None); a wedge runs on platform paths: elliptic_cycle, "
-                         "path_cycle, jaxdamp cycle/amplitude --damper wedge with --ibpa or --motion")
     if wedge or not fast_ok(shape, mu, contacts, load):
-        validate_shape(shape)
+        validate_shape(shape, wedge_ok=wedge_ok)
         validate_mu(mu)
         validate_contacts(contacts)
         validate_load(load)

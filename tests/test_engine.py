@@ -152,8 +152,11 @@ def test_the_curved_flat_damper_on_the_engine_keeps_its_straight_path_numbers():
 
 
 def test_a_wedge_is_refused_where_only_the_curved_flat_damper_is_computed():
-    with pytest.raises(ValueError, match=r"^br2_over_hr: this function computes the curved-flat"):
-        jd.base_cycle(WEDGE, 0.5)
+    for refuses in (lambda: jd.base_cycle(WEDGE, 0.5), lambda: jd.full_slip_statics(WEDGE, 0.5),
+                    lambda: jd.stack_designs([WEDGE, WEDGE], 0.5),
+                    lambda: jd.amplitude_curves(WEDGE, 0.5, [1.0, 2.0])):
+        with pytest.raises(ValueError, match=r"^br2_over_hr: this function computes the curved-flat"):
+            refuses()
     with pytest.raises(ValueError, match=r"^br2_over_hr must be in \(0, 1\]"):
         jd.elliptic_cycle(WEDGE._replace(br2_over_hr=1.5), 0.5, 2.0, PATH)
     with pytest.raises(ValueError, match=r"^kn: one value, or one per pad \(4 for this damper\)"):

@@ -221,7 +221,8 @@ def damper_from_args(args, shape):
         raise CliError("--br places the curved-flat damper's pad R1; a wedge's right pads are "
                        "placed by --br2 (2b/h_R, default 0.8)")
     return validate_shape(shape._replace(br_over_hr=0.0,
-                                         br2_over_hr=0.8 if args.br2 is None else args.br2))
+                                         br2_over_hr=0.8 if args.br2 is None else args.br2),
+                          wedge_ok=True)
 
 
 def add_json_arg(p) -> None:
