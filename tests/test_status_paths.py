@@ -140,6 +140,34 @@ def test_unreachable_gross_slip_through_every_path_history():
     assert doc["amplitudes"][0]["status"] == "unreachable" and doc["status"] == "unreachable"
 
 
+def test_unseated_through_every_elliptic_path():
+    """A curved-flat design (found by benchmarks/pads_vs_marcher.py) that fails the paper's
+    no-liftoff rule: its full-slip statics need N = -0.16 F_D at a pad. Driven into gross slip on
+    a path, that pad opens and the two left cannot hold the damper: the tract engine says
+    `unseated` (the time marcher's Newton finds no equilibrium there either), the straight-path
+    solver and the design check say liftoff; below gross slip (5 mrad in-phase) the cycle is
+    valid. Every path reports the status, with no numbers."""
+    shape = jd.DamperShape(68.45, 66.48, -0.15, 0.87)
+    contacts = jd.Contacts(17900.0, 3580.0)
+    assert R.name_of(jd.full_slip_statics(shape, 0.645).status) == "liftoff"
+    motion = jd.interblade_motion(8.4, 22.3, 100.0, 13.0)
+    ec = jd.elliptic_cycle(shape, 0.645, 15.5, motion, contacts)
+    assert R.name_of(ec.status) == "unseated" and float(ec.k_im) == 0.0
+    assert bool(R.stopped(ec.status)) and "unseated" in R.message(ec.status)
+    sweep = jd.interblade_sweep(shape, 0.645, 15.5, [8.4, 0.0], 22.3, 13.0, contacts)
+    assert [R.name_of(v) for v in sweep.status] == ["unseated", "unseated"]
+    small = jd.interblade_sweep(shape, 0.645, 5.0, [8.4, 0.0], 22.3, 13.0, contacts)
+    assert R.name_of(small.status[1]) == "ok"
+    straight = jd.amplitude_cycle(shape, 0.645, 15.5, contacts, initial="assembly")
+    assert R.name_of(straight.status) == "liftoff"
+    doc = cli("amplitude", "--theta-l", "68.45", "--theta-r", "66.48", "--br=-0.15", "--bl2",
+              "0.87", "--mu", "0.645", "--kn", "17900", "--kt", "3580", "--psi-a", "15.5",
+              "--ibpa", "8.4", "--h-c", "22.3", "--h-l", "13", "--json")
+    row = doc["amplitudes"][0]
+    assert doc["status"] == row["status"] == "unseated" and row["k_im"] is None
+    assert row["open_fraction"] == {"R1": None, "L1": None, "L2": None}
+
+
 def test_no_root_through_the_design_rule():
     shape = jd.DamperShape(10.0, 10.0, 0.0)
     res = jd.design_br(shape, 0.7)
