@@ -40,15 +40,15 @@ import numpy as np
 from ._validate import check_int, check_param, check_range
 from .amplitude import check_admissible
 from .conventions import CENTRIFUGAL_LOAD, interblade_direction, travel_mm, warn_small_rotation
-from .engine import Ellipse, Line, Pads, Tracts, assemble, empty_tracts
+from .engine import Ellipse, Line, Pads, Tracts, assemble, empty_tracts, sinusoid
 from .engine import run as run_tracts
-from .geometry import DamperShape, is_wedge, pad_geometry, pad_names
+from .geometry import DamperShape, is_wedge, pad_names
 from .half import TRAVEL_TOL, accelerate
-from .linalg import generalized
 from .loops import repeat_until, run_by_loop
 from .motion import (Motion, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
+from .statics import contact_columns
 from .status import RESULTS, number_repr, status_repr
 from .tract import OPEN, SLIP, STATE_NAMES
 
@@ -66,14 +66,12 @@ def path_pads(shape, mu, contacts, load, parts) -> Pads:
     """The tract engine's constants (`engine.Pads`) of one design, curved-flat or wedge, for the
     straight motions `parts` (one basis direction each: X_r, or X_r and X_i of an ellipse).
     Unchecked, traceable."""
-    points, normals, tangents, geo = pad_geometry(shape)
-    r = points - geo.D[None, :]
-    n_pads = points.shape[0]
+    a, c, _ = contact_columns(shape)
+    n_pads = a.shape[0]
     per_pad = lambda k: jnp.broadcast_to(jnp.asarray(k, float), (n_pads,)) / load.F_D  # noqa: E731
     motions = [pad_motion(shape, m, load.q_star) for m in parts]
-    return Pads(generalized(r, normals), generalized(r, tangents), per_pad(contacts.kn),
-                per_pad(contacts.kt), jnp.asarray(mu, float), jnp.stack([m[0] for m in motions]),
-                jnp.stack([m[1] for m in motions]))
+    return Pads(a, c, per_pad(contacts.kn), per_pad(contacts.kt), jnp.asarray(mu, float),
+                jnp.stack([m[0] for m in motions]), jnp.stack([m[1] for m in motions]))
 
 
 def _along(pads: Pads, sign) -> Pads:
@@ -89,12 +87,6 @@ def _integrals(t0, t1):
                 cs=0.5 * (jnp.sin(t1) ** 2 - jnp.sin(t0) ** 2))
 
 
-def _sinusoid(f0, A, B, s_a, tau0):
-    """(c, alpha, beta) of f(tau) = f0 + s_a [A (cos tau - cos tau0) - B (sin tau - sin tau0)]."""
-    alpha, beta = s_a * A, -s_a * B
-    return f0 - alpha * jnp.cos(tau0) - beta * jnp.sin(tau0), alpha, beta
-
-
 def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     """(int M_r e^{-i tau}, int M_i e^{-i tau}, energy per pad in N mm) over a period's tracts."""
     t0, t1 = arc.p0, arc.p0 + arc.dp
@@ -102,7 +94,7 @@ def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     act = arc.active
 
     def pieces(f0, rates):  # (nt, P) sinusoid coefficients; rates (nt, 2, P): along X_r, X_i
-        return _sinusoid(f0, rates[:, 0], rates[:, 1], s_a, t0[:, None])
+        return sinusoid(f0, rates[:, 0], rates[:, 1], s_a, t0[:, None])
 
     # An open pad's N is its virtual gap force: it carries no force on the platforms.
     closed = arc.state != OPEN  # (nt, P)

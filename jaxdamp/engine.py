@@ -32,13 +32,13 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .half import TRAVEL_TOL  # travel left below this fraction of a line's is none
 from .linalg import rowdot, solve3
 from .loops import bounded_loop, zeros_of
 from .status import RESULTS
 from .tract import LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK
 
 TAU_TOL = 1e-12  # rad: an event nearer than this to the tract's start is the start itself
-TRAVEL_TOL = 1e-12  # relative: travel left below this fraction of a line's length is none
 NO_EVENT = 1e6  # path units: "no event in this tract" (finite: masked arithmetic stays finite)
 # rad ahead of a tract's start where a state set's second-order behaviour is checked on an
 # ellipse, and the tolerance of that check (units of F_D; of s_a for slips): see `choose`.
@@ -269,9 +269,8 @@ class Ellipse(NamedTuple):
         """rad from tau0 to the first zero after tau0 where f = f0 + A.(phi(tau) - phi(tau0))
         falls; a dip of LIMIT_TOL or less is a touch, not a crossing (a pad that reaches its
         limit exactly at a turning point, where rounding would split the double root)."""
-        alpha, beta = self.s_a * A[..., 0], -self.s_a * A[..., 1]
-        c = f0 - alpha * jnp.cos(p0) - beta * jnp.sin(p0)
-        return _sinusoid_descent(c, alpha, beta, p0, LIMIT_TOL)
+        return _sinusoid_descent(*sinusoid(f0, A[..., 0], A[..., 1], self.s_a, p0), p0,
+                                 LIMIT_TOL)
 
     def reversal(self, A, p0):
         """rad to where the slip rate s A.phi'(tau) turns from sliding against friction (<= 0)
@@ -279,6 +278,14 @@ class Ellipse(NamedTuple):
         # s p'(tau) = s_a (-A_0 sin tau - A_1 cos tau): it turns positive where
         # f = s_a (A_1 cos tau + A_0 sin tau) falls through zero.
         return _sinusoid_descent(0.0, self.s_a * A[..., 1], self.s_a * A[..., 0], p0, 0.0)
+
+
+def sinusoid(f0, A, B, s_a, tau0):
+    """(c, alpha, beta) of f(tau) = f0 + s_a [A (cos tau - cos tau0) - B (sin tau - sin tau0)] =
+    c + alpha cos tau + beta sin tau: a force on an `Ellipse` tract with rates A, B along X_r, X_i
+    (its events, and the closed-form harmonics of `jaxdamp.ellipse`)."""
+    alpha, beta = s_a * A, -s_a * B
+    return f0 - alpha * jnp.cos(tau0) - beta * jnp.sin(tau0), alpha, beta
 
 
 def _pad_speed(pads: Pads, v):
@@ -429,4 +436,4 @@ def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
 
 
 __all__ = ["Pads", "Rates", "Choice", "Line", "Ellipse", "Tracts", "candidate_table", "choose",
-           "assemble", "run", "empty_tracts", "TAU_TOL", "TRAVEL_TOL", "NO_EVENT", "LOOKAHEAD"]
+           "assemble", "run", "empty_tracts", "sinusoid", "TAU_TOL", "NO_EVENT", "LOOKAHEAD"]

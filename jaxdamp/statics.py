@@ -8,7 +8,7 @@ import jax
 import jax.numpy as jnp
 
 from .linalg import generalized, solve3
-from .geometry import DamperShape, full_slip_slide_rates, section_geometry, validate_shape
+from .geometry import DamperShape, full_slip_slide_rates, pad_geometry, validate_shape
 from ._validate import require_x64
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import validate_mu
@@ -41,10 +41,12 @@ class FullSlipStatics(NamedTuple):
 
 
 def contact_columns(shape: DamperShape):
-    """Generalised unit normal (a_i) and tangent (c_i) vectors of each contact about D, (3, 3) each."""
-    geo = section_geometry(shape)
-    r = geo.points - geo.D[..., None, :]
-    return generalized(r, geo.normals), generalized(r, geo.tangents), geo
+    """Generalised unit normal (a_i) and tangent (c_i) vectors of each pad about D, (P, 3) each
+    (`geometry.pad_geometry`: 3 pads for the curved-flat damper, 4 for a wedge), and the section
+    geometry."""
+    points, normals, tangents, geo = pad_geometry(shape)
+    r = points - geo.D[..., None, :]
+    return generalized(r, normals), generalized(r, tangents), geo
 
 
 def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:

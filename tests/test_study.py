@@ -443,7 +443,7 @@ def test_the_platform_claim_is_computed_and_reported(full):
 
 def test_the_claim_section_counts_what_its_table_shows():
     from jaxdamp.paper.claim import claim_section
-    from jaxdamp.paper.report import Doc
+    from jaxdamp.paper.report import Doc, fmt
 
     def curve(damper, pads, opened, status):
         return {"damper": damper, "pads": pads, "mu": 0.5, "amplitude_mrad": 10.0,
@@ -455,7 +455,7 @@ def test_the_claim_section_counts_what_its_table_shows():
         curve("wedge", ["R1", "R2", "L1", "L2"], [[0.0] * 4, [0.25, 0.0, 0.1, 0.0], [0.5] * 4],
               ["ok", "ok", "unseated"])]}
     doc = Doc("t")
-    claim_section(doc, claim, [])
+    claim_section(doc, claim, [], fmt)
     text = doc.markdown()
     assert "| 60sym | 0.5 | 10 | 1.00 / 0.00 | 0.75 / 0.00 | 0.50 / 0.00 |" in text
     assert "| wedge | 0.5 | 10 | 1.00 / 0.00 | 0.75 / 0.25 | unseated |" in text

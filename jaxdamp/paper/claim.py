@@ -16,11 +16,6 @@ from ..status import RESULTS
 
 PLATFORM_CLAIM_SECTION = "Curved-flat against wedge on every platform motion"
 
-
-def fmt(v, digits=2):
-    """A number for the report's cells ("—" for None, never "-0")."""
-    return "—" if v is None else f"{(round(v, digits) + 0.0):.{digits}f}"
-
 CLAIM_PHIS_DEG = (0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0)
 CLAIM_AMPLITUDES_MRAD = (2.0, 10.0)
 CLAIM_H_C_MM, CLAIM_H_L_MM = 20.0, 10.0  # blades' rotation centre below D; the damper's size
@@ -62,9 +57,10 @@ def platform_claim(mus, contacts, load, progress=None) -> dict:
             "wedge_br2_over_hr": CLAIM_WEDGE_BR2, "curves": curves}
 
 
-def claim_section(doc, claim, figures):
+def claim_section(doc, claim, figures, fmt):
     """The paper's claim on interblade phase angles (its ref [16]), computed: per damper, mu and
-    amplitude, k_Im / k_Im(in-phase) and the largest open fraction of any pad at each phi."""
+    amplitude, k_Im / k_Im(in-phase) and the largest open fraction of any pad at each phi. fmt:
+    the report's number format (`report.fmt`, passed in: report imports this module)."""
     if not claim:
         return
     doc.h(1, PLATFORM_CLAIM_SECTION)
@@ -86,8 +82,7 @@ def claim_section(doc, claim, figures):
             if r["status"] not in ("ok", "shakedown"):
                 cells.append(r["status"])
                 continue
-            ratio = "—" if r["k_im_over_in_phase"] is None else fmt(r["k_im_over_in_phase"], 2)
-            cells.append(f"{ratio} / {fmt(max(r['open_fraction']), 2)}")
+            cells.append(f"{fmt(r['k_im_over_in_phase'], 2)} / {fmt(max(r['open_fraction']), 2)}")
         rows.append([c["damper"], f"{c['mu']:g}", f"{c['amplitude_mrad']:g}"] + cells)
     doc.table(["damper", "μ", "a (mrad)"] + [f"φ = {p:g}°" for p in phis], rows)
     lines = []

@@ -202,7 +202,7 @@ def build_report(summary: dict) -> Doc:
     _work(doc, res, summary.get("energies", {}), shapes)
     _statics(doc, summary.get("statics", {}), shapes)
     _transitions(doc, summary.get("transitions", {}), summary.get("paper_transitions", {}), shapes)
-    claim_section(doc, summary.get("platform_claim"), figures)
+    claim_section(doc, summary.get("platform_claim"), figures, fmt)
     _figures(doc, [f for f in figures if f.get("section") not in (KEY_FIGURE_SECTION,
                                                                    PLATFORM_CLAIM_SECTION)], shapes)
     return doc
