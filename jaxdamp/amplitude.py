@@ -40,7 +40,8 @@ import numpy as np
 from ._validate import check_int, check_range
 from .linalg import solve3
 from .cycle import mechanics
-from .half import TRAVEL_TOL, Half, accelerate, empty_half, run_half
+from .engine import TRAVEL_TOL
+from .half import Half, accelerate, empty_half, run_half
 from .loops import repeat_until, run_by_loop
 from .geometry import CONTACT_NAMES, DamperShape
 from .linalg import rowdot

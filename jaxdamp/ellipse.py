@@ -40,11 +40,12 @@ import numpy as np
 from ._validate import check_int, check_param, check_range
 from .amplitude import check_admissible
 from .conventions import CENTRIFUGAL_LOAD, interblade_direction, travel_mm, warn_small_rotation
-from .engine import Ellipse, Line, Pads, Tracts, assemble, empty_tracts, sinusoid
+from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
-from .half import TRAVEL_TOL, accelerate
+from .half import accelerate
 from .loops import repeat_until, run_by_loop
+from .paths import Ellipse, Line, sinusoid
 from .motion import (Motion, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs

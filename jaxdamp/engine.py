@@ -7,7 +7,7 @@ force is affine in the path's basis functions phi(p):
     F(p) = F(p0) + sum_b R_b (phi_b(p) - phi_b(p0))
 
 with R_b the rates for a unit motion along basis direction b (one 3x3 solve per direction).
-Two paths (`Line`, `Ellipse`):
+Two paths (`jaxdamp.paths`: `Line`, `Ellipse`):
 
 - a straight line, phi(s) = s (mm of travel along one direction): every event is linear in s;
 - an ellipse, X(tau) = s_a (X_r cos tau - X_i sin tau), phi(tau) = s_a (cos tau, -sin tau):
@@ -32,17 +32,17 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .half import TRAVEL_TOL  # travel left below this fraction of a line's is none
-from .linalg import rowdot, solve3
+from .linalg import combine, rowdot, solve3
 from .loops import bounded_loop, zeros_of
+from .paths import Line
 from .status import RESULTS
-from .tract import LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK
+from .tract import (CANDIDATE_SETS, LIMIT_TOL, NO_EVENT, OPEN, RATE_TOL, SLIP, STICK,
+                    Mechanics, candidate_rates)
 
-TAU_TOL = 1e-12  # rad: an event nearer than this to the tract's start is the start itself
-NO_EVENT = 1e6  # path units: "no event in this tract" (finite: masked arithmetic stays finite)
-# rad ahead of a tract's start where a state set's second-order behaviour is checked on an
-# ellipse, and the tolerance of that check (units of F_D; of s_a for slips): see `choose`.
-LOOKAHEAD = 1e-4
+TRAVEL_TOL = 1e-12  # path left (fraction of a run's) below which a run has ended; slip below it is none
+NO_EVENT_LIMIT = 1e5  # mm: a run to gross slip with no event nearer than this fails (no gross slip)
+# Tolerance of the second-order check of a state set on an ellipse (units of F_D; of s_a for
+# slips): see `choose`.
 LOOKAHEAD_TOL = 1e-13
 # Global mode of the pads that close at a tract's start (N = 0, not opening): stick, slip up, slip
 # down. A pad may touch down while the platforms slide along it, and then slip at once.
@@ -192,6 +192,30 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
                   r.dslip[best], good[best])
 
 
+def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
+    """`choose` for three pads that may not open, on a `Line`: the paper's in-phase model, where a
+    normal force reaching zero is liftoff. Only the 8 stick/slip sets remain, and their rates come
+    in closed form from the all-stick reduction (`tract.candidate_rates`, Woodbury: measured faster
+    than a 3x3 solve per set, benchmarks/bench_core.py). `closed` is `tract.make_mechanics` of
+    the pads with the line's direction folded in (`tract.along`: rates per unit s)."""
+    mu = jnp.broadcast_to(closed.mu, N.shape)
+    limit = jnp.abs(T) >= mu * N - LIMIT_TOL
+    signs = jnp.where(T >= 0.0, 1.0, -1.0)
+    slipping = jnp.asarray(CANDIDATE_SETS)  # (8, 3)
+    r = candidate_rates(closed, signs, 1.0)  # (8, 3) per unit s
+    # `choose`'s tolerances on rates at unit pad speed (heading), applied to the rates per unit s
+    h = heading[0]
+    tol = RATE_TOL * jnp.max(jnp.maximum(closed.kn, closed.kt)) / h
+    limit2, signs2, mu2 = limit[None], signs[None], mu[None]
+    ok_pad = jnp.where(~slipping & limit2, signs2 * r.dT - mu2 * r.dN <= tol, True)
+    ok_pad &= jnp.where(slipping, signs2 * r.dslip <= RATE_TOL / h, True)
+    good = ~jnp.any(slipping & ~limit2, axis=1) & r.ok & jnp.all(ok_pad, axis=1)
+    best = jnp.argmax(jnp.where(good, 10 + jnp.sum(~slipping, axis=1), 0))
+    basis = lambda x: x[best][None]  # noqa: E731  (P,) -> (B = 1, P)
+    return Choice(jnp.ones(3, bool), slipping[best], signs, basis(r.dN), basis(r.dT),
+                  basis(r.dslip), good[best])
+
+
 def assemble(pads: Pads, load_vector):
     """(N, T, ok): the pad forces after F_D is applied from zero with the platforms held.
 
@@ -221,93 +245,6 @@ def assemble(pads: Pads, load_vector):
     return N[best], T[best], good[best]
 
 
-class Line(NamedTuple):
-    """A straight path: p is mm of travel s along the basis direction (B = 1), from 0."""
-
-    def basis(self, p):
-        return p[None]
-
-    def heading(self, pads, p):
-        return jnp.ones(1) / _pad_speed(pads, jnp.ones(1))
-
-    def ahead(self, p):
-        return None
-
-    def first_descent(self, f0, A, p0):
-        """Travel to where f0 + A (s - s0) falls through zero (f0 > 0); A (..., B)."""
-        rate = A[..., 0]
-        falls = (rate < 0.0) & (f0 > LIMIT_TOL)
-        return jnp.where(falls, f0 / jnp.where(falls, -rate, 1.0), NO_EVENT)
-
-    def reversal(self, A, p0):
-        return jnp.full(A.shape[:-1], NO_EVENT)
-
-
-class Ellipse(NamedTuple):
-    """X(tau) = s_a (X_r cos tau - X_i sin tau): p is tau (rad), basis s_a (cos tau, -sin tau)."""
-
-    s_a: jnp.ndarray  # mm of s: the path's size
-
-    def basis(self, p):
-        return self.s_a * jnp.stack([jnp.cos(p), -jnp.sin(p)])
-
-    def heading(self, pads, p):
-        """Basis weights of the direction of motion at tau, at unit pad speed (at a turning point
-        of a degenerate ellipse, the direction just after it)."""
-        v = jnp.stack([-jnp.sin(p), -jnp.cos(p)])
-        unit = jnp.maximum(_pad_speed(pads, jnp.array([1.0, 0.0])),
-                           _pad_speed(pads, jnp.array([0.0, 1.0])))
-        turning = _pad_speed(pads, v) <= 1e-9 * unit
-        v = jnp.where(turning, jnp.stack([-jnp.sin(p + 1e-6), -jnp.cos(p + 1e-6)]), v)
-        speed = _pad_speed(pads, v)
-        return v / jnp.where(speed > 0.0, speed, 1.0)
-
-    def ahead(self, p):
-        return self.basis(p + LOOKAHEAD) - self.basis(p)
-
-    def first_descent(self, f0, A, p0):
-        """rad from tau0 to the first zero after tau0 where f = f0 + A.(phi(tau) - phi(tau0))
-        falls; a dip of LIMIT_TOL or less is a touch, not a crossing (a pad that reaches its
-        limit exactly at a turning point, where rounding would split the double root)."""
-        return _sinusoid_descent(*sinusoid(f0, A[..., 0], A[..., 1], self.s_a, p0), p0,
-                                 LIMIT_TOL)
-
-    def reversal(self, A, p0):
-        """rad to where the slip rate s A.phi'(tau) turns from sliding against friction (<= 0)
-        to along it; A (..., B) = s dslip."""
-        # s p'(tau) = s_a (-A_0 sin tau - A_1 cos tau): it turns positive where
-        # f = s_a (A_1 cos tau + A_0 sin tau) falls through zero.
-        return _sinusoid_descent(0.0, self.s_a * A[..., 1], self.s_a * A[..., 0], p0, 0.0)
-
-
-def sinusoid(f0, A, B, s_a, tau0):
-    """(c, alpha, beta) of f(tau) = f0 + s_a [A (cos tau - cos tau0) - B (sin tau - sin tau0)] =
-    c + alpha cos tau + beta sin tau: a force on an `Ellipse` tract with rates A, B along X_r, X_i
-    (its events, and the closed-form harmonics of `jaxdamp.ellipse`)."""
-    alpha, beta = s_a * A, -s_a * B
-    return f0 - alpha * jnp.cos(tau0) - beta * jnp.sin(tau0), alpha, beta
-
-
-def _pad_speed(pads: Pads, v):
-    """Largest platform speed at a pad for basis weights v (B,)."""
-    return jnp.max(jnp.abs(jnp.concatenate([v @ pads.nw, v @ pads.tw])))
-
-
-def _sinusoid_descent(c, alpha, beta, tau0, depth_tol):
-    """rad from tau0 to the first zero of f = c + alpha cos tau + beta sin tau after tau0 where f
-    falls (NO_EVENT where it never does, or dips by depth_tol or less). Guarded for gradients."""
-    rho2 = alpha * alpha + beta * beta
-    rho_safe = jnp.sqrt(jnp.where(rho2 > 1e-300, rho2, 1.0))
-    has = (rho2 > 1e-300) & (c * c < rho2) & (rho_safe - c > depth_tol)
-    rho = jnp.sqrt(jnp.where(has, rho2, 1.0))
-    phase = jnp.arctan2(jnp.where(has, beta, 0.0), jnp.where(has, alpha, 1.0))
-    x = jnp.where(has, -c / rho, 0.0)
-    # f = c + rho cos(tau - phase) falls through zero where tau - phase = arccos(-c / rho).
-    t = jnp.mod(phase + jnp.arccos(x) - tau0, 2.0 * jnp.pi)
-    t = jnp.where(t <= TAU_TOL, t + 2.0 * jnp.pi, t)  # a touch at tau0 itself is not an event
-    return jnp.where(has, t, NO_EVENT)
-
-
 class Tracts(NamedTuple):
     """The tracts of a run (leading tract axis). The forces of tract k at p are
     N0 + dN . (phi(p) - phi(p0)), likewise T and the slip; state per pad."""
@@ -316,18 +253,28 @@ class Tracts(NamedTuple):
     dp: jnp.ndarray  # (nt,) its length
     N0: jnp.ndarray  # (nt, P) forces at its start, units of F_D (open pads: kn * (-gap))
     T0: jnp.ndarray
-    dN: jnp.ndarray  # (nt, B, P)
+    dN: jnp.ndarray  # (nt, B, P) (a closed pad's: zero in a constant-force stretch)
     dT: jnp.ndarray
     dslip: jnp.ndarray
     state: jnp.ndarray  # (nt, P) STICK / SLIP / OPEN
     active: jnp.ndarray  # (nt,) bool
+    # (nt,) bool: on a line with an end, the constant-force stretch once gross slip is reached
+    # (a run to gross slip stops there instead)
+    stretch: jnp.ndarray
+    # (nt,) path length by which the tract's end beat the nearest competing end (the next event
+    # after the one taken, or the nearest event when the path's end ended it); NO_EVENT-based
+    # when there is none. On a line, within one sequence of events it is affine in the amplitude;
+    # where it reaches zero a new event enters (`jaxdamp.sequence`).
+    slack: jnp.ndarray
     N_end: jnp.ndarray  # (P,) forces at the run's end
     T_end: jnp.ndarray
     p_end: jnp.ndarray  # where the run ended
-    gross_slip: jnp.ndarray  # bool: a run to gross slip reached it
-    # RESULTS code: ok; unseated (no consistent state set with a pad open or at N = 0: the closed
-    # pads cannot hold the damper); singular (no consistent set otherwise, no event before gross
-    # slip, or the tracts ran out)
+    gross_slip: jnp.ndarray  # bool: reached gross slip (on a line: no force changes any more)
+    gross_dslip: jnp.ndarray  # (B, P) sliding rates in the gross-slip state (zero if none reached)
+    # RESULTS code: ok; liftoff (pads that may not open: a normal force reached zero); unseated
+    # (no consistent state set with a pad open or at N = 0: the closed pads cannot hold the
+    # damper); singular (no consistent set otherwise, no event before gross slip, or the tracts
+    # ran out)
     status: jnp.ndarray
 
 
@@ -335,66 +282,104 @@ def _rows(n_pads: int, n_basis: int) -> dict:
     f = jax.ShapeDtypeStruct((), float)
     v = jax.ShapeDtypeStruct((n_pads,), float)
     m = jax.ShapeDtypeStruct((n_basis, n_pads), float)
+    b = jax.ShapeDtypeStruct((), bool)
     return dict(p0=f, dp=f, N0=v, T0=v, dN=m, dT=m, dslip=m,
-                state=jax.ShapeDtypeStruct((n_pads,), int), active=jax.ShapeDtypeStruct((), bool))
+                state=jax.ShapeDtypeStruct((n_pads,), int), active=b, stretch=b, slack=f)
 
 
 def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
-        loop: str = "scan") -> Tracts:
+        loop: str = "scan", closed: Mechanics | None = None) -> Tracts:
     """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
     (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
-    where no force changes any more. loop: as `loops.bounded_loop`. Unchecked, traceable."""
+    where no force changes any more. On a line with an end, gross slip before the end is followed
+    by a constant-force stretch to it.
+
+    closed (three pads on a Line): their all-stick reduction with the line's direction folded in
+    (`tract.along(tract.make_mechanics(...), direction)`); the pads may not open, and a normal
+    force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
+    loop: as `loops.bounded_loop`. Unchecked, traceable."""
     to_gross = p_end is None
+    on_line = isinstance(path, Line)
     n_pads, n_basis = N.shape[0], pads.nw.shape[0]
+    pads_open = closed is None
+    if not pads_open and not (on_line and n_pads == 3):
+        raise ValueError("closed is the three-pad model on a Line")
     scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
+    rate_tol = RATE_TOL * scale
     mu = jnp.broadcast_to(pads.mu, N.shape)
     p_start = jnp.asarray(p_start, float)
-    span = jnp.abs(jnp.asarray(1.0 if to_gross else p_end, float) - p_start) + 1.0
-    init = dict(N=N, T=T, p=p_start, done=jnp.array(False), gross=jnp.array(False),
-                failed=jnp.array(False), unseated=jnp.array(False))
+    span = None if to_gross else jnp.abs(jnp.asarray(p_end, float) - p_start)
+    # A line's direction of motion is the same all along it.
+    line_heading = path.heading(pads, p_start) if on_line else None
+    # Pads that may not open: one at N = 0 at the start has lifted off.
+    lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
+    init = dict(N=N, T=T, p=p_start, done=lift0, gross=jnp.array(False),
+                failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
+                gross_dslip=jnp.zeros((n_basis, n_pads)))
 
     def step(carry, _):
         N, T, p0 = carry["N"], carry["T"], carry["p"]
-        heading = path.heading(pads, p0)
-        ch = choose(pads, N, T, heading, path.ahead(p0))
+        heading = line_heading if on_line else path.heading(pads, p0)
+        if pads_open:
+            ch = choose(pads, N, T, heading, path.ahead(p0))
+        else:
+            ch = choose_closed(closed, N, T, heading)
         stick = ch.closed & ~ch.slipping
-        dN_h, dT_h = heading @ ch.dN, heading @ ch.dT
+        dN_h, dT_h = combine(heading, ch.dN), combine(heading, ch.dT)
         # Gross slip: no closed pad's force changes any more, and no open pad's gap closes.
         frozen = jnp.max(jnp.where(ch.closed, jnp.maximum(jnp.abs(dN_h), jnp.abs(dT_h)),
-                                   jnp.maximum(dN_h, 0.0))) <= RATE_TOL * scale
+                                   jnp.maximum(dN_h, 0.0))) <= rate_tol
         gross = ch.consistent & frozen
 
         def event(f0, A, where):  # a quantity that must stay >= 0 falls through zero
-            return jnp.where(where, path.first_descent(f0, A, p0), NO_EVENT)
+            return jnp.where(where, path.first_descent(f0, A, p0, rate_tol), NO_EVENT)
 
         tr = lambda x: jnp.swapaxes(x, 0, 1)  # noqa: E731  (B, P) -> (P, B)
         mu_b = mu[None]  # against the (B, P) rates
-        up = event(mu * N - T, tr(mu_b * ch.dN - ch.dT), stick)
-        down = event(mu * N + T, tr(mu_b * ch.dN + ch.dT), stick)
-        opens = event(N, tr(ch.dN), ch.closed)
-        closes = event(-N, tr(-ch.dN), ~ch.closed)
-        rev = jnp.where(ch.slipping, path.reversal(tr(ch.signs[None] * ch.dslip), p0), NO_EVENT)
-        cand = jnp.stack([up, down, opens, closes, rev])  # (5 kinds, P pads)
-        flat = jnp.argmin(cand.reshape(-1))
+        kinds = [event(mu * N - T, tr(mu_b * ch.dN - ch.dT), stick),  # 0: slips up
+                 event(mu * N + T, tr(mu_b * ch.dN + ch.dT), stick),  # 1: slips down
+                 event(N, tr(ch.dN), ch.closed)]  # 2: opens (closed given: lifts off)
+        if pads_open:
+            kinds += [event(-N, tr(-ch.dN), ~ch.closed),  # 3: closes
+                      jnp.where(ch.slipping, path.reversal(tr(ch.signs[None] * ch.dslip), p0),
+                                NO_EVENT)]  # 4: slip reverses
+        cand = jnp.stack(kinds).reshape(-1)  # (kinds * P,)
+        flat = jnp.argmin(cand)
         kind, pad = flat // n_pads, flat % n_pads
-        d_event = cand.reshape(-1)[flat]
+        d_event = cand[flat]
+        runner_up = jnp.min(jnp.where(jnp.arange(cand.shape[0]) == flat, NO_EVENT, cand))
+        # On a line, gross slip before the end: the rest is a constant-force stretch.
+        stretch = on_line and not to_gross
         if to_gross:
             live = ~carry["done"]
-            failed_now = ~ch.consistent | (~gross & (d_event >= NO_EVENT))
+            failed_now = ~ch.consistent | (~gross & (d_event >= NO_EVENT_LIMIT))
             advance = live & ~gross & ~failed_now
             by_end = jnp.array(False)
             dp = jnp.where(advance, d_event, 0.0)
+            slack = runner_up - dp
         else:
             d_end = p_end - p0
+            # Rounding leaves ~1e-17 of the path after a tract that ends at its end: no tract.
             live = ~carry["done"] & (d_end > TRAVEL_TOL * span)
             failed_now = ~ch.consistent
             advance = live & ~failed_now
-            by_end = d_end <= d_event
+            # A tie with an event ends the tract by the path's end (the next run starts there,
+            # where `choose` sees the pad on its limit). Ties are structural (a steady cycle's
+            # half ends where the next began, a pad on its limit), so rounding must not decide
+            # them: an event within TRAVEL_TOL of the path's end is a tie.
+            by_end = (d_end <= d_event + TRAVEL_TOL * span) | (stretch & gross)
             dp = jnp.where(advance, jnp.where(by_end, d_end, d_event), 0.0)
+            slack = jnp.maximum(jnp.where(by_end, d_event, runner_up) - dp, 0.0)
+        if stretch:
+            # Closed pads hold their forces; an open pad's gap keeps growing (its virtual N).
+            frozen_pad = gross & ch.closed[None]
+            dN, dT = jnp.where(frozen_pad, 0.0, ch.dN), jnp.where(frozen_pad, 0.0, ch.dT)
+        else:
+            dN, dT = ch.dN, ch.dT
         p1 = p0 + dp
-        dphi = path.basis(p1) - path.basis(p0)
-        N1 = N + dphi @ ch.dN
-        T1 = T + dphi @ ch.dT
+        dphi = path.step(p0, dp)
+        N1 = N + combine(dphi, dN)
+        T1 = T + combine(dphi, dT)
         # Snap: slipping pads stay on their limit line, open pads carry no T, the event pad lands
         # on its limit, opens or closes.
         T1 = jnp.where(ch.slipping, ch.signs * mu * N1, T1)
@@ -405,35 +390,42 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         T1 = jnp.where(hit & (kind == 1), -mu * N1, T1)
         N1 = jnp.where(hit & ((kind == 2) | (kind == 3)), 0.0, N1)
         T1 = jnp.where(hit & ((kind == 2) | (kind == 3)), 0.0, T1)
+        lifted = (jnp.array(False) if pads_open
+                  else advance & ((at_event & (kind == 2)) | (jnp.min(N1) <= LIMIT_TOL)))
         state = jnp.where(ch.closed, jnp.where(ch.slipping, SLIP, STICK), OPEN)
-        out = dict(p0=p0, dp=dp, N0=N, T0=T, dN=ch.dN, dT=ch.dT, dslip=ch.dslip, state=state,
-                   active=advance)
+        out = dict(p0=p0, dp=dp, N0=N, T0=T, dN=dN, dT=dT, dslip=ch.dslip, state=state,
+                   active=advance, stretch=advance & gross if stretch else jnp.array(False),
+                   slack=jnp.where(advance, slack, 0.0))
         new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
                    p=jnp.where(advance, jnp.where(by_end, p_end if not to_gross else p1, p1), p0),
                    done=(carry["done"] | ~live | (live & failed_now) | (advance & by_end)
-                         | (to_gross & live & gross)),
+                         | (to_gross & live & gross) | lifted),
                    gross=carry["gross"] | (live & gross),
                    failed=carry["failed"] | (live & failed_now),
                    # No consistent set with a pad open or at N = 0: the closed pads cannot hold
                    # the damper (a failure of the design, not of the solve).
                    unseated=carry["unseated"] | (live & ~ch.consistent
-                                                 & jnp.any(N <= LIMIT_TOL)))
+                                                 & jnp.any(N <= LIMIT_TOL)),
+                   liftoff=carry["liftoff"] | lifted,
+                   gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
         return new, out
 
     end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis))
     failed = end["failed"] | ~end["done"]
-    status = jnp.where(failed, jnp.where(end["unseated"], jnp.int32(RESULTS.unseated),
-                                         jnp.int32(RESULTS.singular)), jnp.int32(RESULTS.ok))
+    status = RESULTS.promote(jnp.zeros((), jnp.int32), end["liftoff"], RESULTS.liftoff)
+    status = RESULTS.promote(status, failed & end["unseated"], RESULTS.unseated)
+    status = RESULTS.promote(status, failed, RESULTS.singular)
     return Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"], gross_slip=end["gross"],
-                  status=status)
+                  gross_dslip=end["gross_dslip"], status=status)
 
 
 def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
     """A Tracts of zeros (the initial value of an iteration over runs)."""
     zp = jnp.zeros(n_pads)
     return Tracts(**zeros_of(_rows(n_pads, n_basis), max_tracts), N_end=zp, T_end=zp,
-                  p_end=jnp.zeros(()), gross_slip=jnp.array(False), status=jnp.zeros((), jnp.int32))
+                  p_end=jnp.zeros(()), gross_slip=jnp.array(False),
+                  gross_dslip=jnp.zeros((n_basis, n_pads)), status=jnp.zeros((), jnp.int32))
 
 
-__all__ = ["Pads", "Rates", "Choice", "Line", "Ellipse", "Tracts", "candidate_table", "choose",
-           "assemble", "run", "empty_tracts", "sinusoid", "TAU_TOL", "NO_EVENT", "LOOKAHEAD"]
+__all__ = ["Pads", "Rates", "Choice", "Tracts", "candidate_table", "choose", "choose_closed",
+           "assemble", "run", "empty_tracts", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

@@ -1,17 +1,17 @@
-"""The tract engine: one half of a cycle, from a reversal, tract by tract with exact events.
+"""One half of an in-phase cycle, from a reversal: the tract engine on a straight path.
 
-Every cycle the library computes is made of such halves: the Base-Cycle's run to gross slip
-(`travel=None`) and the travel-limited halves of a cycle at a prescribed amplitude, its assembly
-and its sequence curve (`travel` in mm). Within a tract the contact states are fixed and the forces
-are affine in the travel (`tract.choose_states`); a tract ends at the nearest event
-(`tract.next_event`: a stick contact reaching its friction limit, a normal force reaching zero) or,
-for a travel-limited half, where its travel is spent:
+Every in-phase cycle the library computes is made of such halves: the Base-Cycle's run to gross
+slip (`travel=None`) and the travel-limited halves of a cycle at a prescribed amplitude, its
+assembly and its sequence curve (`travel` in mm). They run on the one tract engine
+(`jaxdamp.engine.run` on a `Line`, three pads that may not open: a normal force reaching zero is
+liftoff, the paper's model), tract by tract with exact events:
 
     tract length = min(next stick/slip or liftoff event, remaining travel)
 
 A travel-limited half that reaches gross slip before its travel ends finishes with a constant-force
-stretch (one more tract with zero force rates, `stretch`). A half to gross slip stops there and
-keeps the gross-slip sliding rates (`gross_dslip`); it fails where no event ever comes.
+stretch (one more tract with zero force rates). A half to gross slip stops there and keeps the
+gross-slip sliding rates (`gross_dslip`); it fails where no event ever comes. `Half` is the
+engine's `Tracts` in the in-phase terms (travel dv, back-slide named).
 """
 
 from __future__ import annotations
@@ -21,13 +21,12 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
-from .loops import bounded_loop, zeros_of
-from .status import from_flags, number_repr, ok_status, status_repr
-from .tract import (BACKSLIDE, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics, choose_states,
-                    next_event)
-
-TRAVEL_TOL = 1e-12  # travel (fraction of a half's) below which a half has ended; slip below it is none
-NO_EVENT_LIMIT = 1e5  # mm: a half to gross slip with no event nearer than this fails (no gross slip)
+from .engine import Pads
+from .engine import run as run_tracts
+from .loops import zeros_of
+from .paths import Line
+from .status import number_repr, ok_status, status_repr
+from .tract import BACKSLIDE, LIMIT_TOL, SLIP, Mechanics, along
 
 
 class Half(NamedTuple):
@@ -66,7 +65,7 @@ class Half(NamedTuple):
 
 def half_rows() -> dict:
     """Shapes and dtypes of one recorded tract (dtypes resolved when traced: float64 if x64); they
-    spare `bounded_loop` tracing the step once more to find them."""
+    spare tracing the step once more to find them."""
     f, v = jax.ShapeDtypeStruct((), float), jax.ShapeDtypeStruct((3,), float)
     b = jax.ShapeDtypeStruct((), bool)
     return dict(dv=f, N0=v, T0=v, dN=v, dT=v, dslip=v, state=jax.ShapeDtypeStruct((3,), int),
@@ -89,78 +88,22 @@ def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
     loop="scan" runs max_tracts masked steps (reverse-mode differentiable); loop="while" stops when
     the half is done (the same numbers; values and forward mode only). Unchecked, traceable.
     """
-    limited = travel is not None  # Python-static: which kind of half this program is
-    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
+    moving = along(mech, direction)
+    pads = Pads(mech.a, mech.c, mech.kn, mech.kt, mech.mu, moving.nw[None], moving.tw[None])
+    tr = run_tracts(pads, Line(), N, T, 0.0, travel, max_tracts=max_tracts, loop=loop,
+                    closed=moving)
+    # Back-slide (Appendix A): a contact still sliding on the limit line it had at the reversal,
+    # tract after tract (named here: the engine's states are stick, slip and open).
     start_sign = jnp.where(T >= 0.0, 1.0, -1.0)
-    lift0 = jnp.min(N) <= LIMIT_TOL
-    init = dict(N=N, T=T, done=lift0, gross=jnp.array(False), liftoff=lift0,
-                failed=jnp.array(False), gross_dslip=jnp.zeros(3),
-                # Back-slide (Appendix A): a contact still sliding on the limit line it had at the
-                # reversal.
-                line=jnp.abs(T) >= mech.mu * N - LIMIT_TOL)
-    if limited:
-        init["rem"] = jnp.asarray(travel, float)
-
-    def step(carry, _):
-        N, T = carry["N"], carry["T"]
-        choice = choose_states(mech, N, T, direction)
-        r = choice.rates
-        frozen = jnp.max(jnp.abs(jnp.concatenate([r.dN, r.dT]))) <= RATE_TOL * scale
-        gross = choice.consistent & frozen
-        ev = next_event(mech, N, T, choice)
-        if limited:
-            rem = carry["rem"]
-            # Rounding leaves ~1e-17 mm of travel after a tract that ends on the extreme: no tract.
-            live = ~carry["done"] & (rem > TRAVEL_TOL * travel)
-            failed_now = ~choice.consistent
-            advance = live & ~failed_now
-            # The travel budget is one more event; a tie with a contact event ends the half by
-            # travel (the next half starts at a reversal, where `choose_states` sees the contact on
-            # its limit). At gross slip the rest of the travel is a constant-force stretch.
-            by_travel = gross | (rem <= ev.length)
-            lam = jnp.where(advance, jnp.where(by_travel, rem, ev.length), 0.0)
-            dN, dT = jnp.where(gross, 0.0, r.dN), jnp.where(gross, 0.0, r.dT)
-            slack = jnp.where(by_travel, ev.length, ev.runner_up) - lam
-        else:
-            live = ~carry["done"]
-            failed_now = ~choice.consistent | (~gross & (ev.length >= NO_EVENT_LIMIT))
-            advance = live & ~gross & ~failed_now  # gross slip ends the half: no tract
-            by_travel = jnp.array(False)
-            lam = jnp.where(advance, ev.length, 0.0)
-            dN, dT = r.dN, r.dT
-            slack = ev.runner_up - lam
-        N1 = N + lam * dN
-        T1 = T + lam * dT
-        # Snap to the limit line: slipping contacts stay on it, the event contact lands on it.
-        T1 = jnp.where(choice.slipping, choice.signs * mech.mu * N1, T1)
-        at_event = advance & ~by_travel
-        hit = jnp.arange(3) == ev.contact
-        T1 = jnp.where(at_event & ~ev.opens & hit, ev.side * mech.mu * N1, T1)
-        N1 = jnp.where(at_event & ev.opens & hit, 0.0, N1)
-        lifted = advance & ((at_event & ev.opens) | (jnp.min(N1) <= LIMIT_TOL))
-        line = carry["line"] & choice.slipping & (choice.signs == start_sign)
-        back = jnp.where(advance, line, carry["line"] & choice.slipping)
-        state = jnp.where(choice.slipping, jnp.where(back, BACKSLIDE, SLIP), STICK)
-        state = jnp.where(N <= LIMIT_TOL, OPEN, state)
-        out = dict(dv=lam, N0=N, T0=T, dN=dN, dT=dT, dslip=r.dslip, state=state, active=advance,
-                   stretch=advance & gross, slack=jnp.where(advance, slack, 0.0))
-        new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
-                   done=carry["done"] | (live & (gross | failed_now)) | lifted
-                   | (advance & by_travel),
-                   gross=carry["gross"] | (live & gross),
-                   liftoff=carry["liftoff"] | lifted,
-                   failed=carry["failed"] | (live & failed_now),
-                   gross_dslip=jnp.where(live & gross, r.dslip, carry["gross_dslip"]),
-                   line=jnp.where(advance, line, carry["line"]))
-        if limited:
-            new["done"] = new["done"] | ~live
-            new["rem"] = jnp.where(advance, jnp.where(by_travel, 0.0, rem - lam), rem)
-        return new, out
-
-    end, tr = bounded_loop(step, init, max_tracts, loop, half_rows())
-    return Half(**tr, N_end=end["N"], T_end=end["T"], span=jnp.sum(tr["dv"]),
-                gross_slip=end["gross"], gross_dslip=end["gross_dslip"],
-                status=from_flags(end["liftoff"], end["failed"] | ~end["done"]))
+    on_line = jnp.abs(T) >= mech.mu * N - LIMIT_TOL
+    same = (tr.state == SLIP) & (jnp.where(tr.T0 >= 0.0, 1.0, -1.0) == start_sign[None])
+    back = on_line[None] & (jnp.cumsum(~same, axis=0) == 0)
+    state = jnp.where(back & (tr.state == SLIP), BACKSLIDE, tr.state)
+    one = lambda x: x[:, 0]  # noqa: E731  (nt, B = 1, 3) -> (nt, 3)
+    return Half(dv=tr.dp, N0=tr.N0, T0=tr.T0, dN=one(tr.dN), dT=one(tr.dT), dslip=one(tr.dslip),
+                state=state, active=tr.active, stretch=tr.stretch, slack=tr.slack,
+                N_end=tr.N_end, T_end=tr.T_end, span=jnp.sum(tr.dp), gross_slip=tr.gross_slip,
+                gross_dslip=tr.gross_dslip[0], status=tr.status)
 
 
 def accelerate(mu, s0, s1, s2, have_history):
@@ -189,5 +132,4 @@ def accelerate(mu, s0, s1, s2, have_history):
     return jnp.where(ok & admissible, guess, s2)
 
 
-__all__ = ["Half", "run_half", "empty_half", "half_rows", "accelerate", "TRAVEL_TOL",
-           "NO_EVENT_LIMIT"]
+__all__ = ["Half", "run_half", "empty_half", "half_rows", "accelerate"]

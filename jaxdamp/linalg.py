@@ -50,6 +50,12 @@ def vecmat(x, m):
     return x[..., 0, None] * m[..., 0, :] + x[..., 1, None] * m[..., 1, :] + x[..., 2, None] * m[..., 2, :]
 
 
+def combine(weights, x):
+    """weights @ x for weights (B,) and x (B, ...), as explicit products and sums over B (the
+    basis directions of a path): for the reason of `rowdot`."""
+    return sum(weights[b] * x[b] for b in range(x.shape[0]))
+
+
 def solve3(m, b, rel_tol=1e-12):
     """Solve m x = b by Cramer's rule. Returns (x, ok); where the matrix is (numerically) singular,
     ok is False and x is 0, with the determinant guarded by the double-where pattern."""
@@ -61,4 +67,4 @@ def solve3(m, b, rel_tol=1e-12):
     return jnp.where(ok[..., None], x, 0.0), ok
 
 
-__all__ = ["cross2", "generalized", "det3", "adjugate3", "rowdot", "vecmat", "solve3"]
+__all__ = ["cross2", "generalized", "det3", "adjugate3", "rowdot", "vecmat", "combine", "solve3"]

@@ -1,4 +1,8 @@
-"""The tract solver: one linear solve per tract, closed-form transition events.
+"""The three-pad tract's rates in closed form (the engine's fast path for pads that may not open).
+
+The step, its events and its state choice are the one tract engine's (`jaxdamp.engine`); this
+module holds the contact states' codes and tolerances and the rates of the 8 stick/slip sets of
+three closed pads by the all-stick reduction (`candidate_rates`, used by `engine.choose_closed`).
 
 Within a tract the contact states are fixed, so the damper's incremental equilibrium is a 3x3 linear
 system and every force changes at a constant rate per unit of relative platform displacement.
@@ -70,6 +74,13 @@ def make_mechanics(a, c, nw, tw, kn, kt, mu) -> Mechanics:
     Z, x0 = cols[:3].T, cols[3]
     return Mechanics(a, c, nw, tw, kn, kt, jnp.asarray(mu, float), c @ Z, a @ Z, a @ x0 - nw,
                      c @ x0 - tw, ok[0])
+
+
+def along(mech: Mechanics, direction) -> Mechanics:
+    """The mechanics per unit travel in `direction` (+1 or -1 per unit dv): the platform motion
+    and the all-stick gap rates, which are linear in it, times direction (exactly: a sign)."""
+    return mech._replace(nw=direction * mech.nw, tw=direction * mech.tw,
+                         gn0=direction * mech.gn0, gt0=direction * mech.gt0)
 
 
 class TractRates(NamedTuple):
@@ -178,101 +189,5 @@ def candidate_rates(mech: Mechanics, signs, direction) -> TractRates:
     return _rates(mech, CANDIDATE_SETS.astype(float), signs, y, ok, direction)
 
 
-class TractChoice(NamedTuple):
-    slipping: jnp.ndarray
-    signs: jnp.ndarray
-    rates: TractRates
-    consistent: jnp.ndarray
-
-
-class CandidateSets(NamedTuple):
-    """Every candidate state set of a tract (`CANDIDATE_SETS` order) for the platforms' direction
-    of motion, and which are consistent to first order."""
-
-    signs: jnp.ndarray  # (3,) friction direction of a contact that slips (T = s mu N)
-    rates: TractRates  # leaves with a leading axis of 8
-    good: jnp.ndarray  # (8,) bool: consistent
-
-
-def candidate_sets(mech: Mechanics, N, T, direction) -> CandidateSets:
-    """The 8 candidate sets and their first-order consistency.
-
-    Contacts strictly inside the cone must stick. A contact on its limit may stick (if its stick
-    increment stays inside the cone to first order) or slip (if it then slides in the direction its
-    friction force opposes). Back-slide (Appendix A) is the slip branch chosen when stick would leave
-    the cone because N falls faster than T.
-    """
-    at_limit = jnp.abs(T) >= mech.mu * N - LIMIT_TOL
-    signs = jnp.where(T >= 0.0, 1.0, -1.0)
-    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
-
-    slipping = jnp.asarray(CANDIDATE_SETS)
-    rates = candidate_rates(mech, signs, direction)
-    # Per-contact quantities against the (8 candidates, 3 contacts) table: explicit leading axis.
-    at_limit, signs8 = at_limit[None], signs[None]
-    # mu is shared () or per contact (3,): give it the table's leading axis too
-    cone_rate = signs8 * rates.dT - jnp.broadcast_to(mech.mu, rates.dN.shape) * rates.dN
-    stick_ok = jnp.where(~slipping & at_limit, cone_rate <= RATE_TOL * scale, True)
-    slip_ok = jnp.where(slipping, signs8 * rates.dslip <= RATE_TOL, True)
-    allowed = ~jnp.any(slipping & ~at_limit, axis=1)
-    good = allowed & rates.ok & jnp.all(stick_ok, axis=1) & jnp.all(slip_ok, axis=1)
-    return CandidateSets(signs, rates, good)
-
-
-def pick_set(table: CandidateSets, good=None):
-    """(index, TractChoice) of the consistent set (`good`, default the table's) that keeps the most
-    contacts in stick."""
-    good = table.good if good is None else good
-    score = jnp.where(good, 10 + jnp.sum(~CANDIDATE_SETS, axis=1), 0)
-    best = jnp.argmax(score)
-    pick = lambda x: x[best]  # noqa: E731
-    return best, TractChoice(jnp.asarray(CANDIDATE_SETS)[best], table.signs,
-                             jax.tree_util.tree_map(pick, table.rates), good[best])
-
-
-def choose_states(mech: Mechanics, N, T, direction) -> TractChoice:
-    """Pick the consistent state set that keeps the most contacts in stick (`candidate_sets`)."""
-    return pick_set(candidate_sets(mech, N, T, direction))[1]
-
-
-class TractEvent(NamedTuple):
-    length: jnp.ndarray  # mm of travel to the event (NO_EVENT if none)
-    contact: jnp.ndarray  # index of the contact that triggers it
-    side: jnp.ndarray  # +-1: which limit line (cone events)
-    opens: jnp.ndarray  # True when the event is a normal force reaching zero (the contact opens)
-    runner_up: jnp.ndarray = None  # mm of travel to the second-nearest event (NO_EVENT if none)
-
-
-def next_event(mech: Mechanics, N, T, choice: TractChoice) -> TractEvent:
-    """Closed-form travel to the next event: a stick contact meeting T + s T' = +-mu (N + s N'),
-    or a normal force reaching zero."""
-    r = choice.rates
-    scale = jnp.max(jnp.maximum(mech.kn, mech.kt))
-    tol = RATE_TOL * scale
-    stick = ~choice.slipping
-
-    def cone(side):
-        rate = side * r.dT - mech.mu * r.dN
-        gap = jnp.maximum(mech.mu * N - side * T, 0.0)
-        # A contact already on this limit line was accepted as stick by `choose_states`, which
-        # checked that it moves inside the cone; its rate here can differ from that check in the
-        # last bits (another compiled program), and must not fire a zero-length event.
-        on_line = side * T >= mech.mu * N - LIMIT_TOL
-        hit = stick & (rate > tol) & ~on_line
-        return jnp.where(hit, gap / jnp.where(hit, rate, 1.0), NO_EVENT)
-
-    up, down = cone(1.0), cone(-1.0)
-    falls = r.dN < -tol
-    lift = jnp.where(falls, jnp.maximum(N, 0.0) / jnp.where(falls, -r.dN, 1.0), NO_EVENT)
-    cand = jnp.stack([up, down, lift])  # (3 kinds, 3 contacts)
-    flat = jnp.argmin(cand.reshape(-1))
-    kind, contact = flat // 3, flat % 3
-    length = cand.reshape(-1)[flat]
-    runner_up = jnp.min(jnp.where(jnp.arange(9) == flat, NO_EVENT, cand.reshape(-1)))
-    # A cone event at N -> 0 is also a liftoff; a later liftoff check catches it.
-    return TractEvent(length, contact, jnp.where(kind == 1, -1.0, 1.0), kind == 2, runner_up)
-
-
-__all__ = ["STATE_NAMES", "CANDIDATE_SETS", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics", "make_mechanics",
-           "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates", "TractChoice",
-           "CandidateSets", "candidate_sets", "pick_set", "choose_states", "TractEvent", "next_event"]
+__all__ = ["STATE_NAMES", "CANDIDATE_SETS", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics",
+           "make_mechanics", "along", "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates"]

@@ -129,8 +129,9 @@ def run(args) -> int:
                          "--damper wedge")
     if wedge and motion is None:
         motion = in_phase_motion(load.q_star)  # a wedge runs on the path engine, in-phase too
-    # The path engine runs ellipses, and a wedge on any path (a straight one as an ellipse of
-    # zero width); the straight-path solver the curved-flat damper's straight paths.
+    # Ellipses, and a wedge on any path (a straight one as an ellipse of zero width), run the
+    # engine with pads that open; the curved-flat damper's straight paths the paper's model
+    # (amplitude_cycle: the engine with pads that may not open).
     elliptic = motion is not None and (motion.quadrature is not None or is_wedge(shape))
     if args.initial is None:
         args.initial = "assembly" if elliptic else "gross_slip"
