@@ -64,8 +64,8 @@ class Half(NamedTuple):
 
 
 def half_rows() -> dict:
-    """Shapes and dtypes of one recorded tract (dtypes resolved when traced: float64 if x64); they
-    spare tracing the step once more to find them."""
+    """Shapes and dtypes of one recorded tract (dtypes resolved when traced: float64 if x64), for
+    `empty_half`."""
     f, v = jax.ShapeDtypeStruct((), float), jax.ShapeDtypeStruct((3,), float)
     b = jax.ShapeDtypeStruct((), bool)
     return dict(dv=f, N0=v, T0=v, dN=v, dT=v, dslip=v, state=jax.ShapeDtypeStruct((3,), int),
