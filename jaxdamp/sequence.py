@@ -144,9 +144,17 @@ def corner_rows(ac):
     """The loop's corner rows (6, MAX_TRACTS) of a steady cycle: dv, M0, dM of the forward half,
     then of the backward half (what `loop_stiffness` takes)."""
     f, b = ac.forward, ac.backward
-    mom = lambda N, T: platform_moment(ac.shape, ac.load, N, T)  # noqa: E731
-    return jnp.stack([f.dv, mom(f.N0, f.T0), mom(f.dN, f.dT),
-                      b.dv, mom(b.N0, b.T0), mom(b.dN, b.dT)])
+
+    def rows(h):
+        # Rows of tracts that did not run are zero: a masked scan keeps the end state there and a
+        # while loop zeros, so unmasked they would differ by loop (and by how a tie resolved).
+        # A row of zero length adds nothing to the loop's harmonics either way.
+        def mom(N, T):
+            return jnp.where(h.active, platform_moment(ac.shape, ac.load, N, T), 0.0)
+
+        return [h.dv, mom(h.N0, h.T0), mom(h.dN, h.dT)]
+
+    return jnp.stack(rows(f) + rows(b))
 
 
 class Probe(NamedTuple):
