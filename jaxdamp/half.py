@@ -18,14 +18,12 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-import jax
 import jax.numpy as jnp
 
-from .engine import Pads
+from .engine import Pads, Tracts, empty_tracts
 from .engine import run as run_tracts
-from .loops import zeros_of
 from .paths import Line
-from .status import number_repr, ok_status, status_repr
+from .status import number_repr, status_repr
 from .tract import BACKSLIDE, LIMIT_TOL, SLIP, Mechanics, along
 
 
@@ -63,20 +61,20 @@ class Half(NamedTuple):
                 f"gross_slip={number_repr(self.gross_slip, fmt='.0f')})")
 
 
-def half_rows() -> dict:
-    """Shapes and dtypes of one recorded tract (dtypes resolved when traced: float64 if x64), for
-    `empty_half`."""
-    f, v = jax.ShapeDtypeStruct((), float), jax.ShapeDtypeStruct((3,), float)
-    b = jax.ShapeDtypeStruct((), bool)
-    return dict(dv=f, N0=v, T0=v, dN=v, dT=v, dslip=v, state=jax.ShapeDtypeStruct((3,), int),
-                active=b, stretch=b, slack=f)
+def _as_half(tr: Tracts, state) -> Half:
+    """The engine's tracts on a line (B = 1, three pads) in in-phase terms, with `state` (the
+    engine's, back-slide named)."""
+    one = lambda x: x[:, 0]  # noqa: E731  (nt, B = 1, 3) -> (nt, 3)
+    return Half(dv=tr.dp, N0=tr.N0, T0=tr.T0, dN=one(tr.dN), dT=one(tr.dT), dslip=one(tr.dslip),
+                state=state, active=tr.active, stretch=tr.stretch, slack=tr.slack,
+                N_end=tr.N_end, T_end=tr.T_end, span=jnp.sum(tr.dp), gross_slip=tr.gross_slip,
+                gross_dslip=tr.gross_dslip[0], status=tr.status)
 
 
 def empty_half(max_tracts: int) -> Half:
     """A Half of zeros (the initial value of an iteration over halves)."""
-    z3, b = jnp.zeros(3), jnp.array(False)
-    return Half(**zeros_of(half_rows(), max_tracts), N_end=z3, T_end=z3, span=jnp.zeros(()),
-                gross_slip=b, gross_dslip=z3, status=ok_status())
+    empty = empty_tracts(3, 1, max_tracts)
+    return _as_half(empty, empty.state)
 
 
 def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
@@ -98,12 +96,7 @@ def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
     on_line = jnp.abs(T) >= mech.mu * N - LIMIT_TOL
     same = (tr.state == SLIP) & (jnp.where(tr.T0 >= 0.0, 1.0, -1.0) == start_sign[None])
     back = on_line[None] & (jnp.cumsum(~same, axis=0) == 0)
-    state = jnp.where(back & (tr.state == SLIP), BACKSLIDE, tr.state)
-    one = lambda x: x[:, 0]  # noqa: E731  (nt, B = 1, 3) -> (nt, 3)
-    return Half(dv=tr.dp, N0=tr.N0, T0=tr.T0, dN=one(tr.dN), dT=one(tr.dT), dslip=one(tr.dslip),
-                state=state, active=tr.active, stretch=tr.stretch, slack=tr.slack,
-                N_end=tr.N_end, T_end=tr.T_end, span=jnp.sum(tr.dp), gross_slip=tr.gross_slip,
-                gross_dslip=tr.gross_dslip[0], status=tr.status)
+    return _as_half(tr, jnp.where(back & (tr.state == SLIP), BACKSLIDE, tr.state))
 
 
 def accelerate(mu, s0, s1, s2, have_history):
@@ -132,4 +125,4 @@ def accelerate(mu, s0, s1, s2, have_history):
     return jnp.where(ok & admissible, guess, s2)
 
 
-__all__ = ["Half", "run_half", "empty_half", "half_rows", "accelerate"]
+__all__ = ["Half", "run_half", "empty_half", "accelerate"]
