@@ -20,7 +20,8 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Many designs: `stack_designs`, `evaluate_designs`, `base_cycles`, `sweep`, `map_batched`.
 - Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
-  `peak_response`, `peak_band`, `frf`, `designer_diagram`; across a blade row from modal data:
+  `peak_response`, `peak_band`, `frf`, `designer_diagram`; on a platform path (`Motion`):
+  `path_response_curves`; across a blade row from modal data:
   `ModalFamily`, `nodal_scene`, `row_response` (files: `jaxdamp.modal_file`).
 - Measured loops: `fit_loops` (mu, kn, kt with intervals from moment or contact loops).
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
@@ -159,6 +160,7 @@ from .response import design_peaks as design_peaks
 from .response import peak_band as peak_band
 from .response import ResponseCurves as ResponseCurves
 from .response import response_curves as response_curves
+from .response import path_response_curves as path_response_curves
 from .response import DesignerDiagram as DesignerDiagram
 from .response import designer_diagram as designer_diagram
 from .response import DIAGRAM_MUS as DIAGRAM_MUS
@@ -220,7 +222,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "DamperStiffness", "damper_stiffness", "damper_stiffness_kernel", "stuck_damper",
            "no_damper", "scaled_stiffness", "tabulated_stiffness", "register_stiffness_method",
            "FRF", "frf", "frf_amplitude_grid", "linear_frf", "Peaks", "peak_response",
-           "design_peaks", "peak_band", "ResponseCurves", "response_curves", "DesignerDiagram",
+           "design_peaks", "peak_band", "ResponseCurves", "response_curves", "path_response_curves",
+           "DesignerDiagram",
            "ModalFamily", "NodalScene", "validate_family", "nodal_scene", "RowResponse",
            "row_response", "engine_orders_of", "path_damper", "path_cycle_kernel", "prepare_scene",
            "designer_diagram", "DIAGRAM_MUS", "Uncertainty", "Scenarios", "PeakDistribution",

@@ -52,8 +52,8 @@ def test_modes_needs_h_l_and_a_readable_file(capsys, tmp_path, modes_file):
     code, _, err = run(capsys, "response", "--shape", "60sym", "--modes",
                        str(tmp_path / "none.npz"), "--h-l", "30")
     assert code == 2 and "--modes must be an existing .npz or .json file" in one_error_line(err)
-    code, _, err = run(capsys, "response", "--shape", "60sym", "--h-l", "30")
-    assert code == 2 and "need --modes FILE" in one_error_line(err)
+    code, _, err = run(capsys, "response", "--shape", "60sym", "--engine-order", "3")
+    assert code == 2 and "--engine-order needs --modes FILE" in one_error_line(err)
 
 
 def test_engine_order_of_a_missing_nodal_diameter(capsys, tmp_path):

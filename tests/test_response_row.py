@@ -100,7 +100,7 @@ def test_the_row_bound_settles_the_slow_out_of_phase_cycle():
     import jax
     from jaxdamp.modal_file import load_modal_family
     from jaxdamp.params import prepare_inputs
-    from jaxdamp.response.row import ROW_REPEATS
+    from jaxdamp.response.peaks import PATH_REPEATS
     from jaxdamp.response.stiffness import path_cycle_kernel
 
     shape = jd.DamperShape(42.59891282213617, 52.95829312005082, 0.3988034770924406,
@@ -109,7 +109,7 @@ def test_the_row_bound_settles_the_slow_out_of_phase_cycle():
     design = prepare_inputs(shape, 0.7, jd.Contacts(), jd.LoadCase())
     run = jax.jit(lambda a, n: path_cycle_kernel(*design, a, motion, "gross_slip", "while", n),
                   static_argnums=1)
-    default, row, far = (run(32.69186086263253, n) for n in (None, ROW_REPEATS, 256))
+    default, row, far = (run(32.69186086263253, n) for n in (None, PATH_REPEATS, 256))
     assert jd.RESULTS.name_of(default[2]) == "not_converged"
     assert jd.RESULTS.name_of(row[2]) == "ok"
     assert_tree_allclose(row[:2], far[:2], rtol=1e-13, atol=0)

@@ -40,19 +40,7 @@ def register(sub) -> None:
     p.add_argument("--band", action="store_true",
                    help="also the min/max of k_Re, k_Im over all statically admissible initial states "
                    "(in-phase motion only)")
-    p.add_argument("--ibpa", type=float, default=None,
-                   help="interblade phase angle, deg, in [-360, 360]: 0 is in-phase (the default "
-                   "motion), 180 out-of-phase, any other an elliptic path")
-    p.add_argument("--h-c", type=float, default=None,
-                   help="depth of the blades' rotation centre C below D, mm, in [-10000, 10000] "
-                   "(needed with --ibpa)")
-    p.add_argument("--h-l", type=float, default=None,
-                   help="the damper's size: its left flank's length, mm, in (0, 10000] (needed "
-                   "where the platforms turn relative to each other)")
-    p.add_argument("--motion", default=None,
-                   help="a relative platform path du,dv,dtheta (mm, mm, mrad per mrad of "
-                   "--psi-a; complex entries as re+imj: an ellipse unless real up to one phase), "
-                   "instead of --ibpa; write --motion=-0.02,... when the first entry is negative")
+    C.add_motion_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -77,36 +65,6 @@ def _merged(spans):
     return out
 
 
-def motion_from_args(args, load):
-    """The jaxdamp.Motion of --ibpa / --motion (None: the paper's in-phase motion), checked."""
-    from ..motion import general_motion, interblade_motion
-
-    if args.ibpa is not None and args.motion is not None:
-        raise C.CliError("--ibpa and --motion are two ways to give the path: use one")
-    if args.h_c is not None and args.ibpa is None:
-        raise C.CliError("--h-c places the blades' rotation centre for --ibpa: give --ibpa DEG, "
-                         "in [-360, 360]")
-    if args.motion is not None:
-        try:
-            direction = [complex(v.strip()) for v in args.motion.split(",")]
-        except ValueError:
-            raise C.CliError(f"--motion must be three numbers du,dv,dtheta (mm, mm, mrad; complex as "
-                             f"re+imj), e.g. --motion 0.03,0.05,1.5; got {args.motion!r}") from None
-        if len(direction) != 3:
-            raise C.CliError(f"--motion must be three numbers du,dv,dtheta, e.g. --motion 0.03,0.05,1.5; "
-                             f"got {args.motion!r}")
-        return general_motion(direction, args.h_l)
-    if args.ibpa is not None:
-        if args.h_c is None:
-            raise C.CliError("--h-c (depth of the blades' rotation centre below D, mm, in "
-                             "[-10000, 10000]) is needed with --ibpa")
-        return interblade_motion(args.ibpa, args.h_c, load.q_star, args.h_l)
-    if args.h_l is not None:
-        raise C.CliError("--h-l is the damper's size on a path that turns the platforms: give "
-                         "--ibpa or --motion (in-phase results do not depend on it)")
-    return None
-
-
 def run(args) -> int:
     import numpy as np
 
@@ -123,7 +81,7 @@ def run(args) -> int:
     wedge = args.damper == "wedge"
     shape = C.damper_from_args(args, C.shape_from_args(args, need_br=not wedge))
     prepare_inputs(shape, args.mu, contacts, load, wedge_ok=wedge)
-    motion = motion_from_args(args, load)
+    motion = C.motion_from_args(args, load)
     if wedge and args.band:
         raise C.CliError("--band is computed for the curved-flat damper only; drop --band or "
                          "--damper wedge")
@@ -180,23 +138,13 @@ def run(args) -> int:
               "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
-              "band": bool(args.band), "motion": None if motion is None else {
-                  "ibpa_deg": args.ibpa, "h_c_mm": args.h_c, "h_l_mm": args.h_l,
-                  "direction": [float(v) for v in motion.direction],
-                  "quadrature": (None if motion.quadrature is None
-                                 else [float(v) for v in motion.quadrature]),
-                  "direction_units": "du mm, dv mm, dtheta mrad per mrad of psi_a"}}
+              "band": bool(args.band), "motion": C.motion_echo(args, motion)}
     status = bad[0] if bad else "ok"
     doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
                      reason=C.status_reason(status, contacts, load))
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
-    path = ("in-phase" if motion is None else
-            "{} path (du, dv, dtheta) = ({}) mm, mm, mrad per mrad".format(
-                "straight" if motion.quadrature is None else "elliptic",
-                ", ".join(f"{complex(float(r), float(i)):.4g}".strip("()").replace("+0j", "")
-                          for r, i in zip(motion.direction, [0.0] * 3 if motion.quadrature is None
-                                          else motion.quadrature))))
+    path = C.motion_text(inputs["motion"])
     damper = (f"wedge R1, R2 | L1, L2 (2b/h_R = {float(shape.br2_over_hr):g}), " if wedge else "")
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, {damper}mu = {args.mu:g}, "
              f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad), {path}",

@@ -4,7 +4,10 @@ Peaks A* (every root, isolas included) at each force, the FRFs with the damper a
 and stuck blade (each across its own peak, with the peak reduction A*_free / A*), and with
 --diagram the designer's diagram (peak against F and against F_D, mu band 0.3 ... 0.7). With
 --modes FILE the blade row instead: the peak per engine order, each on its nodal diameter's mode
-and platform path (docs/blade.md). The
+and platform path (docs/blade.md). With --ibpa / --motion (and --h-l) the one-mode blade's damper
+runs on that platform path instead of the paper's in-phase motion (the curved-flat damper's exact
+cycles on the path, docs/motions.md); --psi-per-mm is then the path parameter's mrad (for --ibpa
+the left-hand blade's platform rotation) per mm of tip. The
 programs are saved as exports in the compilation cache folder (`cli.exported`): a second call
 neither traces nor compiles them.
 """
@@ -18,8 +21,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..params import check_param
-from ..response import (BladeMode, curves_program, designer_diagram, peak_band_kernel,
-                        prepare_scene)
+from ..response import (BladeMode, curves_program, designer_diagram, path_curves_program,
+                        peak_band_kernel, prepare_scene)
 from ..status import RESULTS
 from . import common as C
 from . import exported
@@ -53,8 +56,8 @@ def register(sub) -> None:
                    help="damper curve k(psi_a): exact steady cycles (default) or the paper's "
                         "microslip interpolation")
     p.add_argument("--initial", default=None, choices=("gross_slip", "assembly"),
-                   help="contact history of the exact curve (default gross_slip; with --modes "
-                        "assembly)")
+                   help="contact history of the exact curve (default gross_slip; with --modes, "
+                        "--ibpa or --motion assembly)")
     p.add_argument("--band", action="store_true",
                    help="also the peak's bounds over every admissible contact history (the band "
                         "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
@@ -62,6 +65,8 @@ def register(sub) -> None:
                    help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
     p.add_argument("--plot", metavar="DIR",
                    help="write frf.png (and designer_diagram.png with --diagram) to DIR")
+    C.add_motion_args(p, parameter="psi_a (the path parameter, --psi-per-mm per mm of tip)",
+                      h_l_extra="; with --modes at every nodal diameter but 0")
     add_row_args(p)
     add_uncertainty_args(p)
     C.add_progress_arg(p)
@@ -130,29 +135,44 @@ def _diagram_json(dd):
 
 class Computed(NamedTuple):
     """What `compute` returns: the curves (host numbers), the band's (highest, lowest) peaks or
-    None, and the designer's diagram or None."""
+    None, the designer's diagram or None, and the platform path (None: in-phase)."""
 
     curves: object
     band: tuple | None
     diagram: object
+    motion: object = None
 
 
 def prepare(args):
     """Every check before any work, once: (the Scene, the forces, the shape, contacts and load as
-    the flags give them, for the echo). The library checks each input once (`prepare_scene`); the
-    compiled programs take the Scene as it is."""
+    the flags give them, for the echo, the platform path or None). The library checks each input
+    once (`prepare_scene`); the compiled programs take the Scene as it is."""
     C.refuse_wedge(args, "response", "the damper's k(psi) and its amplitude scale come from the "
                    "paper's Base-Cycle")
     shape = C.shape_from_args(args, check=False)
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
     contacts, load = C.contacts_from_args(args, check=False), C.load_from_args(args, check=False)
+    motion = None if args.modes is not None else C.motion_from_args(args, load)
+    if motion is not None:
+        for flag, on in (("--band", args.band), ("--diagram", args.diagram),
+                         ("--uncertainty", getattr(args, "uncertainty", False)),
+                         ("--stiffness interpolated", args.stiffness != "exact")):
+            if on:
+                raise C.CliError(f"{flag} is computed for the paper's in-phase motion only; drop it "
+                                 "or --ibpa / --motion")
     scene = prepare_scene(shape, args.mu, contacts, load, mode)
-    return scene, forces, shape, contacts, load
+    return scene, forces, shape, contacts, load, motion
 
 
-def compute(args, scene, forces, bar) -> Computed:
-    """The curves, and with --band and --diagram the band and the diagram, on the Scene."""
+def compute(args, scene, forces, bar, motion=None) -> Computed:
+    """The curves, and with --band and --diagram the band and the diagram, on the Scene; on a
+    platform path (motion) the curves only."""
+    if motion is not None:
+        res = exported.call("response_path_curves", path_curves_program(args.initial),
+                            (*scene, motion, _padded(forces)), repr(args.initial))
+        bar.update(1)
+        return Computed(jax.device_get(res), None, None, motion)
     options = {"initial": args.initial} if args.stiffness == "exact" else {}
     options_key = tuple(sorted(options.items()))
     variant = repr((args.stiffness, options_key))
@@ -203,14 +223,15 @@ def _band_json(peaks, band) -> None:
                      "peak_amplitude_max_mm": _num(highest.peak_amplitude_mm[i]) if ok else None}
 
 
-def _inputs_json(args, shape, forces) -> dict:
+def _inputs_json(args, shape, forces, motion=None) -> dict:
     inputs = {"shape": shape._asdict(), "mu": args.mu, "kn": args.kn, "kt": args.kt,
               "fd": args.fd, "q": args.q, "r_sin_beta": args.r_sin_beta,
               "f0_hz": args.f0_hz, "modal_stiffness_n_per_mm": args.modal_stiffness_n_per_mm,
               "loss_factor": args.loss_factor, "psi_per_mm": args.psi_per_mm,
               "force_n": forces, "initial": args.initial, "band": bool(args.band),
               "diagram": bool(args.diagram),
-              "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE}
+              "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE,
+              "motion": C.motion_echo(args, motion, "psi_a")}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
     return inputs
 
@@ -226,7 +247,7 @@ def to_json(args, out: Computed, forces, shape, contacts, load) -> dict:
     status = RESULTS(int(worst)).name
     dd = out.diagram
     return C.document(status, {
-        "inputs": _inputs_json(args, shape, forces), "damper_status": RESULTS.name_of(res.status),
+        "inputs": _inputs_json(args, shape, forces, out.motion), "damper_status": RESULTS.name_of(res.status),
         "peaks": peaks, "frf": frf_json,
         "designer_diagram": None if dd is None else _diagram_json(dd)},
         reason=C.status_reason(status, contacts, load))
@@ -250,6 +271,7 @@ def to_text(args, doc: dict) -> str:
     lines = [f"Blade response, mu = {args.mu:g}, F_D = {args.fd:g} N; f0 = {args.f0_hz:g} Hz, "
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "
              f"r = {args.psi_per_mm:g} mrad/mm",
+             f"  platform motion: {C.motion_text(doc['inputs']['motion'])}",
              f"  damper stiffness: {args.stiffness}"
              + (f" (history: {args.initial})" if args.stiffness == "exact" else "")
              + f", status {doc['damper_status']}",
@@ -279,8 +301,9 @@ def to_text(args, doc: dict) -> str:
 def run(args) -> int:
     check_row_args(args)
     if args.initial is None:
-        args.initial = "assembly" if args.modes is not None else "gross_slip"
-    scene, forces, shape, contacts, load = prepare(args)
+        on_path = args.modes is not None or args.ibpa is not None or args.motion is not None
+        args.initial = "assembly" if on_path else "gross_slip"
+    scene, forces, shape, contacts, load, motion = prepare(args)
     if args.modes is not None:
         return run_row(args, scene, forces, shape, contacts, load)
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
@@ -289,7 +312,7 @@ def run(args) -> int:
 
     stages = 1 + bool(args.band) + bool(args.diagram)
     bar = C.progress_bar(args, total=stages, desc="peaks and FRFs", unit="stage")
-    out = compute(args, scene, forces, bar)
+    out = compute(args, scene, forces, bar, motion)
     bar.close()
     doc = to_json(args, out, forces, shape, contacts, load)
     if args.plot:

@@ -33,18 +33,18 @@ def add_row_args(p) -> None:
     g.add_argument("--engine-order", default="all", metavar="SPEC",
                    help="engine orders with --modes: a:b (inclusive), a,b,c or all (every nodal "
                         "diameter 0 ... N/2 once; default)")
-    g.add_argument("--h-l", type=float, default=None, metavar="MM",
-                   help="with --modes: the damper's size, its left flank's length in mm, in "
-                        "(0, 10000] (the platforms turn relative to each other at every nodal "
-                        "diameter but 0)")
 
 
 def check_row_args(args) -> None:
     """Argument combinations, before any work (CliError: one line, exit 2)."""
     if args.modes is None:
-        if args.h_l is not None or args.engine_order != "all":
-            raise C.CliError("--engine-order and --h-l need --modes FILE (the blade row)")
+        if args.engine_order != "all":
+            raise C.CliError("--engine-order needs --modes FILE (the blade row)")
         return
+    for flag, given in (("--ibpa", args.ibpa), ("--h-c", args.h_c), ("--motion", args.motion)):
+        if given is not None:
+            raise C.CliError(f"{flag} gives one platform path; with --modes the modal file gives "
+                             "each engine order's: drop it")
     for flag, on in (("--band", args.band), ("--diagram", args.diagram),
                      ("--uncertainty", getattr(args, "uncertainty", False))):
         if on:

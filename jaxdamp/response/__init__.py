@@ -55,6 +55,9 @@ from .peaks import peak_program as peak_program
 from .peaks import peak_residual as peak_residual
 from .peaks import peak_response as peak_response
 from .peaks import response_curves as response_curves
+from .peaks import path_peaks as path_peaks
+from .peaks import path_curves_program as path_curves_program
+from .peaks import path_response_curves as path_response_curves
 from .peak_band import peak_band as peak_band
 from .peak_band import peak_band_kernel as peak_band_kernel
 from .diagram import DIAGRAM_MUS as DIAGRAM_MUS
@@ -84,4 +87,5 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "tabulated_stiffness", "path_damper", "path_cycle_kernel", "ModalFamily", "NodalScene",
            "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
-           "row_response", "row_program", "engine_orders_of"]
+           "row_response", "row_program", "engine_orders_of", "path_peaks", "path_curves_program",
+           "path_response_curves"]

@@ -16,11 +16,14 @@ from ..status import RESULTS, number_repr, status_repr
 from ..params import check_param
 from .frf import FRF, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
-from .stiffness import DamperStiffness, damper_stiffness_kernel, is_traced
+from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel, is_traced,
+                        path_cycle_kernel, path_damper)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
            "SHARED_GRID_FACTOR", "Peaks", "peak_residual", "peak_frequency_hz", "peak_response",
-           "peak_program", "ResponseCurves", "curves_program", "response_curves", "design_peaks"]
+           "peak_program", "ResponseCurves", "curves_program", "response_curves", "design_peaks",
+           "PATH_LOOP", "PATH_REPEATS", "path_peaks", "path_curves_program",
+           "path_response_curves"]
 
 
 N_GRID = 160  # bracketing grid points (log-spaced)
@@ -266,14 +269,58 @@ def curves_program(method: str, options: tuple = ()):
     (shape, mu, contacts, load, mode, forces (n,)) -> ResponseCurves, on prepared inputs."""
     def run(shape, mu, contacts, load, mode, forces):
         d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
-        peaks = peak_response(d, mode, forces)
-        valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
-        free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
-        top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
-        damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
-        free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
-        stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
-        return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
+        return _curves(d, mode, forces, peak_response(d, mode, forces))
+
+    return batch_jit(run)
+
+
+def _curves(d: DamperStiffness, mode: BladeMode, forces, peaks: Peaks) -> ResponseCurves:
+    """The three FRFs around the peaks of every force: the damped one up to its largest root
+    (to F / (eta k_b) where the damper is not valid), the free and stuck ones across their own."""
+    valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
+    free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
+    top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
+    damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
+    free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
+    stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
+    return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
+
+
+# The cycles' loops on a platform path: values only, so while loops (measured on the row's
+# elliptic program of two engine orders: trace 55 s and run 0.08 s, against 35 s and 0.57 s with
+# masked scans; the CLI saves the traced program, so a repeat pays only the run).
+PATH_LOOP = "while"
+# The cycles' bound on periods (pairs of halves on straight paths): while loops, so only a lane
+# that needs them pays. A path may settle slowly (the out-of-phase path near gross slip: 21
+# pairs), beyond the kernels' default bounds (12 pairs, 16 periods).
+PATH_REPEATS = 64
+
+
+def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
+               initial: str = "assembly") -> tuple[DamperStiffness, Peaks]:
+    """(the damper on the path, its peaks at force_n): `path_damper` (values only: while loops)
+    and `peak_response`, then the steady cycle at each peak, whose status overrides a valid
+    peak's where it says more: a pad that opens there on a straight path (liftoff), a damper
+    unseated on an ellipse, a cycle that does not settle (the grid may miss these), or a damper
+    that sticks there (shakedown: no dissipation). Unchecked, traceable (jit, vmap)."""
+    damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
+                         repeats=PATH_REPEATS)
+    peaks = peak_response(damper, mode, force_n, differentiable=False)
+    at_peak = jax.vmap(lambda a: path_cycle_kernel(shape, mu, contacts, load, a, motion, initial,
+                                                   PATH_LOOP, PATH_REPEATS)[2])(
+        jnp.reshape(peaks.psi_a_mrad, -1)).reshape(jnp.shape(peaks.psi_a_mrad))
+    told = RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok) & (peaks.psi_a_mrad > 0)
+    return damper, peaks._replace(status=jnp.where(told, at_peak, peaks.status))
+
+
+@functools.cache
+def path_curves_program(initial: str = "assembly"):
+    """One compiled program per contact history: (shape, mu, contacts, load, mode, motion,
+    forces (n,)) -> ResponseCurves of the damper on a platform path (`path_peaks`), on prepared
+    inputs. A straight and an elliptic Motion are different pytrees, so each kind compiles once."""
+    def run(shape, mu, contacts, load, mode, motion, forces):
+        d, peaks = path_peaks(shape, mu, contacts, load, mode, motion, forces, initial)
+        return _curves(d, mode, forces, peaks)
 
     return batch_jit(run)
 
@@ -287,6 +334,28 @@ def response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMode | 
     forces = jnp.asarray(force_n, float).reshape(-1)
     check_param("force_n", np.asarray(forces))
     return curves_program(method, tuple(sorted(options.items())))(*scene, forces)
+
+
+def path_response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None,
+                         motion=None, force_n=(1.0,), initial: str = "assembly") -> ResponseCurves:
+    """Peaks and FRFs (damper, free, stuck) of one design on a platform path: `motion` a
+    `jaxdamp.Motion` (`interblade_motion`, `general_motion`; None is the paper's in-phase motion,
+    `response_curves`), the mode's r in mrad of the path's parameter per mm of tip (for
+    `interblade_motion`, the left-hand blade's platform rotation). initial: "assembly" (default)
+    or "gross_slip" (on an ellipse a straight move along its tau = 0 direction to gross slip,
+    `jaxdamp.ellipse`). Inputs checked once here, then one compiled program
+    (`path_curves_program`). The damper's status and amplitude scale are the in-phase
+    Base-Cycle's (`path_damper`), so the paper's curved-flat damper only."""
+    from ..motion import validate_motion
+
+    if initial not in PATH_HISTORIES:
+        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    scene = prepare_scene(shape, mu, contacts, load, mode)
+    forces = jnp.asarray(force_n, float).reshape(-1)
+    check_param("force_n", np.asarray(forces))
+    if motion is None:
+        return response_curves(scene, force_n=forces, initial=initial)
+    return path_curves_program(initial)(*scene, validate_motion(motion), forces)
 
 
 def design_peaks(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None,

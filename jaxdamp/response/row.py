@@ -18,18 +18,10 @@ from ..params import check_param
 from ..runtime import batch_jit, padded_size
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
-from .peaks import Peaks, peak_response
+from .peaks import Peaks, path_peaks
 from .scene import BladeMode, prepare_scene
-from .stiffness import PATH_HISTORIES, path_cycle_kernel, path_damper
+from .stiffness import PATH_HISTORIES
 
-# The cycles' loops in the row's peak search: values only, so while loops (measured on the
-# elliptic program of two engine orders: trace 55 s and run 0.08 s, against 35 s and 0.57 s with
-# masked scans; the CLI saves the traced program, so a repeat pays only the run).
-ROW_LOOP = "while"
-# The cycles' bound on periods (pairs of halves on straight paths): while loops, so only a lane
-# that needs them pays. A row meets cycles that settle slowly (the out-of-phase path near gross
-# slip: 21 pairs), beyond the kernels' default bounds (12 pairs, 16 periods).
-ROW_REPEATS = 64
 ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power of two, at least 4
 FORCE_BUCKET = 4
 
@@ -102,20 +94,7 @@ def row_program(initial: str = "assembly"):
     structure, so each kind compiles once)."""
     def run(shape, mu, contacts, load, modes, motions, tip_forces):
         def one(mode, motion, forces):
-            # Values only (no gradient passes through the row): while loops, no IFT wrapping.
-            damper = path_damper(shape, mu, contacts, load, motion, initial, loop=ROW_LOOP,
-                                 repeats=ROW_REPEATS)
-            peaks = peak_response(damper, mode, forces, differentiable=False)
-            # The steady cycle at each peak: a pad that opens there (a straight path), a damper
-            # unseated (an ellipse), or a cycle that does not settle, makes the peak's numbers
-            # meaningless even where the curve's grid missed it;
-            # a damper that sticks there (shakedown: no dissipation) is said too.
-            at_peak = jax.vmap(lambda a: path_cycle_kernel(shape, mu, contacts, load, a, motion,
-                                                           initial, ROW_LOOP, ROW_REPEATS)[2])(
-                peaks.psi_a_mrad)
-            told = (RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok)
-                    & (peaks.psi_a_mrad > 0))
-            return peaks._replace(status=jnp.where(told, at_peak, peaks.status))
+            return path_peaks(shape, mu, contacts, load, mode, motion, forces, initial)[1]
 
         return jax.vmap(one)(modes, motions, tip_forces)
 
