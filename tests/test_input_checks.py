@@ -30,7 +30,7 @@ CHECKED = {
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
     "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
     # jaxdamp.baselines
-    "hbm_aft", "regularized_aft", "time_march", "march_ellipse", "modal_family",
+    "hbm_aft", "hbm_aft_path", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",
 }
 # Take a result made (and checked) by a checked function: a BaseCycle, a batched Design from

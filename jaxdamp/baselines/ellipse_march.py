@@ -29,7 +29,7 @@ from ..geometry import is_wedge
 from ..motion import Motion, motion_moment_coefficients, path_parts, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
-from .timemarch import MAX_NEWTON, NEWTON_TOL, MarchModel, assemble, march_half, newton, respond
+from .timemarch import MAX_NEWTON, NEWTON_TOL, MarchModel, assemble, newton, respond, step
 
 
 HISTORIES = ("assembly", "gross_slip")
@@ -56,9 +56,26 @@ class EllipseMarch(NamedTuple):
                 f"k_re={number_repr(self.k_re, 'N mm/mrad')}, k_im={number_repr(self.k_im, 'N mm/mrad')})")
 
 
-@partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton", "initial"))
-def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
-                   n_load: int, max_newton: int, initial: str):
+class PathModel(NamedTuple):
+    """The marcher's constants on a path (a pytree): the damper's `MarchModel` from zero
+    reference forces (its nw, tw are set per step), each pad's platform motion along the path's
+    two basis directions X_r and X_i per mm of the path parameter s, and the modal forces' (fn,
+    ft) per unit pad force along each."""
+
+    m: MarchModel
+    nw_r: jnp.ndarray
+    tw_r: jnp.ndarray
+    nw_i: jnp.ndarray
+    tw_i: jnp.ndarray
+    fn_r: jnp.ndarray
+    ft_r: jnp.ndarray
+    fn_i: jnp.ndarray
+    ft_i: jnp.ndarray
+
+
+def path_model(shape, mu, contacts, load, motion: Motion) -> PathModel:
+    """The marcher's constants of one design on an elliptic (or zero-width) path. Unchecked,
+    traceable."""
     along_r, along_i = path_parts(motion)
     # The model's platform motion is set per step below; its pads are the damper's (any pad set).
     pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
@@ -66,46 +83,75 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     zero = jnp.zeros_like(pads.kn)
     m = MarchModel(pads.a, pads.c, nw_r, tw_r, pads.kn, pads.kt, pads.mu, zero, zero, zero, zero,
                    jnp.asarray(load.q_star, float), jnp.asarray(load.F_D, float))
-    fn_r, ft_r = motion_moment_coefficients(nw_r, tw_r, load)
-    fn_i, ft_i = motion_moment_coefficients(nw_i, tw_i, load)
-    s_a = travel_mm(amplitude, load.q_star)
-    m0, s, ok = assemble(m, n_load, max_newton)
+    return PathModel(m, nw_r, tw_r, nw_i, tw_i, *motion_moment_coefficients(nw_r, tw_r, load),
+                     *motion_moment_coefficients(nw_i, tw_i, load))
+
+
+def path_start(pm: PathModel, s_a, initial: str, n_steps, n_load: int,
+               max_newton: int = MAX_NEWTON):
+    """The history before the path (module docstring): assembly in n_load levels, then the
+    straight move in n_steps // 2 steps (n_steps may be traced). Returns (model at full load,
+    state, shift of the path in mm of s, Newton failures). Unchecked, traceable."""
+    m0, s, ok = assemble(pm.m, n_load, max_newton)
     gross = initial == "gross_slip"
     shift = GROSS_SLIP_TRAVEL_MM if gross else 0.0  # mm of s: where the path's tau = 0 point sits
     move = (s_a + shift) if gross else s_a
-    s, straight = march_half(m0, s, 1.0 if gross else -1.0, move / (n_steps // 2), n_steps // 2,
-                             max_newton)
-    fails = jnp.where(ok, 0, 1) + jnp.sum(~straight.samples.newton_ok)
+    n_move = n_steps // 2
+    h, direction, dv0 = move / n_move, 1.0 if gross else -1.0, s.dv
 
-    def step(carry, tau):
-        q, p = carry
-        # The pads' platform displacement at tau: both components of the path at once (the
-        # model's dv = 1 then carries it).
-        u1, u2 = s_a * jnp.cos(tau) + shift, -s_a * jnp.sin(tau)
-        here = m0._replace(nw=u1 * nw_r + u2 * nw_i, tw=u1 * tw_r + u2 * tw_i)
+    def one(k, carry):  # timemarch.march_half's steps, for a count that may be traced
+        s, fails = carry
+        s, smp = step(m0, s, dv0 + direction * h * k, max_newton)
+        return s, fails + jnp.where(smp.newton_ok, 0, 1)
 
-        def residual(x):
-            r = respond(here, x, 1.0, p)
-            return r.R, r.J
+    s, fails = jax.lax.fori_loop(1, n_move + 1, one, (s, jnp.where(ok, 0, 1)))
+    return m0, s, shift, fails
 
-        q, res, _ = newton(residual, q, max_newton)
-        r = respond(here, q, 1.0, p)
-        sample = (r.N, r.T, r.p, r.N @ fn_r + r.T @ ft_r, r.N @ fn_i + r.T @ ft_i,
-                  res <= NEWTON_TOL, ~r.closed, r.slip)
-        return (q, r.p), sample
+
+def path_step(pm: PathModel, m0: MarchModel, s_a, shift, carry, tau, max_newton: int = MAX_NEWTON):
+    """One step of the path to tau from carry = (q, p): Newton with return mapping with the
+    platforms at X(tau). Returns ((q, p), (N, T, p, M_r, M_i, converged, open, slipping)).
+    Unchecked, traceable."""
+    q, p = carry
+    # The pads' platform displacement at tau: both components of the path at once (the
+    # model's dv = 1 then carries it).
+    u1, u2 = s_a * jnp.cos(tau) + shift, -s_a * jnp.sin(tau)
+    here = m0._replace(nw=u1 * pm.nw_r + u2 * pm.nw_i, tw=u1 * pm.tw_r + u2 * pm.tw_i)
+
+    def residual(x):
+        r = respond(here, x, 1.0, p)
+        return r.R, r.J
+
+    q, res, _ = newton(residual, q, max_newton)
+    r = respond(here, q, 1.0, p)
+    sample = (r.N, r.T, r.p, r.N @ pm.fn_r + r.T @ pm.ft_r, r.N @ pm.fn_i + r.T @ pm.ft_i,
+              res <= NEWTON_TOL, ~r.closed, r.slip)
+    return (q, r.p), sample
+
+
+@partial(jax.jit, static_argnames=("n_steps", "periods", "n_load", "max_newton", "initial"))
+def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, periods: int,
+                   n_load: int, max_newton: int, initial: str):
+    pm = path_model(shape, mu, contacts, load, motion)
+    s_a = travel_mm(amplitude, load.q_star)
+    m0, s, shift, fails = path_start(pm, s_a, initial, n_steps, n_load, max_newton)
+    gross = initial == "gross_slip"
+
+    def advance(carry, tau):
+        return path_step(pm, m0, s_a, shift, carry, tau, max_newton)
 
     h = 2.0 * jnp.pi / n_steps
     if gross:  # the period starts where the straight move ended
         carry = (s.q, s.p)
-        first = jax.eval_shape(lambda c: jax.lax.scan(step, c, h * jnp.arange(1, 2))[1], carry)
+        first = jax.eval_shape(lambda c: jax.lax.scan(advance, c, h * jnp.arange(1, 2))[1], carry)
     else:
-        carry, first = jax.lax.scan(step, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
+        carry, first = jax.lax.scan(advance, (s.q, s.p), jnp.pi + h * jnp.arange(1, n_steps // 2 + 1))
         fails = fails + jnp.sum(~first[5])
     taus = h * jnp.arange(1, n_steps + 1)
 
     def period(c, _):
         carry, _ = c
-        carry, smp = jax.lax.scan(step, carry, taus)
+        carry, smp = jax.lax.scan(advance, carry, taus)
         return (carry, smp), (smp[0][-1], smp[1][-1], smp[2][-1])  # forces and slips at tau = 2 pi
 
     init_smp = jax.tree_util.tree_map(lambda x: jnp.zeros((n_steps,) + x.shape[1:], x.dtype), first)
@@ -151,4 +197,5 @@ def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts 
                           check_int("max_newton", max_newton, 1), initial)
 
 
-__all__ = ["EllipseMarch", "march_ellipse"]
+__all__ = ["EllipseMarch", "march_ellipse", "PathModel", "path_model", "path_start", "path_step",
+           "HISTORIES", "GROSS_SLIP_TRAVEL_MM"]
