@@ -179,16 +179,26 @@ def _half_energy(half: Half, F_D):
     return -F_D * jnp.sum(0.5 * (half.T0 + T1) * half.dslip * half.dv[:, None], axis=0)
 
 
+def loop_fourier(coefficients, fwd: Half, bwd: Half, a_dv):
+    """(int F cos tau dtau, int F sin tau dtau) over the loop (forward, backward halves) of the
+    force F = sum of N fn + T ft, coefficients = (fn, ft) per unit normal / tangential force of
+    each contact; a_dv: the amplitude in mm of travel. Unchecked, traceable."""
+    m0f, dmf = _half_moment(coefficients, fwd)
+    m0b, dmb = _half_moment(coefficients, bwd)
+    c1, s1 = half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
+    c2, s2 = half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
+    return c1 + c2, s1 + s2
+
+
 def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half, motion=None):
     """(k_Re, k_Im, energy per contact, oint M dpsi) of the loop (forward, backward)."""
     a_dv = travel_mm(psi_a, load.q_star)
     coefficients = loop_moment_coefficients(shape, load, motion)
     m0f, dmf = _half_moment(coefficients, fwd)
     m0b, dmb = _half_moment(coefficients, bwd)
-    c1, s1 = half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
-    c2, s2 = half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
-    k_re = (c1 + c2) / (jnp.pi * psi_a)
-    k_im = -(s1 + s2) / (jnp.pi * psi_a)
+    cos_part, sin_part = loop_fourier(coefficients, fwd, bwd, a_dv)
+    k_re = cos_part / (jnp.pi * psi_a)
+    k_im = -sin_part / (jnp.pi * psi_a)
     # oint M dpsi (psi in rad): trapezoids on the linear segments, dpsi = -branch dv / q*.
     wf = jnp.sum((m0f + 0.5 * dmf * fwd.dv) * fwd.dv) / load.q_star
     wb = jnp.sum((m0b + 0.5 * dmb * bwd.dv) * bwd.dv) / load.q_star

@@ -59,7 +59,7 @@ CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep",
-           "elliptic_transitions_chart", "path_pads",
+           "elliptic_transitions_chart", "path_pads", "period_fourier",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
 
@@ -88,28 +88,41 @@ def _integrals(t0, t1):
                 cs=0.5 * (jnp.sin(t1) ** 2 - jnp.sin(t0) ** 2))
 
 
+def _force_pieces(arc: Tracts, s_a):
+    """Each tract's N and T as sinusoids c + a cos tau + b sin tau: ((cN, aN, bN), (cT, aT, bT)),
+    (nt, P) each. An open pad's N is its virtual gap force: it carries no force on the
+    platforms, so it is zero here."""
+    t0 = arc.p0
+
+    def pieces(f0, rates):  # rates (nt, 2, P): along X_r, X_i
+        return sinusoid(f0, rates[:, 0], rates[:, 1], s_a, t0[:, None])
+
+    closed = arc.state != OPEN  # (nt, P)
+    return (pieces(jnp.where(closed, arc.N0, 0.0), jnp.where(closed[:, None], arc.dN, 0.0)),
+            pieces(arc.T0, arc.dT))
+
+
+def period_fourier(arc: Tracts, s_a, coefficients):
+    """int F e^{-i tau} dtau over a period's tracts of the force F = sum of N fn + T ft,
+    coefficients = (fn, ft) per unit normal / tangential force of each pad (units of F_D); s_a:
+    the path's size, mm. Unchecked, traceable."""
+    (cN, aN, bN), (cT, aT, bT) = _force_pieces(arc, s_a)
+    I = _integrals(arc.p0, arc.p0 + arc.dp)
+    fn, ft = coefficients
+    c = cN @ fn + cT @ ft
+    a = aN @ fn + aT @ ft
+    b = bN @ fn + bT @ ft
+    cos_part = c * I["c"] + a * I["cc"] + b * I["cs"]
+    sin_part = c * I["s"] + a * I["cs"] + b * I["ss"]
+    return jnp.sum(jnp.where(arc.active, cos_part - 1j * sin_part, 0.0))
+
+
 def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     """(int M_r e^{-i tau}, int M_i e^{-i tau}, energy per pad in N mm) over a period's tracts."""
     t0, t1 = arc.p0, arc.p0 + arc.dp
     I = _integrals(t0, t1)
     act = arc.active
-
-    def pieces(f0, rates):  # (nt, P) sinusoid coefficients; rates (nt, 2, P): along X_r, X_i
-        return sinusoid(f0, rates[:, 0], rates[:, 1], s_a, t0[:, None])
-
-    # An open pad's N is its virtual gap force: it carries no force on the platforms.
-    closed = arc.state != OPEN  # (nt, P)
-    cN, aN, bN = pieces(jnp.where(closed, arc.N0, 0.0), jnp.where(closed[:, None], arc.dN, 0.0))
-    cT, aT, bT = pieces(arc.T0, arc.dT)
-
-    def fourier(coefficients):
-        fn, ft = coefficients
-        c = cN @ fn + cT @ ft
-        a = aN @ fn + aT @ ft
-        b = bN @ fn + bT @ ft
-        cos_part = c * I["c"] + a * I["cc"] + b * I["cs"]
-        sin_part = c * I["s"] + a * I["cs"] + b * I["ss"]
-        return jnp.sum(jnp.where(act, cos_part - 1j * sin_part, 0.0))
+    _, (cT, aT, bT) = _force_pieces(arc, s_a)
 
     # Energy: -F_D int T p' dtau, p' = gamma sin + delta cos.
     gamma, delta = -s_a * arc.dslip[:, 0], -s_a * arc.dslip[:, 1]
@@ -117,7 +130,8 @@ def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     tp = (cT * gamma * col("s") + cT * delta * col("c") + aT * gamma * col("cs")
           + aT * delta * col("cc") + bT * gamma * col("ss") + bT * delta * col("cs"))
     energy = -F_D * jnp.sum(jnp.where(act[:, None], tp, 0.0), axis=0)
-    return fourier(coefficients_r), fourier(coefficients_i), energy
+    return (period_fourier(arc, s_a, coefficients_r), period_fourier(arc, s_a, coefficients_i),
+            energy)
 
 
 class EllipticCycle(NamedTuple):

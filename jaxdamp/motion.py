@@ -27,6 +27,7 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 
@@ -142,16 +143,38 @@ def pad_motion(shape: DamperShape, motion: Motion | None, q_star_mm):
     motion None: the paper's in-phase motion, per mm of dv (the same numbers as
     `in_phase_motion(q_star_mm)`, without its rounding). The direction of a Motion is its real
     part (`path_parts` splits an ellipse). Unchecked, traceable (jit, vmap, grad)."""
-    points, normals, tangents, geo = pad_geometry(shape)
-    # R1 (and a wedge's R2) move with the right platform; L1, L2 (the reference) do not.
-    on_right = np.array([1.0, 1.0, 0.0, 0.0]) if is_wedge(shape) else PLATFORM_MOTION
     if motion is None:
+        _, normals, tangents, _ = pad_geometry(shape)
+        # R1 (and a wedge's R2) move with the right platform; L1, L2 (the reference) do not.
+        on_right = np.array([1.0, 1.0, 0.0, 0.0]) if is_wedge(shape) else PLATFORM_MOTION
         return normals[:, 1] * on_right, tangents[:, 1] * on_right
-    height_mm = motion.h_l * jnp.sin(jnp.deg2rad(jnp.asarray(shape.theta_l, float)))  # H = h_L sin(theta_L)
-    offsets = (points - geo.D[None, :]) * height_mm
     per_s = jnp.asarray(motion.direction, float) / (jnp.asarray(q_star_mm, float) / MRAD_PER_RAD)
-    w = rigid_displacement(per_s, offsets) * on_right[:, None]
+    return _rigid_pad_motion(shape, per_s, motion.h_l)
+
+
+def _rigid_pad_motion(shape: DamperShape, X, h_l_mm):
+    """(nw, tw) of each pad for a rigid motion X = (du mm, dv mm, dtheta mrad) at D of the right
+    platform (the left one fixed), the damper's left flank h_l_mm long."""
+    points, normals, tangents, geo = pad_geometry(shape)
+    on_right = np.array([1.0, 1.0, 0.0, 0.0]) if is_wedge(shape) else PLATFORM_MOTION
+    height_mm = h_l_mm * jnp.sin(jnp.deg2rad(jnp.asarray(shape.theta_l, float)))  # H = h_L sin(theta_L)
+    offsets = (points - geo.D[None, :]) * height_mm
+    w = rigid_displacement(X, offsets) * on_right[:, None]
     return jnp.sum(normals * w, -1), jnp.sum(tangents * w, -1)
+
+
+def platform_force_coefficients(shape: DamperShape, load, h_l_mm):
+    """(fn, ft), each (3, P): the damper's generalised force G = (F_u N, F_v N, M N mm) at D,
+    conjugate to the right platform's motion (du, dv, dtheta) relative to the left one, per unit
+    normal / tangential force (units of F_D) of each pad: by virtual work, the pad motion's
+    normal and tangential parts per unit of each coordinate (M per rad). Its sign is the modal
+    force's (`motion_moment_coefficients`), that of a spring: G = K X for a stuck damper, the
+    damper pushing the platform with -G; oint G . dX is the energy dissipated. h_l_mm: the
+    damper's size (M scales with it). Unchecked, traceable."""
+    unit = jnp.eye(3)
+    nw, tw = jax.vmap(lambda X: _rigid_pad_motion(shape, X, h_l_mm))(unit)
+    per = jnp.array([1.0, 1.0, MRAD_PER_RAD])[:, None] * jnp.asarray(load.F_D, float)
+    return -per * nw, per * tw
 
 
 def loop_moment_coefficients(shape: DamperShape, load, motion: Motion | None):
@@ -179,4 +202,5 @@ def motion_moment_coefficients(nw, tw, load):
 __all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "general_motion",
            "validate_motion",
            "pad_motion", "loop_moment_coefficients", "path_parts", "motion_moment_coefficients",
+           "platform_force_coefficients",
            "STRAIGHT_TOL"]

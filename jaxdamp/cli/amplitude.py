@@ -11,7 +11,9 @@ ellipse), `--motion du,dv,dtheta` any path (mm, mm, mrad per mrad of --psi-a; co
 re+imj: an ellipse unless real up to one common phase). Both need the damper's size --h-l (its
 left flank's length, mm) where the platforms turn; k is then that of the modal force
 (jaxdamp.motion), and each row adds energy_nmm and slip_fraction per pad and
-dissipated_energy_nmm; on the tract engine (an ellipse, or a wedge) also open_fraction per pad and
+dissipated_energy_nmm, and with --h-l force_harmonic: the first harmonic of the damper's generalised force on
+the right platform, {"F_u_n", "F_v_n", "M_nmm"} each {"re", "im"} (jaxdamp.platform_force); on
+the tract engine (an ellipse, or a wedge) also open_fraction per pad and
 tracts, the contact-state chart (tau_start_deg, tau_end_deg, each pad's state), whose open
 intervals the text lists. On an ellipse the default history is assembly; its gross slip is a straight
 move along the path's tau = 0 direction until every pad slips (docs/motions.md).
@@ -25,6 +27,7 @@ are undefined (no valid cycle) are null.
 from __future__ import annotations
 
 from . import common as C
+from . import motion_flags as M
 
 
 def register(sub) -> None:
@@ -40,7 +43,7 @@ def register(sub) -> None:
     p.add_argument("--band", action="store_true",
                    help="also the min/max of k_Re, k_Im over all statically admissible initial states "
                    "(in-phase motion only)")
-    C.add_motion_args(p)
+    M.add_motion_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
     p.set_defaults(func=run)
@@ -73,6 +76,7 @@ def run(args) -> int:
     from ..geometry import is_wedge, pad_names
     from ..motion import in_phase_motion
     from ..params import prepare_inputs
+    from ..platform_force import PLATFORM_FORCE_NAMES, platform_force_harmonic
     from ..status import RESULTS
 
     # Every input is checked before any work (ValueError / CliError -> one line, exit code 2).
@@ -81,7 +85,7 @@ def run(args) -> int:
     wedge = args.damper == "wedge"
     shape = C.damper_from_args(args, C.shape_from_args(args, need_br=not wedge))
     prepare_inputs(shape, args.mu, contacts, load, wedge_ok=wedge)
-    motion = C.motion_from_args(args, load)
+    motion = M.motion_from_args(args, load)
     if wedge and args.band:
         raise C.CliError("--band is computed for the curved-flat damper only; drop --band or "
                          "--damper wedge")
@@ -122,6 +126,11 @@ def run(args) -> int:
             if elliptic:
                 row["open_fraction"] = per_pad(ac.open_fraction)
                 row["tracts"] = elliptic_transitions_chart(ac)
+            if args.h_l is not None:  # the moment about D needs the damper's size
+                g = np.asarray(platform_force_harmonic(ac, args.h_l))
+                row["force_harmonic"] = {name: {"re": C.number(v.real), "im": C.number(v.imag)}
+                                         if valid else None
+                                         for name, v in zip(PLATFORM_FORCE_NAMES, g)}
         if args.band:
             from ..band import amplitude_band
 
@@ -138,13 +147,13 @@ def run(args) -> int:
               "bl2_over_hl": float(shape.bl2_over_hl), "x_d": shape.x_d,
               "mu": args.mu, "kn": args.kn, "kt": args.kt, "F_D": args.fd, "q_star": args.q,
               "r_sin_beta": args.r_sin_beta, "psi_a_mrad": psis, "initial": args.initial,
-              "band": bool(args.band), "motion": C.motion_echo(args, motion)}
+              "band": bool(args.band), "motion": M.motion_echo(args, motion)}
     status = bad[0] if bad else "ok"
     doc = C.document(status, {"inputs": inputs, "amplitudes": rows, "warnings": warned},
                      reason=C.status_reason(status, contacts, load))
 
     fmt = lambda v: "      null" if v is None else f"{v:10.1f}"  # noqa: E731
-    path = C.motion_text(inputs["motion"])
+    path = M.motion_text(inputs["motion"])
     damper = (f"wedge R1, R2 | L1, L2 (2b/h_R = {float(shape.br2_over_hr):g}), " if wedge else "")
     lines = [f"Steady cycles at prescribed amplitude from {args.initial}, {damper}mu = {args.mu:g}, "
              f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm (k in N mm/mrad), {path}",

@@ -25,6 +25,7 @@ from ..response import (BladeMode, curves_program, designer_diagram, path_curves
                         peak_band_kernel, prepare_scene)
 from ..status import RESULTS
 from . import common as C
+from . import motion_flags as M
 from . import exported
 from .response_row import add_row_args, check_row_args, run_row
 from .uncertainty_report import add_uncertainty_args
@@ -65,9 +66,9 @@ def register(sub) -> None:
                    help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
     p.add_argument("--plot", metavar="DIR",
                    help="write frf.png (and designer_diagram.png with --diagram) to DIR")
-    C.add_motion_args(p, parameter="psi_a (the path parameter, --psi-per-mm per mm of tip)",
+    M.add_motion_args(p, parameter="psi_a (the path parameter, --psi-per-mm per mm of tip)",
                       h_l_extra="; with --modes at every nodal diameter but 0")
-    add_row_args(p)
+    add_row_args(p, with_h_l=False)
     add_uncertainty_args(p)
     C.add_progress_arg(p)
     C.add_json_arg(p)
@@ -153,7 +154,7 @@ def prepare(args):
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
     contacts, load = C.contacts_from_args(args, check=False), C.load_from_args(args, check=False)
-    motion = None if args.modes is not None else C.motion_from_args(args, load)
+    motion = None if args.modes is not None else M.motion_from_args(args, load)
     if motion is not None:
         for flag, on in (("--band", args.band), ("--diagram", args.diagram),
                          ("--uncertainty", getattr(args, "uncertainty", False)),
@@ -231,7 +232,7 @@ def _inputs_json(args, shape, forces, motion=None) -> dict:
               "force_n": forces, "initial": args.initial, "band": bool(args.band),
               "diagram": bool(args.diagram),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE,
-              "motion": C.motion_echo(args, motion, "psi_a")}
+              "motion": M.motion_echo(args, motion, "psi_a")}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
     return inputs
 
@@ -271,7 +272,7 @@ def to_text(args, doc: dict) -> str:
     lines = [f"Blade response, mu = {args.mu:g}, F_D = {args.fd:g} N; f0 = {args.f0_hz:g} Hz, "
              f"k_b = {args.modal_stiffness_n_per_mm:g} N/mm, eta = {args.loss_factor:g}, "
              f"r = {args.psi_per_mm:g} mrad/mm",
-             f"  platform motion: {C.motion_text(doc['inputs']['motion'])}",
+             f"  platform motion: {M.motion_text(doc['inputs']['motion'])}",
              f"  damper stiffness: {args.stiffness}"
              + (f" (history: {args.initial})" if args.stiffness == "exact" else "")
              + f", status {doc['damper_status']}",

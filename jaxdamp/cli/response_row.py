@@ -25,7 +25,9 @@ _MODE_FLAGS = {"f0_hz": ("--f0-hz", "f0_hz"),
                "loss_factor": ("--loss-factor", "eta"), "psi_per_mm": ("--psi-per-mm", "r")}
 
 
-def add_row_args(p) -> None:
+def add_row_args(p, with_h_l: bool = True) -> None:
+    """--modes and --engine-order, and --h-l unless the command has it already (`response`
+    takes it with the platform path's flags, `cli.motion_flags`)."""
     g = p.add_argument_group("blade row from modal data (docs/blade.md)")
     g.add_argument("--modes", metavar="FILE",
                    help="modal file (.npz or .json) of one mode family per nodal diameter: the "
@@ -33,6 +35,11 @@ def add_row_args(p) -> None:
     g.add_argument("--engine-order", default="all", metavar="SPEC",
                    help="engine orders with --modes: a:b (inclusive), a,b,c or all (every nodal "
                         "diameter 0 ... N/2 once; default)")
+    if with_h_l:
+        g.add_argument("--h-l", type=float, default=None, metavar="MM",
+                       help="with --modes: the damper's size, its left flank's length in mm, in "
+                            "(0, 10000] (the platforms turn relative to each other at every nodal "
+                            "diameter but 0)")
 
 
 def check_row_args(args) -> None:
