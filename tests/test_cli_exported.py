@@ -3,6 +3,7 @@
 import jax
 import jax.numpy as jnp
 import numpy as np
+import pytest
 
 from jaxdamp.cli import exported
 from jaxdamp.runtime import batch_jit
@@ -46,6 +47,7 @@ def test_cache_off_is_a_plain_call(monkeypatch, tmp_path):
     np.testing.assert_array_equal(out["sum"], [1.0, 2.0])
 
 
+@pytest.mark.slow  # 90 worker-s (loaded run, 2026-11-26): the grad program twice
 def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path):
     """`jaxdamp grad` runs its Jacobian program through a saved export (a repeat process neither
     traces nor lowers it); its derivatives are the plain program's."""

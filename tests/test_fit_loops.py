@@ -68,6 +68,7 @@ def test_synthetic_loops_recovered_inside_intervals(noisy_fit):
     assert fit.sigma == pytest.approx(np.mean([0.005 * np.ptp(m) for _, m in _noisy_loops()]), rel=0.3)
 
 
+@pytest.mark.slow  # 271 worker-s, fixture included (loaded run, 2026-11-26): a second fit program
 def test_robust_loss_resists_outliers(noisy_fit):
     loops, clean, _ = noisy_fit
     rng = np.random.default_rng(7)

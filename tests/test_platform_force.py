@@ -49,9 +49,8 @@ def test_straight_cycles_project_to_k_and_match_the_degenerate_ellipse(name, mu,
     for psi in (1.0, 5.0, 20.0):
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", jd.SmallRotationWarning)
-            ref = jd.amplitude_cycle(shape, mu, psi, CONTACTS, initial="gross_slip", motion=straight)
-        got = ellipse_kernel(shape, mu, psi, straight._replace(quadrature=jnp.zeros(3)),
-                             "gross_slip")
+            ref = jd.amplitude_cycle(shape, mu, psi, CONTACTS, initial="assembly", motion=straight)
+        got = ellipse_kernel(shape, mu, psi, straight._replace(quadrature=jnp.zeros(3)))
         assert jd.RESULTS.name_of(ref.status) in ("ok", "shakedown")
         assert jd.RESULTS.name_of(got.status) == jd.RESULTS.name_of(ref.status)
         g_ref = platform_force_harmonic(ref, h_l_mm=10.0)
@@ -97,7 +96,8 @@ def test_a_stuck_damper_is_linear_in_the_path():
 
 
 def test_the_size_is_needed_where_the_path_does_not_turn_the_platforms():
-    c = jd.amplitude_cycle(jd.family_shape("60sym"), 0.5, 1.2, CONTACTS)
+    c = jd.amplitude_cycle(jd.family_shape("60sym"), 0.5, 1.2, CONTACTS, initial="assembly",
+                           motion=jd.straight_motion([0.0, 0.1, 0.0]))  # in-phase, no size
     with pytest.raises(ValueError, match="h_l_mm must be given"):
         platform_force_harmonic(c)
     with pytest.raises(ValueError, match="h_l must be"):
@@ -107,4 +107,4 @@ def test_the_size_is_needed_where_the_path_does_not_turn_the_platforms():
     with pytest.raises(ValueError, match="h_l_mm must be the path's own damper size 10 mm"):
         platform_force_harmonic(turning, h_l_mm=12.0)
     with pytest.raises(ValueError, match="cycle must be an AmplitudeCycle or an EllipticCycle"):
-        platform_force_harmonic(jd.base_cycle(jd.family_shape("60sym"), 0.5))
+        platform_force_harmonic(jd.in_phase_motion())
