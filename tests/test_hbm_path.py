@@ -98,7 +98,7 @@ def test_statuses_and_the_work_identity_on_the_wedge():
                          rtol=0.0, atol=1e-12 * k_re)
 
 
-@pytest.mark.slow  # 19 + 13 worker-s (2026-11-26, load 5 on 2 cores): the engine's programs, per damper
+@pytest.mark.slow  # 12 + 13 worker-s alone (2026-11-26, load 1.4; 19 + 13 at load 5): the engine's programs
 @pytest.mark.parametrize("shape, mu, phi, amplitude, samplings", [
     (CURVED_FLAT, 0.5, 90.0, 2.0, (64, 256, 1024)),  # no pad opens
     (WEDGE, 0.5, 90.0, 10.0, (256, 1024)),  # R1 open 36 %, R2 10 % of the period
@@ -125,7 +125,7 @@ def test_converges_to_the_engine(shape, mu, phi, amplitude, samplings):
     assert all(b < a / 2 for a, b in zip(errors, errors[1:])), errors
 
 
-@pytest.mark.slow  # 8-12 worker-s (2026-11-26): march_ellipse's program at one step count, and ours
+@pytest.mark.slow  # 9 worker-s alone (2026-11-26, load 1.4; 12 at load 5): march_ellipse's program, and ours
 def test_is_the_stepper_it_reuses():
     """HBM-AFT from assembly with four periods is `march_ellipse` (its steps, its history, its
     harmonics): the same k, energies and fractions to rounding."""
