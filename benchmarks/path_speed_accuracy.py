@@ -13,12 +13,13 @@ Error = |k_Im - k_Im,engine| / max(|k_Re|, |k_Im|)_engine, at the targets 1e-3, 
 issue's) and 1e-6. A point whose status is not ok (singular: Newton found no equilibrium at a
 sample; not_converged: not periodic to 1e-9) is plotted but never used: a method's time to a
 target is the log-log interpolated warm time at which its error falls below the target and stays
-below for every finer valid setting (`bench_common.time_below`), the better of 3 and 8 periods. Two jobs: one cycle (single calls),
-and a batch of B cycles of the same damper at B amplitudes (0.9-1.1 a), `jax.vmap` on both sides,
-the whole batch in one call (its error: the largest over the lanes; a flag on any lane flags the
-point; the periods: those of one cycle's best time to 1e-4; the sweep stops once two successive
-settings are below 1e-6, or at Nt 1024 where one cycle never reached 1e-4 validly). The ratio per
-job is HBM-AFT's time to the target over the engine's time for the same job. Where HBM-AFT is
+below for every finer valid setting (`bench_common.time_below`), the better of 3 and 8 periods.
+Two jobs: one cycle (single calls), and a batch of B cycles of the same damper at B amplitudes
+(0.9-1.1 a), `jax.vmap` on both sides, the whole batch in one call (its error: the largest over
+the lanes; a flag on any lane flags the point; the periods: those of one cycle's best time to
+1e-4; the sweep stops once two successive settings are below 1e-6, or at Nt 1024 where one cycle
+never reached 1e-4 validly). The ratio per job is HBM-AFT's time to the target over the engine's
+time for the same job. Where HBM-AFT is
 singular, the contact state at the first failing sample is recorded (`first_failure`).
 
 Cases (where pads open, harmonic balance needs many more samples, or breaks):

@@ -68,7 +68,8 @@ class HBMPathResult(NamedTuple):
 
     def __repr__(self) -> str:
         return (f"HBMPathResult(status={status_repr(self.status)}, "
-                f"k_re={number_repr(self.k_re, 'N mm/mrad')}, k_im={number_repr(self.k_im, 'N mm/mrad')})")
+                f"k_re={number_repr(self.k_re, 'N mm/mrad')}, "
+                f"k_im={number_repr(self.k_im, 'N mm/mrad')})")
 
 
 @partial(jax.jit, static_argnames=("initial", "n_load", "max_newton"))
@@ -130,10 +131,10 @@ def hbm_aft_path(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts =
     """k_Re, k_Im (N mm/mrad) at amplitude a (mrad) on the path `motion` (elliptic or straight)
     by HBM-AFT (module docstring): the history `initial` ("assembly", or "gross_slip", as
     `hbm_aft`'s start at the top of the motion; module docstring on the wedge), then n_periods
-    periods at n_time (even) samples per period, the first harmonic of the last one. shape: curved-flat or wedge; pads may open.
-    Inputs are checked here (ValueError naming the parameter and its range); the status says
-    whether the numbers are valid: ok, not_converged (not periodic to PERIODIC_TOL: more
-    periods), singular (Newton found no equilibrium at a sample)."""
+    periods at n_time (even) samples per period, the first harmonic of the last one. shape:
+    curved-flat or wedge; pads may open. Inputs are checked here (ValueError naming the parameter
+    and its range); the status says whether the numbers are valid: ok, not_converged (not
+    periodic to PERIODIC_TOL: more periods), singular (Newton found no equilibrium at a sample)."""
     if initial not in HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(HISTORIES)}; got {initial!r}")
     n_time = check_int("n_time", n_time, 4)
