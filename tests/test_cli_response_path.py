@@ -41,7 +41,7 @@ def test_bad_path_arguments_exit_2_in_one_line(capsys, extra, needle):
     assert needle in one_error_line(err)
 
 
-@pytest.mark.slow  # ~150 worker-s: compiles the path's response program (the elliptic cycle, 5x)
+@pytest.mark.slow  # 138 worker-s (2026-11-26): the path response program (the elliptic cycle, 5x)
 def test_path_peaks_satisfy_the_peak_equation(capsys):
     """At each reported peak A* (mm), A* (eta k_b + 1e-3 r^2 k_Im(r A*)) = F and
     f* = f0 sqrt(1 + 1e-3 r^2 k_Re(r A*) / k_b), with k from `elliptic_cycle` at psi = r A*

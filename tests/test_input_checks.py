@@ -29,6 +29,7 @@ CHECKED = {
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
     "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
+    "path_response_curves",
     # jaxdamp.baselines
     "hbm_aft", "hbm_aft_path", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",
