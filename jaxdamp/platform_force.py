@@ -86,5 +86,7 @@ def path_projection(g_hat, direction, load, amplitude_mrad):
     """The modal complex stiffness k (N mm/mrad) that G_hat projects to on the path X_hat
     (complex (3,), mm, mm, mrad per mrad of the amplitude): the module docstring's identity."""
     x = jnp.asarray(direction)
-    work = g_hat[0] * jnp.conj(x[0]) + g_hat[1] * jnp.conj(x[1]) + g_hat[2] * jnp.conj(x[2]) / MRAD_PER_RAD
-    return 2.0 * platform_arm(load.q_star, load.r_sin_beta) * MRAD_PER_RAD / load.q_star * work / amplitude_mrad
+    work = (g_hat[0] * jnp.conj(x[0]) + g_hat[1] * jnp.conj(x[1])
+            + g_hat[2] * jnp.conj(x[2]) / MRAD_PER_RAD)
+    arm = platform_arm(load.q_star, load.r_sin_beta)
+    return 2.0 * arm * MRAD_PER_RAD / load.q_star * work / amplitude_mrad

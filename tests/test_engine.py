@@ -123,6 +123,7 @@ def test_a_mirror_symmetric_wedge_on_the_in_phase_path_has_mirror_symmetric_forc
         assert_tree_allclose((N, T), (N_m[swap], T_m[swap]), rtol=0, atol=1e-10)
 
 
+@pytest.mark.slow  # 22 worker-s (2026-11-26); the in-phase mirror test above stays by default
 def test_a_mirror_symmetric_wedge_runs_plus_and_minus_phi_as_mirror_images():
     """The mirror about the vertical through D maps the path at +phi onto the path at -phi (shifted
     in time), R1 <-> L1 and R2 <-> L2: in gross slip, where the history is forgotten, k is the same

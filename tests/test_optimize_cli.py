@@ -60,6 +60,7 @@ def test_45sym_at_mu_07_is_infeasible_not_an_optimum(capsys):
     assert code == 0 and text.startswith("INFEASIBLE") and "reason:" in text
 
 
+@pytest.mark.slow  # 72 worker-s (2026-11-26); test_optimize_solver holds the optimiser in Python
 def test_text_output(capsys):
     code, out, _ = run(capsys, "--objective", "k_im_bc:mean")
     assert code == 0
