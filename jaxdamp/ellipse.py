@@ -39,7 +39,8 @@ import numpy as np
 
 from ._validate import check_int, check_param, check_range
 from .amplitude import check_admissible
-from .conventions import CENTRIFUGAL_LOAD, interblade_direction, travel_mm, warn_small_rotation
+from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
+                          warn_small_rotation)
 from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
@@ -60,6 +61,7 @@ INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep",
            "elliptic_transitions_chart", "path_pads", "period_fourier",
+           "gross_slip_amplitude_kernel",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
 
@@ -271,6 +273,25 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     return EllipticCycle(shape, pads.mu, contacts, load, motion, jnp.asarray(amplitude, float),
                          arc, zero(jnp.real(k)), zero(jnp.imag(k)), zero(energy), zero(work),
                          zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["periods"], status)
+
+
+def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,
+                                max_tracts: int = MAX_TRACTS, loop: str = "while"):
+    """(a_gs, status): the amplitude (mrad of the path's parameter) of a straight move from
+    assembly along +X_r (the path's real part) at which every pad that can slip does (the gross-
+    slip history's move), and its RESULTS code: unseated where no set of pads holds the damper
+    at assembly, unreachable where the move never reaches gross slip. An amplitude scale of the
+    path's cycles for any pad set (the wedge's, which has no Base-Cycle). Unchecked, traceable."""
+    pads = path_pads(shape, mu, contacts, load, (Motion(motion.direction, motion.h_l),))
+    Na, Ta, ok0 = assemble(pads, CENTRIFUGAL_LOAD)
+    Na = jnp.where(ok0, Na, jnp.ones_like(Na))  # keep the masked run finite
+    Ta = jnp.where(ok0, Ta, 0.0)
+    up = run_tracts(pads, Line(), Na, Ta, 0.0, None, max_tracts=max_tracts, loop=loop)
+    travel = jnp.sum(jnp.where(up.active, up.dp, 0.0))
+    reached = (up.status == RESULTS.ok) & up.gross_slip
+    status = RESULTS.promote(jnp.zeros((), jnp.int32), ok0 & ~reached, RESULTS.unreachable)
+    status = RESULTS.promote(status, ~ok0, RESULTS.unseated)
+    return travel * MRAD_PER_RAD / load.q_star, status
 
 
 _kernel = jax.jit(elliptic_kernel, static_argnames=("initial", "max_tracts", "max_periods", "loop"))

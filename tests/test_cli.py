@@ -32,8 +32,8 @@ def test_help_explains_units(capsys):
     (["grad", "--shape", "60sym", "--mu", "0.5", "--mode", "sideways"], "--mode"),
     (["cycle", "--shape", "60sym", "--mu", "0.5", "--damper", "wedge"],
      "--damper must be curved-flat for `jaxdamp cycle`"),
-    (["response", "--shape", "60sym", "--mu", "0.5", "--force-n", "5", "--damper", "wedge"],
-     "--damper must be curved-flat for `jaxdamp response`"),
+    (["response", "--shape", "60sym", "--mu", "0.5", "--force-n", "5", "--damper", "wedge",
+      "--diagram"], "--diagram is computed for the paper's in-phase motion and curved-flat"),
 ])
 def test_usage_errors_are_one_line_exit_2(capsys, argv, needle):
     code, out, err = run_cli(capsys, *argv)

@@ -205,7 +205,8 @@ def refuse_wedge(args, command: str, why: str) -> None:
     """One line, exit 2, for --damper wedge on a command that computes the curved-flat damper."""
     if args.damper == "wedge" or args.br2 is not None:
         raise CliError(f"--damper must be curved-flat for `jaxdamp {command}` ({why}); a wedge's "
-                       "cycles on any platform path: jaxdamp amplitude --damper wedge")
+                       "cycles on any platform path: jaxdamp amplitude --damper wedge, its forced response: "
+                       "jaxdamp response --damper wedge")
 
 
 def damper_from_args(args, shape):

@@ -7,7 +7,9 @@ and stuck blade (each across its own peak, with the peak reduction A*_free / A*)
 and platform path (docs/blade.md). With --ibpa / --motion (and --h-l) the one-mode blade's damper
 runs on that platform path instead of the paper's in-phase motion (the curved-flat damper's exact
 cycles on the path, docs/motions.md); --psi-per-mm is then the path parameter's mrad (for --ibpa
-the left-hand blade's platform rotation) per mm of tip. The
+the left-hand blade's platform rotation) per mm of tip. --damper wedge computes a wedge (R1, R2 |
+L1, L2; in-phase on the same path engine), its amplitude scale and status from the path's
+gross-slip move. The
 programs are saved as exports in the compilation cache folder (`cli.exported`): a second call
 neither traces nor compiles them.
 """
@@ -148,21 +150,29 @@ def prepare(args):
     """Every check before any work, once: (the Scene, the forces, the shape, contacts and load as
     the flags give them, for the echo, the platform path or None). The library checks each input
     once (`prepare_scene`); the compiled programs take the Scene as it is."""
-    C.refuse_wedge(args, "response", "the damper's k(psi) and its amplitude scale come from the "
-                   "paper's Base-Cycle")
-    shape = C.shape_from_args(args, check=False)
+    wedge = args.damper == "wedge"
+    if wedge and args.modes is not None:
+        raise C.CliError("--damper must be curved-flat with --modes (the row's damper); a wedge's "
+                         "response on one path: --damper wedge with --ibpa / --motion, or in-phase")
+    shape = C.shape_from_args(args, need_br=not wedge, check=False)
+    shape = C.damper_from_args(args, shape) if wedge or args.br2 is not None else shape
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
     contacts, load = C.contacts_from_args(args, check=False), C.load_from_args(args, check=False)
     motion = None if args.modes is not None else M.motion_from_args(args, load)
-    if motion is not None:
+    if motion is not None or wedge:
+        what = ("the paper's in-phase motion and curved-flat damper only; drop it, or --ibpa / "
+                "--motion / --damper wedge")
         for flag, on in (("--band", args.band), ("--diagram", args.diagram),
                          ("--uncertainty", getattr(args, "uncertainty", False)),
                          ("--stiffness interpolated", args.stiffness != "exact")):
             if on:
-                raise C.CliError(f"{flag} is computed for the paper's in-phase motion only; drop it "
-                                 "or --ibpa / --motion")
-    scene = prepare_scene(shape, args.mu, contacts, load, mode)
+                raise C.CliError(f"{flag} is computed for {what}")
+    scene = prepare_scene(shape, args.mu, contacts, load, mode, wedge_ok=wedge)
+    if wedge and motion is None:  # a wedge runs on the path engine, in-phase too
+        from ..motion import in_phase_motion
+
+        motion = in_phase_motion(float(load.q_star))
     return scene, forces, shape, contacts, load, motion
 
 
@@ -232,7 +242,7 @@ def _inputs_json(args, shape, forces, motion=None) -> dict:
               "force_n": forces, "initial": args.initial, "band": bool(args.band),
               "diagram": bool(args.diagram),
               "stiffness_method": args.stiffness, "stiffness_note": STIFFNESS_NOTE,
-              "motion": M.motion_echo(args, motion, "psi_a")}
+              "motion": M.motion_echo(args, motion, "psi_a"), "damper": args.damper}
     inputs["shape"] = {k: (None if v is None else float(v)) for k, v in inputs["shape"].items()}
     return inputs
 

@@ -11,8 +11,11 @@ from ..status import number_repr, status_repr
 from .scene import BladeMode
 from .stiffness import DamperStiffness, stuck_damper
 
-__all__ = ["FRF", "dynamic_stiffness", "frf", "frf_amplitude_grid", "response_amplitude_linear",
-           "linear_frf"]
+__all__ = ["FRF", "FRF_POINTS", "dynamic_stiffness", "frf", "frf_amplitude_grid",
+           "response_amplitude_linear", "linear_frf"]
+
+
+FRF_POINTS = 200  # amplitudes per FRF
 
 
 class FRF(NamedTuple):
@@ -68,7 +71,7 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
     return FRF(a, f_lo, f_hi, has_lo, has_hi, damper.status)
 
 
-def frf_amplitude_grid(top_mm, n: int = 200, low: float = 1e-2):
+def frf_amplitude_grid(top_mm, n: int = FRF_POINTS, low: float = 1e-2):
     """Amplitudes (mm) for an FRF up to the peak top_mm: log-spaced from low * top, then dense
     towards the top where the two branches meet (1 - A/top from 1e-2 down to 1e-7).
     Unchecked, traceable (jit, vmap, grad)."""
@@ -89,7 +92,7 @@ def response_amplitude_linear(mode: BladeMode, k_re, k_im, force_n, frequency_hz
     return force_n / jnp.sqrt(re ** 2 + im ** 2)
 
 
-def linear_frf(mode: BladeMode, k_re, force_n, n: int = 200) -> FRF:
+def linear_frf(mode: BladeMode, k_re, force_n, n: int = FRF_POINTS) -> FRF:
     """The FRF of the blade with a damper frozen as a real spring k_re (N mm/mrad; 0: free, k_Re,fs:
     stuck) across its own resonance: amplitudes up to its own peak F / (eta k_b), at
     f0 sqrt(1 + 1e-3 r^2 k_re / k_b). Without structural damping (eta = 0) the peak is unbounded:

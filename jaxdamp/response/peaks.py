@@ -14,7 +14,7 @@ import numpy as np
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from ..params import check_param
-from .frf import FRF, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
+from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel, is_traced,
                         path_cycle_kernel, path_damper)
@@ -138,7 +138,7 @@ SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_gr
 
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
                   max_roots: int = MAX_ROOTS, amplitude_cap_mm=None,
-                  differentiable: bool = True) -> Peaks:
+                  differentiable: bool = True, frequencies: bool = True) -> Peaks:
     """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
@@ -154,7 +154,9 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
 
     differentiable=False: values only (the roots are not wrapped for the implicit function
     theorem, and nothing of the damper curve's derivative is traced: a program several times
-    faster to build, for searches that no gradient passes through).
+    faster to build, for searches that no gradient passes through). frequencies=False: the
+    frequencies are left zero, for a caller that evaluates the curve at the roots itself (one
+    call of the curve fewer in its program: `path_peaks`).
 
     mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
     (`prepare_scene`: its mode, checked already). damper: a DamperStiffness (checked when
@@ -220,8 +222,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
             roots = jax.vmap(lambda *b: _bracketed_root(g_values, *b, REFINE_STEPS))(
                 lo, hi, gg[cells], gg[cells + 1])
         roots = jnp.where(found, roots, 0.0)
-        freqs = jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
-                          0.0)
+        freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
+                           0.0) if frequencies else jnp.zeros_like(roots))
         last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
         status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
         peak = roots[0]
@@ -274,13 +276,27 @@ def curves_program(method: str, options: tuple = ()):
     return batch_jit(run)
 
 
-def _curves(d: DamperStiffness, mode: BladeMode, forces, peaks: Peaks) -> ResponseCurves:
-    """The three FRFs around the peaks of every force: the damped one up to its largest root
-    (to F / (eta k_b) where the damper is not valid), the free and stuck ones across their own."""
+def _frf_tops(mode: BladeMode, forces, peaks: Peaks):
+    """Where each force's damped FRF ends: its largest root, or F / (eta k_b) (at most 1e6 mm)
+    where the damper is not valid."""
     valid = RESULTS.valid(peaks.status) & (peaks.max_amplitude_mm > 0)
     free_top = forces / jnp.maximum(mode.eta * mode.k_b, 1e-300)
-    top = jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
-    damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(forces, top)
+    return jnp.where(valid, peaks.max_amplitude_mm, jnp.minimum(free_top, 1e6))
+
+
+def _curves(d: DamperStiffness, mode: BladeMode, forces, peaks: Peaks,
+            on_grids=None) -> ResponseCurves:
+    """The three FRFs around the peaks of every force: the damped one up to `_frf_tops`, the
+    free and stuck ones across their own. on_grids: (amplitudes, k_re, k_im), (n_f, n) each, the
+    damped FRFs' amplitudes and the curve there, computed already (`path_peaks`)."""
+    if on_grids is None:
+        damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(
+            forces, _frf_tops(mode, forces, peaks))
+    else:
+        def tabulated(f, a, k_re, k_im):  # the curve's values at exactly these amplitudes
+            return frf(d._replace(k_of_psi=lambda _: (k_re, k_im)), mode, f, a)
+
+        damped = jax.vmap(tabulated)(forces, *on_grids)
     free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
     stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
     return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
@@ -297,20 +313,40 @@ PATH_REPEATS = 64
 
 
 def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
-               initial: str = "assembly") -> tuple[DamperStiffness, Peaks]:
-    """(the damper on the path, its peaks at force_n): `path_damper` (values only: while loops)
-    and `peak_response`, then the steady cycle at each peak, whose status overrides a valid
-    peak's where it says more: a pad that opens there on a straight path (liftoff), a damper
-    unseated on an ellipse, a cycle that does not settle (the grid may miss these), or a damper
-    that sticks there (shakedown: no dissipation). Unchecked, traceable (jit, vmap)."""
+               initial: str = "assembly", frf_points: int = 0):
+    """(the damper on the path, its peaks at force_n (1-D), and with frf_points > 0 the damped
+    FRFs' (amplitudes, k_re, k_im), (n_f, frf_points) each): `path_damper` (values only: while
+    loops) and `peak_response`; then one batch of steady cycles at every root (the peaks'
+    frequencies) and on the FRF grids, one copy of the cycle in the program instead of one per
+    use. The cycle at each peak overrides a valid peak's status where it says more: a pad that
+    opens there on a straight path (liftoff), a damper unseated on an ellipse, a cycle that does
+    not settle (the grid may miss these), or a damper that sticks there (shakedown: no
+    dissipation). Unchecked, traceable (jit, vmap)."""
     damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
                          repeats=PATH_REPEATS)
-    peaks = peak_response(damper, mode, force_n, differentiable=False)
-    at_peak = jax.vmap(lambda a: path_cycle_kernel(shape, mu, contacts, load, a, motion, initial,
-                                                   PATH_LOOP, PATH_REPEATS)[2])(
-        jnp.reshape(peaks.psi_a_mrad, -1)).reshape(jnp.shape(peaks.psi_a_mrad))
+    forces = jnp.asarray(force_n, float)
+    peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
+    roots = peaks.roots_mm  # (n_f, MAX_ROOTS), 0 where absent
+    amplitudes = [jnp.where(peaks.found, roots, 1.0)]
+    if frf_points:
+        grids = jax.vmap(lambda t: frf_amplitude_grid(t, frf_points))(
+            _frf_tops(mode, forces, peaks))
+        amplitudes.append(grids)
+    flat = jnp.concatenate([a.reshape(-1) for a in amplitudes])
+    k_re, k_im, status = jax.vmap(lambda a: path_cycle_kernel(
+        shape, mu, contacts, load, a, motion, initial, PATH_LOOP, PATH_REPEATS))(mode.r * flat)
+    n = roots.size
+    at_roots = damper._replace(k_of_psi=lambda _: (k_re[:n].reshape(roots.shape),
+                                                   k_im[:n].reshape(roots.shape)))
+    freqs = jnp.where(peaks.found, peak_frequency_hz(at_roots, mode, amplitudes[0]), 0.0)
+    at_peak = status[:n].reshape(roots.shape)[:, 0]
     told = RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok) & (peaks.psi_a_mrad > 0)
-    return damper, peaks._replace(status=jnp.where(told, at_peak, peaks.status))
+    peaks = peaks._replace(frequency_hz=freqs, peak_frequency_hz=freqs[:, 0],
+                           status=jnp.where(told, at_peak, peaks.status))
+    if not frf_points:
+        return damper, peaks, None
+    shape2 = grids.shape
+    return damper, peaks, (grids, k_re[n:].reshape(shape2), k_im[n:].reshape(shape2))
 
 
 @functools.cache
@@ -319,8 +355,9 @@ def path_curves_program(initial: str = "assembly"):
     forces (n,)) -> ResponseCurves of the damper on a platform path (`path_peaks`), on prepared
     inputs. A straight and an elliptic Motion are different pytrees, so each kind compiles once."""
     def run(shape, mu, contacts, load, mode, motion, forces):
-        d, peaks = path_peaks(shape, mu, contacts, load, mode, motion, forces, initial)
-        return _curves(d, mode, forces, peaks)
+        d, peaks, on_grids = path_peaks(shape, mu, contacts, load, mode, motion, forces, initial,
+                                        frf_points=FRF_POINTS)
+        return _curves(d, mode, forces, peaks, on_grids)
 
     return batch_jit(run)
 
@@ -345,16 +382,20 @@ def path_response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMo
     or "gross_slip" (on an ellipse a straight move along its tau = 0 direction to gross slip,
     `jaxdamp.ellipse`). Inputs checked once here, then one compiled program
     (`path_curves_program`). The damper's status and amplitude scale are the in-phase
-    Base-Cycle's (`path_damper`), so the paper's curved-flat damper only."""
-    from ..motion import validate_motion
+    Base-Cycle's for the curved-flat damper, the path's gross-slip move's for a wedge
+    (`path_damper`; a wedge runs on the path engine in-phase too, motion None)."""
+    from ..geometry import is_wedge
+    from ..motion import in_phase_motion, validate_motion
 
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
-    scene = prepare_scene(shape, mu, contacts, load, mode)
+    scene = prepare_scene(shape, mu, contacts, load, mode, wedge_ok=True)
     forces = jnp.asarray(force_n, float).reshape(-1)
     check_param("force_n", np.asarray(forces))
     if motion is None:
-        return response_curves(scene, force_n=forces, initial=initial)
+        if not is_wedge(scene.shape):
+            return response_curves(scene, force_n=forces, initial=initial)
+        motion = in_phase_motion(float(scene.load.q_star))
     return path_curves_program(initial)(*scene, validate_motion(motion), forces)
 
 

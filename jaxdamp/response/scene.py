@@ -62,11 +62,13 @@ class Scene(NamedTuple):
     mode: BladeMode
 
 
-def prepare_scene(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None) -> Scene:
+def prepare_scene(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None, *,
+                  wedge_ok: bool = False) -> Scene:
     """The Scene of a design (`params.prepare_inputs`) and blade mode (`validate_mode`): every
     input checked once here (ValueError naming the parameter and its range), as float arrays; what
     every compiled response, HBM and time-integration entry point takes. A Scene given as shape
-    (with nothing else) is returned as it is. mode: default BladeMode()."""
+    (with nothing else) is returned as it is. mode: default BladeMode(). wedge_ok: the caller
+    computes a wedge (`path_response_curves`); the others refuse one."""
     if isinstance(shape, Scene):
         if mu is not None or contacts is not None or load is not None or mode is not None:
             raise ValueError("give a Scene alone, or shape, mu, contacts, load and mode; not both")
@@ -77,6 +79,6 @@ def prepare_scene(shape, mu=None, contacts=None, load=None, mode: BladeMode | No
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
     mode = BladeMode() if mode is None else mode
-    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load)
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=wedge_ok)
     validate_mode(mode)
     return Scene(shape, mu, contacts, load, BladeMode(*(jnp.asarray(v, float) for v in mode)))

@@ -12,7 +12,10 @@ import jax.numpy as jnp
 
 from ..amplitude import amplitude_kernel
 from ..cycle import base_cycle_kernel
-from ..ellipse import elliptic_kernel
+from ..conventions import MRAD_PER_RAD
+from ..ellipse import elliptic_kernel, gross_slip_amplitude_kernel
+from ..geometry import is_wedge
+from ..motion import Motion
 from ..harmonics import complex_stiffness, five_numbers_kernel
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import RESULTS, number_repr, status_repr
@@ -113,6 +116,8 @@ def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str
     Unchecked, traceable (jit, vmap, grad)."""
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    if is_wedge(shape):  # a wedge runs on the path engine, a straight path as a flat ellipse
+        motion = _engine_path(motion, load)
     bound = {} if repeats is None else {"max_periods" if motion is not None
                                         and motion.quadrature is not None else "max_pairs": repeats}
     if motion is not None and motion.quadrature is not None:
@@ -124,19 +129,40 @@ def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str
     return c.k_re, c.k_im, c.status
 
 
+def _engine_path(motion, load) -> Motion:
+    """The Motion the tract engine runs: the in-phase path for None, a straight one with a zero
+    quadrature (an ellipse of zero width)."""
+    if motion is None:
+        q = jnp.asarray(load.q_star, float)
+        motion = Motion(jnp.stack([jnp.zeros_like(q), q / MRAD_PER_RAD, jnp.zeros_like(q)]),
+                        jnp.ones_like(q))
+    if motion.quadrature is None:
+        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
+    return motion
+
+
 def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly",
                 loop: str = "auto", repeats: int | None = None) -> DamperStiffness:
     """k(psi) from the exact steady cycle on a platform path (`path_cycle_kernel`; psi in mrad
     of the path's parameter): the damper of one engine order of a bladed disk
     (`jaxdamp.response.modes`). motion None is `exact_damper`'s in-phase curve. The status and
-    the amplitude scale come from the paper's (in-phase) Base-Cycle, the design check; the stuck
-    limit is the path's own (the cycle at STUCK_FRACTION psi_ref, where every pad sticks).
+    the amplitude scale come from the paper's (in-phase) Base-Cycle, the design check; for a
+    wedge (no Base-Cycle; in-phase too on the path engine) from the path's gross-slip move
+    (`ellipse.gross_slip_amplitude_kernel`). The stuck limit is the path's own (the cycle at
+    STUCK_FRACTION psi_ref, where every pad sticks).
     loop: the cycles' (`amplitude_kernel`): "while" traces several times faster where no reverse
     derivative is needed (forward mode still passes); repeats: `path_cycle_kernel`'s. Unchecked,
     traceable (jit, vmap, grad)."""
-    if motion is None:
+    if is_wedge(shape):
+        # No Base-Cycle for a wedge: the amplitude scale is the path's gross-slip amplitude, the
+        # status that of the move there (unseated, unreachable).
+        motion = _engine_path(motion, load)
+        a_gs, status = gross_slip_amplitude_kernel(shape, mu, contacts, load, motion)
+        base = DamperStiffness(None, status, jnp.zeros(()), jnp.maximum(a_gs, 1e-12))
+    elif motion is None:
         return exact_damper(shape, mu, contacts, load, initial)
-    base = interpolated_damper(shape, mu, contacts, load)
+    else:
+        base = interpolated_damper(shape, mu, contacts, load)
 
     def curve(design, path):
         def k_of_psi(psi):
