@@ -134,6 +134,7 @@ def test_unknown_table_raises():
         cal.paper_targets(("60sym",), ("psi_max",))
 
 
+@pytest.mark.slow  # 23 worker-s (2026-11-26); residuals: test_every_b31_b41_residual_within_2pct
 def test_comparison_table_lists_paper_numbers(fits, paper):
     md = cal.comparison_table(fits["high_kn"].kn, fits["high_kn"].kt)
     for name, table in (("60sym", "B3.1"), ("74R", "B4.1"), ("90R", "B5.1")):

@@ -194,6 +194,7 @@ def test_the_checker_sees_overlaps_and_clipping():
     assert "'first' overlaps" in found and "leaves the figure" in found and "crossed by diagonal" in found
 
 
+@pytest.mark.slow  # 17 worker-s (2026-11-26); test_cli_sweep draws the heatmaps
 def test_sweep_heatmap_has_a_clean_layout():
     """`jaxdamp sweep`'s heatmap: suptitle inside the figure, the paper's shapes on the map's edges
     (90L at theta_L = 90, 90R at theta_R = 90) labelled inside their panels."""

@@ -92,6 +92,7 @@ def test_elliptic_peak_solves_the_peak_equation():
     assert abs(row.peaks.peak_amplitude_mm[0, 0] - row.peaks.peak_amplitude_mm[1, 0]) > 1e-3
 
 
+@pytest.mark.slow  # 25 worker-s (2026-11-26); the row tests in the slow tier run PATH_REPEATS
 def test_the_row_bound_settles_the_slow_out_of_phase_cycle():
     """Out-of-phase near gross slip a steady cycle can take 21 pairs of halves to settle (the
     in-phase robust optimum at mu 0.7 from gross slip, 32.7 mrad of the example disk's nodal

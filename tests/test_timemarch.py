@@ -141,6 +141,7 @@ def test_error_falls_linearly_with_step(fine, coarse):
     assert np.all(errs[:, 1] < 1e-10)
 
 
+@pytest.mark.slow  # 15 worker-s (2026-11-26): the coarse marcher program
 def test_too_few_steps_is_flagged_not_wrong(fine, coarse):
     """1100 steps of span/2000 cannot reach gross slip: every non-liftoff design is flagged failed."""
     tm = coarse[2000]
