@@ -183,10 +183,14 @@ def loop_fourier(coefficients, fwd: Half, bwd: Half, a_dv):
     """(int F cos tau dtau, int F sin tau dtau) over the loop (forward, backward halves) of the
     force F = sum of N fn + T ft, coefficients = (fn, ft) per unit normal / tangential force of
     each contact; a_dv: the amplitude in mm of travel. Unchecked, traceable."""
-    m0f, dmf = _half_moment(coefficients, fwd)
-    m0b, dmb = _half_moment(coefficients, bwd)
-    c1, s1 = half_fourier(fwd.dv, m0f, dmf, a_dv, 1.0)
-    c2, s2 = half_fourier(bwd.dv, m0b, dmb, a_dv, -1.0)
+    return _loop_fourier(_half_moment(coefficients, fwd), _half_moment(coefficients, bwd), fwd,
+                         bwd, a_dv)
+
+
+def _loop_fourier(moments_fwd, moments_bwd, fwd: Half, bwd: Half, a_dv):
+    """`loop_fourier` of the halves' force at each tract start and its rate (`_half_moment`)."""
+    c1, s1 = half_fourier(fwd.dv, *moments_fwd, a_dv, 1.0)
+    c2, s2 = half_fourier(bwd.dv, *moments_bwd, a_dv, -1.0)
     return c1 + c2, s1 + s2
 
 
@@ -196,7 +200,7 @@ def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half, motion=None):
     coefficients = loop_moment_coefficients(shape, load, motion)
     m0f, dmf = _half_moment(coefficients, fwd)
     m0b, dmb = _half_moment(coefficients, bwd)
-    cos_part, sin_part = loop_fourier(coefficients, fwd, bwd, a_dv)
+    cos_part, sin_part = _loop_fourier((m0f, dmf), (m0b, dmb), fwd, bwd, a_dv)
     k_re = cos_part / (jnp.pi * psi_a)
     k_im = -sin_part / (jnp.pi * psi_a)
     # oint M dpsi (psi in rad): trapezoids on the linear segments, dpsi = -branch dv / q*.

@@ -108,8 +108,13 @@ def period_fourier(arc: Tracts, s_a, coefficients):
     """int F e^{-i tau} dtau over a period's tracts of the force F = sum of N fn + T ft,
     coefficients = (fn, ft) per unit normal / tangential force of each pad (units of F_D); s_a:
     the path's size, mm. Unchecked, traceable."""
-    (cN, aN, bN), (cT, aT, bT) = _force_pieces(arc, s_a)
-    I = _integrals(arc.p0, arc.p0 + arc.dp)
+    return _fourier(arc, _force_pieces(arc, s_a), _integrals(arc.p0, arc.p0 + arc.dp),
+                    coefficients)
+
+
+def _fourier(arc: Tracts, pieces, I, coefficients):
+    """`period_fourier` from the tracts' force sinusoids (`_force_pieces`) and their integrals."""
+    (cN, aN, bN), (cT, aT, bT) = pieces
     fn, ft = coefficients
     c = cN @ fn + cT @ ft
     a = aN @ fn + aT @ ft
@@ -124,7 +129,8 @@ def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     t0, t1 = arc.p0, arc.p0 + arc.dp
     I = _integrals(t0, t1)
     act = arc.active
-    _, (cT, aT, bT) = _force_pieces(arc, s_a)
+    pieces = _force_pieces(arc, s_a)
+    _, (cT, aT, bT) = pieces
 
     # Energy: -F_D int T p' dtau, p' = gamma sin + delta cos.
     gamma, delta = -s_a * arc.dslip[:, 0], -s_a * arc.dslip[:, 1]
@@ -132,7 +138,7 @@ def _arc_numbers(arc: Tracts, s_a, coefficients_r, coefficients_i, F_D):
     tp = (cT * gamma * col("s") + cT * delta * col("c") + aT * gamma * col("cs")
           + aT * delta * col("cc") + bT * gamma * col("ss") + bT * delta * col("cs"))
     energy = -F_D * jnp.sum(jnp.where(act[:, None], tp, 0.0), axis=0)
-    return (period_fourier(arc, s_a, coefficients_r), period_fourier(arc, s_a, coefficients_i),
+    return (_fourier(arc, pieces, I, coefficients_r), _fourier(arc, pieces, I, coefficients_i),
             energy)
 
 

@@ -70,12 +70,12 @@ def platform_force_kernel(cycle, h_l_mm) -> jnp.ndarray:
     fn, ft = platform_force_coefficients(cycle.shape, cycle.load, h_l_mm)
     if isinstance(cycle, EllipticCycle):
         s_a = travel_mm(cycle.amplitude, cycle.load.q_star)
-        g = jnp.stack([period_fourier(cycle.period, s_a, (fn[j], ft[j])) for j in range(3)])
+        g = jax.vmap(lambda *c: period_fourier(cycle.period, s_a, c))(fn, ft)
     else:
         a_dv = travel_mm(cycle.psi_a, cycle.load.q_star)
-        parts = [loop_fourier((fn[j], ft[j]), cycle.forward, cycle.backward, a_dv)
-                 for j in range(3)]
-        g = jnp.stack([c - 1j * s for c, s in parts])
+        cos_part, sin_part = jax.vmap(
+            lambda *c: loop_fourier(c, cycle.forward, cycle.backward, a_dv))(fn, ft)
+        g = cos_part - 1j * sin_part
     return jnp.where(RESULTS.valid(cycle.status), g / jnp.pi, 0.0)
 
 

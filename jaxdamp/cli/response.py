@@ -155,7 +155,7 @@ def prepare(args):
         raise C.CliError("--damper must be curved-flat with --modes (the row's damper); a wedge's "
                          "response on one path: --damper wedge with --ibpa / --motion, or in-phase")
     shape = C.shape_from_args(args, need_br=not wedge, check=False)
-    shape = C.damper_from_args(args, shape) if wedge or args.br2 is not None else shape
+    shape = C.damper_from_args(args, shape)
     forces = _forces(args.force_n)
     mode = BladeMode(args.f0_hz, args.modal_stiffness_n_per_mm, args.loss_factor, args.psi_per_mm)
     contacts, load = C.contacts_from_args(args, check=False), C.load_from_args(args, check=False)

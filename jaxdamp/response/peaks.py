@@ -345,8 +345,7 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
                            status=jnp.where(told, at_peak, peaks.status))
     if not frf_points:
         return damper, peaks, None
-    shape2 = grids.shape
-    return damper, peaks, (grids, k_re[n:].reshape(shape2), k_im[n:].reshape(shape2))
+    return damper, peaks, (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape))
 
 
 @functools.cache
