@@ -44,9 +44,6 @@ NO_EVENT_LIMIT = 1e5  # mm: a run to gross slip with no event nearer than this f
 # Tolerance of the second-order check of a state set on an ellipse (units of F_D; of s_a for
 # slips): see `choose`.
 LOOKAHEAD_TOL = 1e-13
-# Global mode of the pads that close at a tract's start (N = 0, not opening): stick, slip up, slip
-# down. A pad may touch down while the platforms slide along it, and then slip at once.
-_CLOSING_MODES = 3
 
 
 class Pads(NamedTuple):
@@ -73,13 +70,9 @@ class Rates(NamedTuple):
 
 
 def candidate_table(n_pads: int):
-    """(weak (C, P) bool, closing mode (C,) int) of every candidate state set: per pad a strong
-    (stick, closed) or weak (slip at its limit; open at N = 0) choice, times the closing mode of
-    the pads that close at the tract's start (numpy: the table is static)."""
-    bits = np.array([[(c >> i) & 1 for i in range(n_pads)] for c in range(2 ** n_pads)], bool)
-    weak = np.concatenate([bits] * _CLOSING_MODES)
-    mode = np.repeat(np.arange(_CLOSING_MODES), 2 ** n_pads)
-    return weak, mode
+    """weak (S, P) bool, S = 2^P: per pad a strong (stick, closed) or weak (slip at its limit;
+    open at N = 0) choice (numpy: the table is static)."""
+    return np.array([[(c >> i) & 1 for i in range(n_pads)] for c in range(2 ** n_pads)], bool)
 
 
 def _rates(pads: Pads, closed, slipping, signs) -> Rates:
@@ -148,9 +141,6 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     second-order check: a rate can be zero at a tract's start without changing sign), if any;
     then the one with the most pads strong (stick, closed), closing pads preferably in stick."""
     n_pads = N.shape[0]
-    weak_np, mode_np = candidate_table(n_pads)
-    weak, mode = jnp.asarray(weak_np), jnp.asarray(mode_np)
-    mode2 = mode[:, None]  # against the (C, P) table
     mu = jnp.broadcast_to(pads.mu, N.shape)
     zero = jnp.abs(N) <= LIMIT_TOL
     gap = N < -LIMIT_TOL
@@ -158,13 +148,41 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     inside = ~zero & ~gap & ~limit
     t_sign = jnp.where(T >= 0.0, 1.0, -1.0)
     zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
-    closed = ~(weak & (zero2 | gap2))
-    slipping = (weak & limit2) | (~weak & zero2 & (mode2 > 0))
-    signs = jnp.where(zero2, jnp.where(mode2 == 2, -1.0, 1.0), t_sign[None])
-    closing_slips = jnp.any(~weak & zero2, axis=1)
+
+    def states(weak):  # (closed, slipping) of sets of weak/strong choices; closing pads stick
+        return ~(weak & (zero2 | gap2)), weak & limit2
+
+    # First round: every weak/strong choice per pad, pads at N = 0 that close in stick.
+    weak1 = jnp.asarray(candidate_table(n_pads))
+    closed1, slipping1 = states(weak1)
+    signs1 = jnp.broadcast_to(t_sign[None], weak1.shape)
+    r1 = _rates(pads, closed1, slipping1, signs1)
+    # Second round: a pad at N = 0 may close slipping, the way its stuck (trial) increment of T
+    # pushes it (return mapping). The sets in which the first pad at N = 0 closes (the other
+    # pads' choices as before), with the closing pads slipping. Both slip directions for every
+    # set (3 x 2^P sets) cost 40 % of a batched elliptic cycle; the other direction is
+    # consistent only where sticking is (the first round), bar the frictional paradoxes, and a
+    # second pad at N = 0 at the same instant is a tie of two events. The same cycles on the
+    # 230 cases of benchmarks/pads_vs_marcher.py and the 360 of ellipse_vs_marcher.py.
+    z = jnp.argmax(zero)  # pad 0 where none is at N = 0: the second round is then disallowed
+    pad = np.arange(n_pads)
+    column = jnp.clip(pad - (pad > z), 0, n_pads - 2)  # each pad's column among the others
+    weak2 = jnp.where(pad[None] == z, False, jnp.asarray(candidate_table(n_pads - 1))[:, column])
+    same = jnp.sum(jnp.where(weak2, 1 << pad, 0), axis=1)  # the same choices' first-round set
+    closing = ~weak2 & zero2
+    trial = jnp.where(_along(heading, r1.dT[same]) >= 0.0, 1.0, -1.0)
+    closed2, slipping2 = states(weak2)
+    slipping2 = slipping2 | closing
+    signs2 = jnp.where(closing, trial, t_sign[None])
+    r2 = _rates(pads, closed2, slipping2, signs2)
+    r = Rates(*(jnp.concatenate([x1, x2]) for x1, x2 in zip(r1, r2)))
+    weak, closed, slipping, signs = (jnp.concatenate(x) for x in ((weak1, weak2),
+                                                                  (closed1, closed2),
+                                                                  (slipping1, slipping2),
+                                                                  (signs1, signs2)))
+    first = np.arange(weak.shape[0]) < weak1.shape[0]
     allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
-               & ((mode == 0) | closing_slips))
-    r = _rates(pads, closed, slipping, signs)
+               & (first | zero[z]))
     dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
     scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
     tol = RATE_TOL * scale
@@ -186,7 +204,7 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
         stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
         second = good & jnp.all(stays, axis=1)
         good = jnp.where(jnp.any(second), second, good)
-    score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + (mode == 0), 0)
+    score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + first, 0)
     best = jnp.argmax(score)
     return Choice(closed[best], slipping[best], signs[best], r.dN[best], r.dT[best],
                   r.dslip[best], good[best])

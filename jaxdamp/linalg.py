@@ -60,8 +60,10 @@ def solve3(m, b, rel_tol=1e-12):
     """Solve m x = b by Cramer's rule. Returns (x, ok); where the matrix is (numerically) singular,
     ok is False and x is 0, with the determinant guarded by the double-where pattern."""
     det = det3(m)
-    scale = jnp.prod(jnp.linalg.norm(m, axis=-1), axis=-1)
-    ok = jnp.abs(det) > rel_tol * scale
+    # |det| > rel_tol * prod(row norms), squared: no square roots, and explicit sums that fuse
+    # (a norm's reduction over 3 was a fifth of a batched elliptic cycle on CPU, measured).
+    rows2 = rowdot(m, m)  # (..., 3) squared row norms
+    ok = det * det > (rel_tol * rel_tol) * (rows2[..., 0] * rows2[..., 1] * rows2[..., 2])
     safe_det = jnp.where(ok, det, 1.0)
     x = rowdot(adjugate3(m), b[..., None, :]) / safe_det[..., None]
     return jnp.where(ok[..., None], x, 0.0), ok
