@@ -149,38 +149,29 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     t_sign = jnp.where(T >= 0.0, 1.0, -1.0)
     zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
 
-    def states(weak):  # (closed, slipping) of sets of weak/strong choices; closing pads stick
-        return ~(weak & (zero2 | gap2)), weak & limit2
-
-    # First round: every weak/strong choice per pad, pads at N = 0 that close in stick.
+    # Every weak/strong choice per pad, pads at N = 0 that close in stick; then the sets in which
+    # the first pad at N = 0 closes slipping up, and slipping down (the other pads' choices as
+    # before; every closing pad slips the same way). Until 2026-11-26 every set was tried with
+    # both slip directions (3 x 2^P sets): 28 600 flops per lane of a batched choice on three pads
+    # against 18 000 now (XLA's count), with the same cycles on the 230 cases of
+    # benchmarks/pads_vs_marcher.py and the 360 of ellipse_vs_marcher.py; only a second pad at
+    # N = 0 at the same instant (a tie of two events) has fewer sets. Choosing the direction from
+    # the stuck set's trial increment (return mapping) would need 2^(P-1) sets fewer, but two
+    # rounds of solves: 13 500 flops, and 20 % more to compile in a first CLI call (measured).
     weak1 = jnp.asarray(candidate_table(n_pads))
-    closed1, slipping1 = states(weak1)
-    signs1 = jnp.broadcast_to(t_sign[None], weak1.shape)
-    r1 = _rates(pads, closed1, slipping1, signs1)
-    # Second round: a pad at N = 0 may close slipping, the way its stuck (trial) increment of T
-    # pushes it (return mapping). The sets in which the first pad at N = 0 closes (the other
-    # pads' choices as before), with the closing pads slipping. Both slip directions for every
-    # set (3 x 2^P sets) cost 40 % of a batched elliptic cycle; the other direction is
-    # consistent only where sticking is (the first round), bar the frictional paradoxes, and a
-    # second pad at N = 0 at the same instant is a tie of two events. The same cycles on the
-    # 230 cases of benchmarks/pads_vs_marcher.py and the 360 of ellipse_vs_marcher.py.
-    z = jnp.argmax(zero)  # pad 0 where none is at N = 0: the second round is then disallowed
+    z = jnp.argmax(zero)  # pad 0 where none is at N = 0: its closing sets are then disallowed
     pad = np.arange(n_pads)
     column = jnp.clip(pad - (pad > z), 0, n_pads - 2)  # each pad's column among the others
     weak2 = jnp.where(pad[None] == z, False, jnp.asarray(candidate_table(n_pads - 1))[:, column])
-    same = jnp.sum(jnp.where(weak2, 1 << pad, 0), axis=1)  # the same choices' first-round set
-    closing = ~weak2 & zero2
-    trial = jnp.where(_along(heading, r1.dT[same]) >= 0.0, 1.0, -1.0)
-    closed2, slipping2 = states(weak2)
-    slipping2 = slipping2 | closing
-    signs2 = jnp.where(closing, trial, t_sign[None])
-    r2 = _rates(pads, closed2, slipping2, signs2)
-    r = Rates(*(jnp.concatenate([x1, x2]) for x1, x2 in zip(r1, r2)))
-    weak, closed, slipping, signs = (jnp.concatenate(x) for x in ((weak1, weak2),
-                                                                  (closed1, closed2),
-                                                                  (slipping1, slipping2),
-                                                                  (signs1, signs2)))
-    first = np.arange(weak.shape[0]) < weak1.shape[0]
+    weak = jnp.concatenate([weak1, weak2, weak2])
+    n1, n2 = weak1.shape[0], weak2.shape[0]
+    direction = np.repeat([0.0, 1.0, -1.0], [n1, n2, n2])[:, None]
+    closing = ~weak & zero2 & (direction != 0.0)
+    closed = ~(weak & (zero2 | gap2))
+    slipping = (weak & limit2) | closing
+    signs = jnp.where(closing, direction, t_sign[None])
+    r = _rates(pads, closed, slipping, signs)
+    first = np.arange(weak.shape[0]) < n1
     allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
                & (first | zero[z]))
     dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
