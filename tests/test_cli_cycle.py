@@ -86,3 +86,26 @@ def test_errors(capsys, argv, needle):
     assert code == 2
     line = one_error_line(err)
     assert needle in line and "inf]" not in line
+
+
+def test_interblade_phase_angle_zero_is_the_in_phase_base_cycle(capsys):
+    """--ibpa 0 is the in-phase scene exactly (MODEL.md): the same Base-Cycle as without it."""
+    argv = ("cycle", "--shape", "60sym", "--mu", "0.5", "--json")
+    code, out, _ = run_cli(capsys, *argv)
+    code0, out0, _ = run_cli(capsys, *argv, "--ibpa", "0", "--h-c", "20")
+    assert code == code0 == 0
+    plain, zero = strict_json(out), strict_json(out0)
+    for key in ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc"):
+        assert zero[key] == plain[key] and plain[key] is not None
+
+
+@pytest.mark.parametrize("argv,needle", [
+    (["--ibpa", "90", "--h-c", "20", "--h-l", "10"], "jaxdamp amplitude --ibpa 90 --h-c MM"),
+    (["--motion", "0.02,0.1+0.05j,1", "--h-l", "10"], "jaxdamp amplitude --motion"),
+    (["--ibpa", "90"], "--h-c"),  # the flags' own checks come first
+    (["--ibpa", "400", "--h-c", "20"], "--ibpa"),
+])
+def test_a_path_that_turns_the_platforms_is_refused_with_where_to_go(capsys, argv, needle):
+    code, _, err = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv)
+    assert code == 2
+    assert needle in one_error_line(err)

@@ -6,6 +6,7 @@ import functools
 
 from . import common as C
 from . import exported
+from . import motion_flags as M
 
 NUMBER_KEYS = ("psi_fs_mrad", "k_re_fs", "psi_bc_mrad", "k_re_bc", "k_im_bc")
 
@@ -14,6 +15,7 @@ def register(sub) -> None:
     p = sub.add_parser("cycle", help="the Base-Cycle: five numbers, transitions, energies")
     C.add_design_args(p)
     C.add_damper_args(p)
+    M.add_motion_args(p, parameter="the left-hand blade's rotation")
     C.add_json_arg(p)
     p.set_defaults(func=run)
 
@@ -70,11 +72,27 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
     return p
 
 
+def refuse_path(args, load) -> None:
+    """--ibpa 0 is the in-phase scene itself (the Base-Cycle as without it); any other path, one
+    line and exit 2: the paper's Base-Cycle (full slip one way to full slip the other on the
+    in-phase stroke) has no definition yet on a path that turns the platforms."""
+    motion = M.motion_from_args(args, load)  # the flags' own checks first
+    if motion is None or (args.ibpa is not None and args.ibpa % 360.0 == 0.0):
+        return
+    flag = "--ibpa" if args.ibpa is not None else "--motion"
+    raise C.CliError(f"{flag}: `jaxdamp cycle` is the in-phase Base-Cycle (--ibpa 0); the exact "
+                   "cycles on this path: jaxdamp amplitude " + (
+                       f"--ibpa {args.ibpa:g} --h-c MM" if args.ibpa is not None
+                       else "--motion du,dv,dtheta") + " --h-l MM --psi-a MRAD, its forced "
+                   "response: jaxdamp response with the same flags")
+
+
 def run(args) -> int:
     from ..params import prepare_inputs
 
     C.refuse_wedge(args, "cycle", "the Base-Cycle starts from the full-slip statics of three pads")
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
+    refuse_path(args, load)
     shape = C.shape_from_args(args)
     # A saved program (exported.call): a repeat call neither traces nor lowers it, which was
     # 2.9 s of a 3.6 s repeat (benchmarks/results/compile_costs.json).
