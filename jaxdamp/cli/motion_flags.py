@@ -1,5 +1,5 @@
-"""The flags of a relative platform path, shared by `amplitude` and `response`: --ibpa, --h-c,
---h-l and --motion (`jaxdamp.motion`), their checks (one line, exit 2) and their echo."""
+"""The flags of a relative platform path, shared by `amplitude`, `response` and `cycle`: --ibpa,
+--h-c, --h-l and --motion (`jaxdamp.motion`), their checks (one line, exit 2) and their echo."""
 
 from __future__ import annotations
 
