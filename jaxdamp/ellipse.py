@@ -47,7 +47,7 @@ from .geometry import DamperShape, is_wedge, pad_names
 from .half import accelerate
 from .loops import repeat_until, run_by_loop
 from .paths import Ellipse, Line, sinusoid
-from .motion import (Motion, motion_moment_coefficients, pad_motion, path_parts,
+from .motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .statics import contact_columns
@@ -332,7 +332,7 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
         if not wedge:
             raise ValueError("motion must be elliptic for elliptic_cycle (a straight path: use "
                              "amplitude_cycle(..., motion=...))")
-        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
+        motion = as_ellipse(motion)
     if wedge and not isinstance(initial, str):
         raise ValueError("initial must be assembly or gross_slip for a wedge")
     check_int("max_tracts", max_tracts, 1)

@@ -192,6 +192,15 @@ def path_parts(motion: Motion) -> tuple[Motion, Motion]:
     return Motion(motion.direction, motion.h_l), Motion(motion.quadrature, motion.h_l)
 
 
+def as_ellipse(motion: Motion) -> Motion:
+    """The same path as an elliptic Motion: a straight one with a zero quadrature (an ellipse of
+    zero width, which the elliptic engines run as they run any ellipse); an ellipse as it is.
+    Traceable."""
+    if motion.quadrature is not None:
+        return motion
+    return motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
+
+
 def motion_moment_coefficients(nw, tw, load):
     """(fn, ft): the modal force M (N mm, module docstring) per unit normal / tangential force
     (units of F_D) of each pad. Unchecked, traceable."""
@@ -201,6 +210,7 @@ def motion_moment_coefficients(nw, tw, load):
 
 __all__ = ["Motion", "in_phase_motion", "interblade_motion", "straight_motion", "general_motion",
            "validate_motion",
-           "pad_motion", "loop_moment_coefficients", "path_parts", "motion_moment_coefficients",
+           "pad_motion", "loop_moment_coefficients", "path_parts", "as_ellipse",
+           "motion_moment_coefficients",
            "platform_force_coefficients",
            "STRAIGHT_TOL"]

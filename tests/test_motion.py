@@ -15,7 +15,7 @@ import pytest
 import jaxdamp as jd
 from jaxdamp.baselines.timemarch import march_amplitude
 from jaxdamp.geometry import section_geometry
-from jaxdamp.motion import pad_motion
+from jaxdamp.motion import as_ellipse, pad_motion
 
 from helpers import assert_tree_allclose, fd_jvp
 
@@ -201,3 +201,14 @@ def test_derivative_along_the_rotation_centre_matches_finite_differences():
     assert_tree_allclose(np.asarray(np.asarray(tangent), float),
                          np.asarray(np.asarray(fd), float),
                          rtol=1e-6, atol=1e-6 * float(jnp.max(jnp.abs(fd))))
+
+
+def test_as_ellipse_gives_a_straight_path_zero_width_and_leaves_an_ellipse():
+    straight = jd.interblade_motion(180.0, 20.0, 100.0, 10.0)
+    assert straight.quadrature is None
+    flat = as_ellipse(straight)
+    assert_tree_allclose((flat.direction, flat.h_l), (straight.direction, straight.h_l), rtol=0,
+                         atol=0)
+    assert np.all(np.asarray(flat.quadrature) == 0.0) and flat.quadrature.shape == (3,)
+    ellipse = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
+    assert as_ellipse(ellipse) is ellipse

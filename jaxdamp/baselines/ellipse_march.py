@@ -26,7 +26,7 @@ from .._validate import check_int, check_range
 from ..conventions import travel_mm
 from ..ellipse import path_pads
 from ..geometry import is_wedge
-from ..motion import Motion, motion_moment_coefficients, path_parts, validate_motion
+from ..motion import Motion, as_ellipse, motion_moment_coefficients, path_parts, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
 from .timemarch import MAX_NEWTON, NEWTON_TOL, MarchModel, assemble, newton, respond, step
@@ -191,7 +191,7 @@ def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts 
         if not is_wedge(shape):
             raise ValueError("motion must be elliptic for march_ellipse (a straight path: "
                              "timemarch.march_amplitude)")
-        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
+        motion = as_ellipse(motion)
     return _march_ellipse(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
                           n_steps, check_int("periods", periods, 2), check_int("n_load", n_load, 1),
                           check_int("max_newton", max_newton, 1), initial)

@@ -38,7 +38,7 @@ import jax.numpy as jnp
 
 from .._validate import check_int, check_range
 from ..conventions import travel_mm
-from ..motion import Motion, validate_motion
+from ..motion import Motion, as_ellipse, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import from_flags, number_repr, status_repr
 from .ellipse_march import HISTORIES, path_model, path_start, path_step
@@ -145,9 +145,7 @@ def hbm_aft_path(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts =
     max_newton = check_int("max_newton", max_newton, 1)
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
     check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    motion = validate_motion(motion)
-    if motion.quadrature is None:  # a straight path: an ellipse of zero width
-        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
+    motion = as_ellipse(validate_motion(motion))  # a straight path: an ellipse of zero width
     return hbm_aft_path_kernel(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)),
                                motion, n_time, n_periods, initial=initial, n_load=n_load,
                                max_newton=max_newton)

@@ -15,7 +15,7 @@ from ..cycle import base_cycle_kernel
 from ..conventions import MRAD_PER_RAD
 from ..ellipse import elliptic_kernel, gross_slip_amplitude_kernel
 from ..geometry import is_wedge
-from ..motion import Motion
+from ..motion import Motion, as_ellipse
 from ..harmonics import complex_stiffness, five_numbers_kernel
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..status import RESULTS, number_repr, status_repr
@@ -136,9 +136,7 @@ def _engine_path(motion, load) -> Motion:
         q = jnp.asarray(load.q_star, float)
         motion = Motion(jnp.stack([jnp.zeros_like(q), q / MRAD_PER_RAD, jnp.zeros_like(q)]),
                         jnp.ones_like(q))
-    if motion.quadrature is None:
-        motion = motion._replace(quadrature=jnp.zeros_like(jnp.asarray(motion.direction, float)))
-    return motion
+    return as_ellipse(motion)
 
 
 def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly",
