@@ -105,6 +105,9 @@ from .ellipse import elliptic_cycle as elliptic_cycle
 from .ellipse import interblade_sweep as interblade_sweep
 from .ellipse import elliptic_transitions_chart as elliptic_transitions_chart
 from .ellipse import elliptic_kernel as elliptic_kernel
+from .path_base_cycle import PathBaseCycle as PathBaseCycle
+from .path_base_cycle import path_base_cycle as path_base_cycle
+from .path_base_cycle import path_base_cycle_kernel as path_base_cycle_kernel
 from .amplitude import AmplitudeCycle as AmplitudeCycle
 from .amplitude import amplitude_cycle as amplitude_cycle
 from .amplitude import amplitude_kernel as amplitude_kernel
@@ -212,7 +215,8 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "work_shape_factors", "Motion", "in_phase_motion", "interblade_motion",
            "straight_motion", "general_motion", "EllipticCycle", "elliptic_cycle", "interblade_sweep",
            "elliptic_transitions_chart",
-           "elliptic_kernel", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
+           "elliptic_kernel", "PathBaseCycle", "path_base_cycle", "path_base_cycle_kernel",
+           "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
            "StiffnessCurves", "amplitude_curves", "curves_kernel", "Band", "amplitude_band",
            "amplitude_bands", "admissible_polytope", "polytope_vertices", "StiffnessCurve",
            "curve_at", "sequence_curves", "stiffness_curve", "stack_designs", "map_batched",

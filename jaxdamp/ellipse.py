@@ -61,7 +61,7 @@ INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep",
            "elliptic_transitions_chart", "path_pads", "period_fourier",
-           "gross_slip_amplitude_kernel",
+           "gross_slip_amplitude_kernel", "along_line",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
 
@@ -77,7 +77,7 @@ def path_pads(shape, mu, contacts, load, parts) -> Pads:
                 jnp.stack([m[0] for m in motions]), jnp.stack([m[1] for m in motions]))
 
 
-def _along(pads: Pads, sign) -> Pads:
+def along_line(pads: Pads, sign) -> Pads:
     """The pads on the straight line along sign * X_r (the first basis direction)."""
     return pads._replace(nw=sign * pads.nw[:1], tw=sign * pads.tw[:1])
 
@@ -204,15 +204,15 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         Na = jnp.where(ok0, Na, jnp.ones(n_pads))  # keep the masked runs finite
         Ta = jnp.where(ok0, Ta, 0.0)
     if initial == "assembly":
-        to_start = run_tracts(_along(pads, -1.0), Line(), Na, Ta, 0.0, s_a, max_tracts=max_tracts,
-                              loop=loop)
+        to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
+                              max_tracts=max_tracts, loop=loop)
         half = run_tracts(pads, path, to_start.N_end, to_start.T_end, jnp.pi, two_pi,
                           max_tracts=max_tracts, loop=loop)
         N0, T0 = half.N_end, half.T_end
         pre = jnp.stack([to_start.status, half.status])
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
-        up = run_tracts(_along(pads, 1.0), Line(), Na, Ta, 0.0, None, max_tracts=max_tracts,
+        up = run_tracts(along_line(pads, 1.0), Line(), Na, Ta, 0.0, None, max_tracts=max_tracts,
                         loop=loop)
         reached = (up.status == RESULTS.ok) & up.gross_slip
         unreachable = ok0 & ~reached
@@ -287,7 +287,8 @@ def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,
     assembly along +X_r (the path's real part) at which every pad that can slip does (the gross-
     slip history's move), and its RESULTS code: unseated where no set of pads holds the damper
     at assembly, unreachable where the move never reaches gross slip. An amplitude scale of the
-    path's cycles for any pad set (the wedge's, which has no Base-Cycle). Unchecked, traceable."""
+    path's cycles for any pad set (a wedge's response: its full-slip statics are indeterminate).
+    Unchecked, traceable."""
     pads = path_pads(shape, mu, contacts, load, (Motion(motion.direction, motion.h_l),))
     Na, Ta, ok0 = assemble(pads, CENTRIFUGAL_LOAD)
     Na = jnp.where(ok0, Na, jnp.ones_like(Na))  # keep the masked run finite

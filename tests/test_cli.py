@@ -30,8 +30,8 @@ def test_help_explains_units(capsys):
     (["statics", "--shape", "60sym"], "--mu"),
     (["cycle", "--shape", "60sym", "--mu", "0.5", "--bogus"], "--bogus"),
     (["grad", "--shape", "60sym", "--mu", "0.5", "--mode", "sideways"], "--mode"),
-    (["cycle", "--shape", "60sym", "--mu", "0.5", "--damper", "wedge"],
-     "--damper must be curved-flat for `jaxdamp cycle`"),
+    (["cycle", "--shape", "60sym", "--mu", "0.5", "--damper", "wedge", "--br", "0.5"],
+     "--br places the curved-flat damper's pad R1"),
     (["response", "--shape", "60sym", "--mu", "0.5", "--force-n", "5", "--damper", "wedge",
       "--diagram"], "--diagram is computed for the paper's in-phase motion and curved-flat"),
 ])

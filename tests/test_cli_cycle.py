@@ -100,12 +100,43 @@ def test_interblade_phase_angle_zero_is_the_in_phase_base_cycle(capsys):
 
 
 @pytest.mark.parametrize("argv,needle", [
+    (["--ibpa", "90", "--h-c", "20", "--h-l", "10"], "ellipse, which has no Base-Cycle"),
     (["--ibpa", "90", "--h-c", "20", "--h-l", "10"], "jaxdamp amplitude --ibpa 90 --h-c MM"),
     (["--motion", "0.02,0.1+0.05j,1", "--h-l", "10"], "jaxdamp amplitude --motion"),
     (["--ibpa", "90"], "--h-c"),  # the flags' own checks come first
     (["--ibpa", "400", "--h-c", "20"], "--ibpa"),
 ])
-def test_a_path_that_turns_the_platforms_is_refused_with_where_to_go(capsys, argv, needle):
+def test_an_elliptic_path_is_refused_with_where_to_go(capsys, argv, needle):
     code, _, err = run_cli(capsys, "cycle", "--shape", "60sym", "--mu", "0.5", *argv)
     assert code == 2
     assert needle in one_error_line(err)
+
+
+def test_a_wedge_base_cycle_json(capsys):
+    """A wedge in-phase (`--ibpa 0` is that path): the Base-Cycle on the tract engine, its numbers
+    under the in-phase keys, per-pad fields keyed R1, R2, L1, L2, the energy balance; out of phase
+    it has none (a status and its reason, numbers null)."""
+    argv = ("cycle", "--shape", "60sym", "--mu", "0.5", "--damper", "wedge", "--ibpa", "0",
+            "--h-c", "20", "--h-l", "10", "--json")
+    code, out, _ = run_cli(capsys, *argv)
+    assert code == 0
+    d = strict_json(out)
+    assert d["status"] == "ok" and d["inputs"]["damper"] == "wedge"
+    assert d["inputs"]["pads"] == ["R1", "R2", "L1", "L2"]
+    assert d["inputs"]["shape"]["br2_over_hr"] == 0.8 and d["inputs"]["shape"]["br_over_hr"] is None
+    assert d["inputs"]["motion"]["ibpa_deg"] == 0.0
+    for key in ("energy_nmm", "slip_fraction", "open_fraction"):
+        assert set(d[key]) == {"R1", "R2", "L1", "L2"}
+    assert 0.0 < d["psi_fs_mrad"] <= d["psi_bc_mrad"] and d["k_re_bc"] > 0.0
+    # the work of the modal force over the cycle is what the pads dissipate
+    work = 3.141592653589793 * d["psi_bc_mrad"] ** 2 * d["k_im_bc"] / 1e3
+    assert abs(sum(d["energy_nmm"].values()) - d["dissipated_energy_nmm"]) <= 1e-12
+    assert abs(d["dissipated_energy_nmm"] - work) <= 1e-9 * d["k_re_bc"]
+    assert all(set(t) >= {"tau_start_deg", "tau_end_deg", "R1", "R2", "L1", "L2"}
+               for t in d["tracts"])
+    code, out, _ = run_cli(capsys, *argv[:-7], "--ibpa", "180", "--h-c", "20", "--h-l", "10",
+                           "--json")
+    d = strict_json(out)
+    assert code == 0 and d["status"] == "unreachable" and "never brings every pad to slip" in \
+        d["status_reason"]
+    assert d["psi_bc_mrad"] is None and d["energy_nmm"]["R2"] is None

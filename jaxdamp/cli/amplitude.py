@@ -72,7 +72,7 @@ def run(args) -> int:
     import numpy as np
 
     from ..amplitude import INITIAL_STATES, amplitude_cycle, slip_fraction
-    from ..ellipse import elliptic_cycle, elliptic_transitions_chart
+    from ..ellipse import elliptic_cycle
     from ..geometry import is_wedge, pad_names
     from ..motion import in_phase_motion
     from ..params import prepare_inputs
@@ -118,14 +118,7 @@ def run(args) -> int:
                "status": RESULTS.name_of(ac.status),
                "cycles": int(ac.periods if elliptic else ac.cycles)}
         if motion is not None:
-            fractions = np.asarray(ac.slip_fraction) if elliptic else slip_fraction(ac)
-            per_pad = lambda values: {p: C.number(v) if valid else None  # noqa: E731
-                                      for p, v in zip(pad_names(shape), np.asarray(values))}
-            row.update(dissipated_energy_nmm=C.number(np.sum(ac.energy)) if valid else None,
-                       energy_nmm=per_pad(ac.energy), slip_fraction=per_pad(fractions))
-            if elliptic:
-                row["open_fraction"] = per_pad(ac.open_fraction)
-                row["tracts"] = elliptic_transitions_chart(ac)
+            row.update(M.pad_fields(shape, ac, valid, None if elliptic else slip_fraction(ac)))
             if args.h_l is not None:  # the moment about D needs the damper's size
                 g = np.asarray(platform_force_harmonic(ac, args.h_l))
                 row["force_harmonic"] = {name: {"re": C.number(v.real), "im": C.number(v.imag)}

@@ -201,14 +201,6 @@ def add_damper_args(p) -> None:
                    "and R2 at +-b from the right flank's midpoint")
 
 
-def refuse_wedge(args, command: str, why: str) -> None:
-    """One line, exit 2, for --damper wedge on a command that computes the curved-flat damper."""
-    if args.damper == "wedge" or args.br2 is not None:
-        raise CliError(f"--damper must be curved-flat for `jaxdamp {command}` ({why}); a wedge's "
-                       "cycles on any platform path: jaxdamp amplitude --damper wedge, its forced response: "
-                       "jaxdamp response --damper wedge")
-
-
 def damper_from_args(args, shape):
     """The shape of --damper/--br2: unchanged for the curved-flat damper; a wedge otherwise
     (its right pads from --br2, --br refused: it places the curved pad R1). Checked."""

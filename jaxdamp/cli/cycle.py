@@ -1,4 +1,6 @@
-"""`jaxdamp cycle`: the Base-Cycle of one design: five numbers, transitions, energies."""
+"""`jaxdamp cycle`: the Base-Cycle of one design: five numbers, transitions, energies; on any
+straight platform path and for a wedge, the same construction on the tract engine
+(`jaxdamp.path_base_cycle`)."""
 
 from __future__ import annotations
 
@@ -38,6 +40,15 @@ def _program():
     return jax.jit(lambda *design: _cycle_numbers(base_cycle_kernel(*design)))
 
 
+@functools.cache
+def _path_program():
+    import jax
+
+    from ..path_base_cycle import path_base_cycle_kernel
+
+    return jax.jit(path_base_cycle_kernel)
+
+
 def cycle_payload(bc, nums, energy, factors) -> dict:
     """The numbers of a BaseCycle (with its five numbers, contact energies and work shape factors,
     as `_cycle_numbers` computes them); those that do not exist (liftoff, singular) are None."""
@@ -72,28 +83,108 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
     return p
 
 
-def refuse_path(args, load) -> None:
-    """--ibpa 0 is the in-phase scene itself (the Base-Cycle as without it); any other path, one
-    line and exit 2: the paper's Base-Cycle (full slip one way to full slip the other on the
-    in-phase stroke) has no definition yet on a path that turns the platforms."""
-    motion = M.motion_from_args(args, load)  # the flags' own checks first
-    if motion is None or (args.ibpa is not None and args.ibpa % 360.0 == 0.0):
+def refuse_ellipse(args, motion) -> None:
+    """One line, exit 2, for an elliptic path: no half of it ends in gross slip, so it has no
+    Base-Cycle (`jaxdamp.path_base_cycle`); its exact cycles are the amplitude command's."""
+    if motion.quadrature is None:
         return
     flag = "--ibpa" if args.ibpa is not None else "--motion"
-    raise C.CliError(f"{flag}: `jaxdamp cycle` is the in-phase Base-Cycle (--ibpa 0); the exact "
-                   "cycles on this path: jaxdamp amplitude " + (
-                       f"--ibpa {args.ibpa:g} --h-c MM" if args.ibpa is not None
-                       else "--motion du,dv,dtheta") + " --h-l MM --psi-a MRAD, its forced "
-                   "response: jaxdamp response with the same flags")
+    raise C.CliError(f"{flag}: this path is an ellipse, which has no Base-Cycle (no half of it "
+                     "ends in gross slip: the Base-Cycle is defined on straight paths, --ibpa 0 or "
+                     "180 or a real --motion); its exact cycles: jaxdamp amplitude " + (
+                         f"--ibpa {args.ibpa:g} --h-c MM" if args.ibpa is not None
+                         else "--motion du,dv,dtheta") + " --h-l MM --psi-a MRAD, its forced "
+                     "response: jaxdamp response with the same flags")
+
+
+def path_payload(pbc, shape) -> dict:
+    """The numbers of a `PathBaseCycle` under the in-phase command's keys (amplitudes in mrad of the
+    path's parameter), with the per-pad fields of a cycle on a path (`motion_flags.pad_fields`);
+    null where the status says there are none."""
+    from ..conventions import warn_small_rotation
+    from ..status import RESULTS
+
+    valid = bool(RESULTS.valid(pbc.status))
+    nums = (pbc.a_fs, pbc.k_re_fs, pbc.a_bc, pbc.k_re_bc, pbc.k_im_bc)
+    p = {k: (C.number(v) if valid else None) for k, v in zip(NUMBER_KEYS, nums)}
+    with C.model_warnings() as caught:
+        warn_small_rotation(pbc.a_bc, stacklevel=2)
+    p["warnings"] = caught if valid else []
+    spans = [C.number(v) if valid else None for v in pbc.spans]
+    p["spans_mm"] = {"forward": spans[0], "backward": spans[1]}
+    p["half_cycles"] = 2 * int(pbc.pairs)
+    p.update(M.pad_fields(shape, pbc.cycle, valid))
+    return p
+
+
+def _run_path(args, shape, contacts, load, motion) -> int:
+    from ..geometry import pad_names
+    from ..path_base_cycle import path_base_cycle_inputs
+
+    refuse_ellipse(args, motion)
+    pbc = exported.call("cycle-path", _path_program(),
+                        path_base_cycle_inputs(shape, args.mu, motion, contacts, load))
+    status = C.status_name(pbc)
+    p = path_payload(pbc, shape)
+    echo = M.motion_echo(args, motion) if args.ibpa is not None or args.motion is not None else None
+    reason = C.status_reason(status, contacts, load)
+    if status == "unreachable":  # the history exists; a half of the Base-Cycle does not end
+        reason = ("moving along this path one way or the other never brings every pad to slip "
+                  "(the pads stay inside their friction cones, take turns to stick and slip, or "
+                  "one opens first): no Base-Cycle; the exact cycles at an amplitude: jaxdamp "
+                  "amplitude with the same flags and --psi-a MRAD")
+    shape_echo = C.shape_echo(shape)
+    if args.damper == "wedge":  # R1, R2 at +-b from the right flank's midpoint; no curved pad
+        shape_echo.update(br_over_hr=None, br2_over_hr=C.number(shape.br2_over_hr))
+    doc = C.document(status, p, reason=reason,
+                     shape=shape_echo, damper=args.damper, pads=list(pad_names(shape)),
+                     mu=args.mu, contacts=C.contacts_echo(contacts), load=C.load_echo(load),
+                     motion=echo)
+    damper = (f"wedge R1, R2 | L1, L2 (2b/h_R = {float(shape.br2_over_hr):g})"
+              if args.damper == "wedge" else "curved-flat R1 | L1, L2")
+    head = (f"Base-Cycle, {M.motion_text(echo)}, {damper}, mu = {args.mu:g}, "
+            f"kn = {C.k_text(args.kn)} N/mm, kt = {C.k_text(args.kt)} N/mm, F_D = {args.fd:g} N")
+    if p["psi_bc_mrad"] is None:
+        C.emit(args, doc, head + "\n  no cycle (the status above says why)")
+        return 0
+    lines = [head,
+             f"  a_fs = {p['psi_fs_mrad']:.4f} mrad   k_Re,fs = {p['k_re_fs']:.1f} N mm/mrad",
+             f"  a_BC = {p['psi_bc_mrad']:.4f} mrad   k_Re,BC = {p['k_re_bc']:.1f}   "
+             f"k_Im,BC = {p['k_im_bc']:.1f} N mm/mrad   (mrad of "
+             + ("the left-hand blade's rotation)" if args.ibpa is not None else
+                "the path's parameter)" if args.motion is not None else "psi)"),
+             f"  spans: forward {p['spans_mm']['forward']:.5f} mm, backward "
+             f"{p['spans_mm']['backward']:.5f} mm, half-cycles run: {p['half_cycles']}",
+             *(f"  WARNING: {w}" for w in p["warnings"]),
+             f"  energy per cycle (N mm): total {p['dissipated_energy_nmm']:.3f}   "
+             + "  ".join(f"{k} {v:.3f}" for k, v in p["energy_nmm"].items()),
+             "  slip fraction: " + "  ".join(f"{k} {v:.3f}" for k, v in p["slip_fraction"].items()),
+             "  open fraction: " + "  ".join(f"{k} {v:.3f}" for k, v in p["open_fraction"].items()),
+             "  transitions (tau of the period, deg):"]
+    names = pad_names(shape)
+    for t in p["tracts"]:
+        lines.append(f"    {t['tau_start_deg']:7.2f} - {t['tau_end_deg']:7.2f}   "
+                     + "  ".join(f"{n} {t[n]:5}" for n in names))
+    C.emit(args, doc, "\n".join(lines))
+    return 0
 
 
 def run(args) -> int:
     from ..params import prepare_inputs
 
-    C.refuse_wedge(args, "cycle", "the Base-Cycle starts from the full-slip statics of three pads")
+    from ..motion import in_phase_motion
+
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
-    refuse_path(args, load)
-    shape = C.shape_from_args(args)
+    wedge = args.damper == "wedge"
+    shape = C.damper_from_args(args, C.shape_from_args(args, need_br=not wedge))
+    prepare_inputs(shape, args.mu, contacts, load, wedge_ok=wedge)
+    motion = M.motion_from_args(args, load)
+    # The paper's Base-Cycle where it is defined (the curved-flat damper in-phase: --ibpa 0 is
+    # that path exactly); a wedge, or any other straight path, the same construction on the
+    # tract engine (jaxdamp.path_base_cycle).
+    if wedge or not (motion is None or (args.ibpa is not None and args.ibpa % 360.0 == 0.0)):
+        return _run_path(args, shape, contacts, load,
+                         in_phase_motion(load.q_star) if motion is None else motion)
     # A saved program (exported.call): a repeat call neither traces nor lowers it, which was
     # 2.9 s of a 3.6 s repeat (benchmarks/results/compile_costs.json).
     results = exported.call("cycle", _program(), prepare_inputs(shape, args.mu, contacts, load))
@@ -132,4 +223,4 @@ def run(args) -> int:
     return 0
 
 
-__all__ = ["NUMBER_KEYS", "register", "cycle_payload", "run"]
+__all__ = ["NUMBER_KEYS", "register", "cycle_payload", "path_payload", "run"]

@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from .common import CliError
 
-__all__ = ["add_motion_args", "motion_from_args", "motion_echo", "motion_text"]
+__all__ = ["add_motion_args", "motion_from_args", "motion_echo", "motion_text", "pad_fields"]
 
 
 def add_motion_args(p, parameter: str = "--psi-a", h_l_extra: str = "") -> None:
@@ -78,3 +78,28 @@ def motion_text(echo: dict | None) -> str:
         "straight" if echo["quadrature"] is None else "elliptic",
         ", ".join(f"{complex(r, i):.4g}".strip("()").replace("+0j", "")
                   for r, i in zip(echo["direction"], quadrature)))
+
+
+def pad_fields(shape, cycle, valid: bool, slip_fraction=None) -> dict:
+    """The per-pad numbers of a cycle on a path for the JSON (each an object keyed by pad name:
+    R1, L1, L2 or R1, R2, L1, L2; null where the cycle has no valid numbers):
+    dissipated_energy_nmm, energy_nmm, slip_fraction, and for an `EllipticCycle` (any pad set,
+    pads that open) open_fraction and its contact-state chart `tracts`. slip_fraction: the
+    fractions where the cycle does not carry them (`amplitude.slip_fraction`)."""
+    import numpy as np
+
+    from ..ellipse import EllipticCycle, elliptic_transitions_chart
+    from ..geometry import pad_names
+    from .common import number
+
+    def per_pad(values):
+        return {p: number(v) if valid else None for p, v in zip(pad_names(shape), np.asarray(values))}
+
+    elliptic = isinstance(cycle, EllipticCycle)
+    fractions = cycle.slip_fraction if slip_fraction is None else slip_fraction
+    out = dict(dissipated_energy_nmm=number(np.sum(cycle.energy)) if valid else None,
+               energy_nmm=per_pad(cycle.energy), slip_fraction=per_pad(fractions))
+    if elliptic:
+        out.update(open_fraction=per_pad(cycle.open_fraction),
+                   tracts=elliptic_transitions_chart(cycle))
+    return out

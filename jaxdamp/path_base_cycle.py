@@ -1,0 +1,193 @@
+"""The Base-Cycle on any straight platform path, for any pad set (the curved-flat damper or a wedge).
+
+The paper defines the Base-Cycle on its in-phase stroke: from full slip one way, the platforms
+reverse and move until every pad slips the other way (gross slip), reverse again, and so on until
+the end states repeat; its amplitude psi_BC is half the longer half's travel, and psi_fs, half the
+first tract's travel, bounds the fully stuck cycles (`jaxdamp.cycle`). The same construction holds
+on any straight relative path X = s X_r (MODEL.md, "Any in-plane motion": out-of-phase at 180 deg,
+a real `general_motion`) and for a wedge, whose four pads make the full-slip statics indeterminate:
+
+- state 0 is the gross-slip history's state (`elliptic_cycle(initial="gross_slip")`): F_D applied
+  at X = 0, then a move along +X_r until every pad that can slip does;
+- halves run along -X_r and +X_r to gross slip on the tract engine (pads open and close), pairs
+  repeated until the end state repeats;
+- a_BC (mrad of the path's parameter) is half the longer half's travel, a_fs half the forward
+  half's first tract and k_Re,fs the modal force's slope over that tract (as the paper's numbers);
+  the Base-Cycle's k_Re,BC, k_Im,BC, energy, slip and open fractions per pad and its tracts are
+  those of the exact steady cycle at a_BC from the gross-slip state (`ellipse.elliptic_kernel`, the
+  straight path as an ellipse of zero width).
+
+Where a half never reaches gross slip there is no Base-Cycle (`unreachable`): e.g. a wedge at
+180 deg whose R2 and L2 have opened, leaving R1 and L1, which cannot both slip (two pads cannot hold
+three degrees of freedom in gross slip) and take turns to stick and slip along the whole move.
+
+On the paper's in-phase path for the curved-flat damper this is the paper's Base-Cycle, reached by
+another road (assembly and a move to gross slip instead of the full-slip statics; the elliptic
+engine instead of the Base-Cycle's halves): tests/test_path_base_cycle.py checks the five numbers
+against `five_numbers` and the paper's Table B3.1. An elliptic path has no halves that end in gross
+slip (the direction of motion turns all along it) and no Base-Cycle: `elliptic_cycle` there.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import jax
+import jax.numpy as jnp
+
+from ._validate import check_int
+from .conventions import CENTRIFUGAL_LOAD, MRAD_PER_RAD, travel_mm
+from .ellipse import EllipticCycle, along_line, elliptic_kernel, path_pads
+from .engine import assemble
+from .engine import run as run_tracts
+from .geometry import DamperShape
+from .half import accelerate
+from .loops import repeat_until, run_by_loop
+from .motion import Motion, as_ellipse, motion_moment_coefficients, validate_motion
+from .params import Contacts, LoadCase, prepare_inputs
+from .paths import Line
+from .status import RESULTS, number_repr, status_repr
+
+MAX_TRACTS = 8  # per half: a wedge's halves see at most 6 events on the cases of the tests
+MAX_PAIRS = 4  # forward + backward pairs until the end state repeats (1 usually)
+CLOSE_TOL = 1e-9  # end-state repeat tolerance (units of F_D)
+
+__all__ = ["PathBaseCycle", "path_base_cycle", "path_base_cycle_kernel", "path_base_cycle_inputs"]
+
+
+class PathBaseCycle(NamedTuple):
+    """The Base-Cycle on a straight path (a pytree). Amplitudes in mrad of the path's parameter
+    (psi in-phase, the left-hand blade's rotation with an interblade phase angle), stiffnesses in
+    N mm/mrad, spans in mm of the path parameter s = a q*/1e3."""
+
+    a_fs: jnp.ndarray  # half the forward half's first tract from gross slip
+    k_re_fs: jnp.ndarray  # the modal force's slope over that tract
+    a_bc: jnp.ndarray  # half the longer half's travel from gross slip to gross slip
+    spans: jnp.ndarray  # (2,) the forward and backward halves' travel to gross slip, mm
+    cycle: EllipticCycle  # the steady cycle at a_bc from the gross-slip state: the Base-Cycle
+    pairs: jnp.ndarray  # forward + backward pairs run until the end state repeated
+    # RESULTS code: ok, unseated, unreachable (a half never reaches gross slip), singular,
+    # not_converged, ill_conditioned
+    status: jnp.ndarray
+
+    @property
+    def k_re_bc(self):
+        """The Base-Cycle's k_Re, N mm/mrad (0 where the status says it has no numbers)."""
+        return jnp.where(RESULTS.valid(self.status), self.cycle.k_re, 0.0)
+
+    @property
+    def k_im_bc(self):
+        """The Base-Cycle's k_Im, N mm/mrad (0 where the status says it has no numbers)."""
+        return jnp.where(RESULTS.valid(self.status), self.cycle.k_im, 0.0)
+
+    def __repr__(self) -> str:
+        return (f"PathBaseCycle(status={status_repr(self.status)}, "
+                f"a_fs={number_repr(self.a_fs, 'mrad')}, "
+                f"k_re_fs={number_repr(self.k_re_fs, 'N mm/mrad')}, "
+                f"a_bc={number_repr(self.a_bc, 'mrad')}, "
+                f"k_re_bc={number_repr(self.k_re_bc, 'N mm/mrad')}, "
+                f"k_im_bc={number_repr(self.k_im_bc, 'N mm/mrad')})")
+
+
+def path_base_cycle_kernel(shape, mu, contacts, load, motion: Motion, *,
+                           max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
+                           loop: str = "auto") -> PathBaseCycle:
+    """`path_base_cycle` without input checks (jit / vmap / jvp); motion straight (quadrature
+    None). loop: as `amplitude_kernel`'s."""
+    def impl(shape, mu, contacts, load, motion, loop):
+        return _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop)
+
+    return run_by_loop(impl, (shape, mu, contacts, load, motion), loop)
+
+
+def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
+    pads = path_pads(shape, mu, contacts, load, (Motion(motion.direction, motion.h_l),))
+    n_pads = pads.kn.shape[0]
+    down, up = along_line(pads, -1.0), along_line(pads, 1.0)
+    to_gross = lambda p, N, T: run_tracts(p, Line(), N, T, 0.0, None,  # noqa: E731
+                                          max_tracts=max_tracts, loop=loop)
+    Na, Ta, seated = assemble(pads, CENTRIFUGAL_LOAD)
+    Na = jnp.where(seated, Na, jnp.ones(n_pads))  # keep the masked runs finite
+    Ta = jnp.where(seated, Ta, 0.0)
+    first = to_gross(up, Na, Ta)
+    fn, ft = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
+    reached = (first.status == RESULTS.ok) & first.gross_slip
+
+    def run_pair(c, k):
+        fwd = to_gross(down, c["N"], c["T"])
+        bwd = to_gross(up, fwd.N_end, fwd.T_end)
+        runs = jnp.stack([fwd.status, bwd.status])
+        unseated = jnp.any(runs == RESULTS.unseated)
+        # A half that ends anywhere but in gross slip (its tracts ran out, e.g. two pads taking
+        # turns to stick and slip) leaves no Base-Cycle.
+        missed = ~unseated & ~(fwd.gross_slip & bwd.gross_slip & jnp.all(runs == RESULTS.ok))
+        here = jnp.concatenate([c["N"], c["T"]])
+        there = jnp.concatenate([bwd.N_end, bwd.T_end])
+        closed = jnp.max(jnp.abs(there - here)) <= CLOSE_TOL
+        nxt = accelerate(pads.mu, c["prev"], here, there, k > 0)
+        spans = jnp.stack([jnp.sum(jnp.where(h.active, h.dp, 0.0)) for h in (fwd, bwd)])
+        # The modal force's rate over the forward half's first tract, per mm along -X_r.
+        rate = jnp.sum(fn * fwd.dN[0, 0] + ft * fwd.dT[0, 0])
+        return dict(N=nxt[:n_pads], T=nxt[n_pads:], prev=here, spans=spans,
+                    first_tract=fwd.dp[0], rate=rate, unseated=unseated, missed=missed,
+                    closed=closed & ~unseated & ~missed, stop=closed | unseated | missed,
+                    pairs=c["pairs"] + 1)
+
+    ok0 = seated & reached
+    no = jnp.array(False)
+    init = dict(N=jnp.where(ok0, first.N_end, jnp.ones(n_pads)),
+                T=jnp.where(ok0, first.T_end, 0.0), prev=jnp.zeros(2 * n_pads),
+                spans=jnp.ones(2), first_tract=jnp.array(1.0), rate=jnp.array(0.0),
+                unseated=no, missed=no, closed=no, stop=~ok0, pairs=jnp.array(0, jnp.int32))
+    end = repeat_until(run_pair, init, max_pairs, loop, lambda c: c["stop"])
+    to_mrad = MRAD_PER_RAD / load.q_star
+    a_bc = 0.5 * jnp.max(end["spans"]) * to_mrad
+    a_fs = 0.5 * end["first_tract"] * to_mrad
+    # The forward half runs along -X_r: the slope along +X_r per mrad of the path parameter.
+    k_re_fs = -end["rate"] * travel_mm(1.0, load.q_star)
+    cycle = elliptic_kernel(shape, mu, contacts, load,
+                            jnp.where(end["closed"] & (a_bc > 0.0), a_bc, 1.0), as_ellipse(motion),
+                            initial="gross_slip", loop=loop)
+    # The first cause that applies: the history's, the halves', then the cycle's own.
+    status = RESULTS.promote(jnp.zeros((), jnp.int32), ~seated, RESULTS.unseated)
+    status = RESULTS.promote(status, ~reached | end["missed"], RESULTS.unreachable)
+    status = RESULTS.promote(status, end["unseated"], RESULTS.unseated)
+    status = RESULTS.promote(status, ~end["closed"], RESULTS.not_converged)
+    status = RESULTS.promote(status, ~RESULTS.valid(cycle.status), cycle.status)
+    valid = RESULTS.valid(status)
+    zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
+    return PathBaseCycle(zero(a_fs), zero(k_re_fs), zero(a_bc), zero(end["spans"]), cycle,
+                         end["pairs"], status)
+
+
+_kernel = jax.jit(path_base_cycle_kernel, static_argnames=("max_tracts", "max_pairs", "loop"))
+
+
+def path_base_cycle_inputs(shape: DamperShape, mu, motion: Motion,
+                           contacts: Contacts = Contacts(), load: LoadCase = LoadCase()) -> tuple:
+    """The checked inputs of `path_base_cycle` as `path_base_cycle_kernel` takes them: (shape, mu,
+    contacts, load, motion). ValueError naming the parameter and its range; an elliptic path
+    refused (it has no Base-Cycle)."""
+    shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
+    motion = validate_motion(motion)
+    if motion.quadrature is not None:
+        raise ValueError("motion must be a straight path for a Base-Cycle (in-phase, an interblade "
+                         "phase angle of 0 or 180 deg, a real X_hat): on an ellipse no half ends "
+                         "in gross slip; its exact cycles: elliptic_cycle")
+    return shape, mu, contacts, load, motion
+
+
+def path_base_cycle(shape: DamperShape, mu, motion: Motion, contacts: Contacts = Contacts(),
+                    load: LoadCase = LoadCase(), *, max_tracts: int = MAX_TRACTS,
+                    max_pairs: int = MAX_PAIRS) -> PathBaseCycle:
+    """The Base-Cycle on the straight platform path of `motion` (`in_phase_motion`,
+    `interblade_motion` at 0 or 180 deg, a real `general_motion`), for the curved-flat damper or a
+    wedge (module docstring): a_fs, k_Re,fs, a_BC and the Base-Cycle itself (`.cycle`, an
+    EllipticCycle: k_Re,BC, k_Im,BC, energy, slip and open fractions per pad, its tracts).
+    Its status says whether the numbers are valid (ok) or not (unseated: no set of closed pads
+    holds the damper; unreachable: a half never reaches gross slip; singular; not_converged).
+    Inputs are checked here (ValueError naming the parameter and its range)."""
+    check_int("max_tracts", max_tracts, 1)
+    check_int("max_pairs", max_pairs, 1)
+    return _kernel(*path_base_cycle_inputs(shape, mu, motion, contacts, load),
+                   max_tracts=max_tracts, max_pairs=max_pairs)
