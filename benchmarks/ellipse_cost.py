@@ -10,6 +10,8 @@ for the slowest one. The elliptic path is the interblade phase angle 90 deg (h_C
 the out-of-phase (straight) path is timed beside them.
 
 Run: python benchmarks/ellipse_cost.py -> benchmarks/results/ellipse_cost.json
+On an accelerator: python benchmarks/ellipse_cost.py --out FILE --designs 256,8192,65536 (the
+batch of designs at each size; the machine is noted in the JSON).
 """
 
 from __future__ import annotations
@@ -36,7 +38,7 @@ def best(f, n):
     return out
 
 
-def main() -> dict:
+def main(out: Path = RESULTS / "ellipse_cost.json", designs=(256,)) -> dict:
     jax.config.update("jax_enable_x64", True)
     import jax.numpy as jnp
 
@@ -52,7 +54,6 @@ def main() -> dict:
     ellipse = jd.interblade_motion(90, 20.0, 100.0, 10.0)
     out_of_phase = jd.interblade_motion(180, 20.0, 100.0, 10.0)
     one, batch = [], []
-    mus = jnp.linspace(0.3, 0.7, 256)
     for psi in (2.0, 10.0):
         p = jnp.asarray(psi)
         kinds = dict(
@@ -71,9 +72,11 @@ def main() -> dict:
                                                                  initial="assembly").k_im))
         many_el = jax.jit(jax.vmap(lambda m: jd.elliptic_kernel(sh, m, c, load, p, ellipse,
                                                                 initial="assembly").k_im))
-        t_in, t_el = best(lambda: many_in(mus), 5), best(lambda: many_el(mus), 5)
-        batch.append(dict(psi_a_mrad=psi, designs=256, in_phase_ms=1e3 * t_in,
-                          ellipse_ms=1e3 * t_el, ratio_ellipse_in_phase=t_el / t_in))
+        for n in designs:
+            mus = jnp.linspace(0.3, 0.7, n)
+            t_in, t_el = best(lambda: many_in(mus), 5), best(lambda: many_el(mus), 5)
+            batch.append(dict(psi_a_mrad=psi, designs=n, in_phase_ms=1e3 * t_in,
+                              ellipse_ms=1e3 * t_el, ratio_ellipse_in_phase=t_el / t_in))
     ps = jnp.linspace(0.5, 20.0, 256)
     curve_in = jax.jit(jax.vmap(lambda p: jd.amplitude_kernel(sh, mu, c, load, p, initial="assembly")))
     curve_el = jax.jit(jax.vmap(lambda p: jd.elliptic_kernel(sh, mu, c, load, p, ellipse,
@@ -87,10 +90,17 @@ def main() -> dict:
                  ellipse_periods=np.bincount(np.asarray(r_el.periods)).tolist(),
                  ellipse_max_tracts_per_period=int(np.max(np.sum(np.asarray(r_el.period.active), 1))))
     doc = dict(machine=machine(), one_cycle=one, batch_of_designs=batch, curve=curve)
-    RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "ellipse_cost.json").write_text(json.dumps(doc, indent=1))
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps(doc, indent=1))
     return doc
 
 
 if __name__ == "__main__":
-    print(json.dumps({k: v for k, v in main().items() if k != "machine"}, indent=1))
+    import argparse
+
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=RESULTS / "ellipse_cost.json")
+    parser.add_argument("--designs", default="256", help="batch sizes, comma-separated")
+    args = parser.parse_args()
+    doc = main(args.out, tuple(int(v) for v in args.designs.split(",")))
+    print(json.dumps({k: v for k, v in doc.items() if k != "machine"}, indent=1))
