@@ -11,13 +11,17 @@ alternating fresh processes (base, this, base, this, ...), so that the machine's
     python benchmarks/commit_ab.py --base REV --rounds 4
 
 Writes results/commit_ab.json. The base is checked out with `git worktree` into a temporary folder
-and removed afterwards.
+and removed afterwards. Where there is no git (a machine that gets a copy of the working tree):
+`--base-tree DIR` names a folder that already holds the base's jaxdamp/ and benchmarks/ (e.g.
+`git archive f2b97d2 jaxdamp benchmarks | tar -x -C DIR`), `--out FILE` the result.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
+import os
 import statistics
 import subprocess
 import sys
@@ -46,8 +50,9 @@ print(json.dumps({"jaxdamp": jaxdamp.__file__, "base_cycles_per_s": tp["per_s"],
 
 def run_side(tree: Path) -> dict:
     """One fresh process on `tree`'s jaxdamp and benchmarks/jobs.py (run from an empty folder, so
-    that nothing else is importable as jaxdamp)."""
-    env = {"PYTHONPATH": f"{tree}:{tree / 'benchmarks'}", "PATH": "/usr/bin:/bin"}
+    that nothing else is importable as jaxdamp; the environment otherwise as this process's, so
+    that JAX_PLATFORMS and an accelerator's libraries reach it)."""
+    env = dict(os.environ, PYTHONPATH=f"{tree}:{tree / 'benchmarks'}")
     with tempfile.TemporaryDirectory() as cwd:
         out = subprocess.run([sys.executable, "-c", CHILD], cwd=cwd, env=env, check=True,
                              capture_output=True, text=True).stdout
@@ -57,29 +62,42 @@ def run_side(tree: Path) -> dict:
     return row
 
 
+@contextlib.contextmanager
+def _worktree(rev: str):
+    """The commit checked out into a temporary folder (removed afterwards)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        tree = Path(tmp) / "base"
+        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(tree), rev], cwd=ROOT,
+                       check=True)
+        try:
+            yield tree
+        finally:
+            subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT,
+                           check=True)
+
+
 def main(argv=None) -> dict:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--base", default=DEFAULT_BASE, help="commit to compare against")
     p.add_argument("--rounds", type=int, default=4, help="alternating pairs of processes")
+    p.add_argument("--base-tree", type=Path, default=None,
+                   help="a folder holding the base's jaxdamp/ and benchmarks/ (no git needed)")
+    p.add_argument("--this", default=None, help="the name of this checkout (default: git HEAD)")
+    p.add_argument("--out", type=Path, default=OUT / "commit_ab.json")
     args = p.parse_args(argv)
-    head = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, check=True,
-                          capture_output=True, text=True).stdout.strip()
+    head = args.this or subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT,
+                                       check=True, capture_output=True, text=True).stdout.strip()
     t0 = time.perf_counter()
     info = machine()
     rows = []
-    with tempfile.TemporaryDirectory() as tmp:
-        base_tree = Path(tmp) / "base"
-        subprocess.run(["git", "worktree", "add", "--detach", "-q", str(base_tree), args.base],
-                       cwd=ROOT, check=True)
-        try:
-            for k in range(args.rounds):
-                for side, tree in (("base", base_tree), ("this", ROOT)):
-                    row = dict(run_side(tree), side=side, round=k)
-                    print(json.dumps(row), flush=True)
-                    rows.append(row)
-        finally:
-            subprocess.run(["git", "worktree", "remove", "--force", str(base_tree)], cwd=ROOT,
-                           check=True)
+    with contextlib.ExitStack() as stack:
+        base_tree = args.base_tree or stack.enter_context(_worktree(args.base))
+        for k in range(args.rounds):
+            for side, tree in (("base", base_tree), ("this", ROOT)):
+                row = dict(run_side(Path(base_tree).resolve() if side == "base" else tree),
+                           side=side, round=k)
+                print(json.dumps(row), flush=True)
+                rows.append(row)
 
     def summary(side):
         own = [r for r in rows if r["side"] == side]
@@ -93,8 +111,8 @@ def main(argv=None) -> dict:
     result = {"machine": info, "base": args.base, "this": head, "rounds": args.rounds,
               "summary": {"base": summary("base"), "this": summary("this")}, "rows": rows,
               "seconds": time.perf_counter() - t0}
-    OUT.mkdir(exist_ok=True)
-    (OUT / "commit_ab.json").write_text(json.dumps(result, indent=1) + "\n")
+    args.out.parent.mkdir(parents=True, exist_ok=True)
+    args.out.write_text(json.dumps(result, indent=1) + "\n")
     print(json.dumps(result["summary"], indent=1))
     return result
 

@@ -12,6 +12,7 @@ bash scripts/setup.sh
 # compilation of long end-to-end programs): `--full` runs them too (README gives both times).
 tier=(-m "not slow")
 if [[ "${1:-}" == "--full" ]]; then tier=(); shift; fi
-.venv/bin/python -m pytest -n 2 --dist loadfile "${tier[@]}" "$@"
+# --durations: every run lists its 25 slowest tests, where the next cut of the suite starts.
+.venv/bin/python -m pytest -n 2 --dist loadfile --durations=25 "${tier[@]}" "$@"
 # Quiet: a passing build prints nothing, so pytest's summary stays the last line of the output.
 NO_MKDOCS_2_WARNING=1 .venv/bin/mkdocs build --strict --quiet
