@@ -99,21 +99,36 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     N0 = jnp.where(liftoff0, jnp.ones(3), start.N)  # keep the masked solve finite
     T0 = START_FRICTION_SIGNS * mech.mu * N0
 
-    def run_pair(carry, k):
-        N, T, conv, stop, fwd_s, bwd_s, nhalf, prev = carry
-        fwd = run_half(mech, N, T, -1.0, max_tracts=max_tracts, loop=loop)
-        bwd = run_half(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts=max_tracts, loop=loop)
-        bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
-        closed = (jnp.max(jnp.abs(bwd.N_end - N)) + jnp.max(jnp.abs(bwd.T_end - T))) <= CLOSE_TOL
-        here = jnp.concatenate([N, T])
-        nxt = accelerate(mech.mu, prev, here, jnp.concatenate([bwd.N_end, bwd.T_end]), k > 0)
-        return (nxt[:3], nxt[3:], closed & ~bad, closed | bad, fwd, bwd, 2 * (k + 1), here)
+    # One loop over half-cycles (forward, backward, forward, ...), so that the program holds one
+    # compiled half instead of a pair's two (as the amplitude kernel does): the XLA compile of a
+    # first `jaxdamp cycle` was 3.6 s of 7.5 s. A pair always runs both halves, and the cycle
+    # stops after a backward half that closed it or after a pair with a failed half.
+    def next_half(c, j):
+        forward = j % 2 == 0
+        half = run_half(mech, c["N"], c["T"], jnp.where(forward, -1.0, 1.0),
+                        max_tracts=max_tracts, loop=loop)
+        bad = c["bad"] | (half.status != RESULTS.ok)
+        top = jnp.where(forward, jnp.concatenate([c["N"], c["T"]]), c["top"])
+        closed = (jnp.max(jnp.abs(half.N_end - top[:3]))
+                  + jnp.max(jnp.abs(half.T_end - top[3:]))) <= CLOSE_TOL
+        there = jnp.concatenate([half.N_end, half.T_end])
+        nxt = accelerate(mech.mu, c["prev"], top, there, j > 1)
+        nxt = jnp.where(forward, there, nxt)
+        pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
+            lambda x, y: jnp.where(m, x, y), new, old)
+        pair_end = ~forward
+        return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(pair_end, top, c["prev"]),
+                    fwd=pick(half, c["fwd"], forward), bwd=pick(half, c["bwd"], pair_end),
+                    bad=jnp.where(pair_end, False, bad), conv=pair_end & closed & ~bad,
+                    stop=pair_end & (closed | bad), nhalf=j + 1)
 
     empty = empty_half(max_tracts)
-    init = (N0, T0, jnp.array(False), liftoff0, empty, empty, jnp.array(0), jnp.zeros(6))
-    # Once the cycle has closed (or failed) the remaining pairs change nothing.
-    _, _, conv, _, fwd, bwd, nhalf, _ = repeat_until(run_pair, init, max_pairs, loop,
-                                                     lambda c: c[3])
+    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
+                bwd=empty, bad=jnp.array(False), conv=jnp.array(False), stop=liftoff0,
+                nhalf=jnp.array(0))
+    # Once the cycle has closed (or failed) the remaining halves change nothing.
+    end = repeat_until(next_half, init, 2 * max_pairs, loop, lambda c: c["stop"])
+    conv, fwd, bwd, nhalf = end["conv"], end["fwd"], end["bwd"], end["nhalf"]
     halves = jnp.stack([fwd.status, bwd.status])
     liftoff = (liftoff0 & ~singular0) | jnp.any(halves == RESULTS.liftoff)
     failed = singular0 | (~liftoff0 & jnp.any(halves == RESULTS.singular))
