@@ -103,43 +103,47 @@ def path_base_cycle_kernel(shape, mu, contacts, load, motion: Motion, *,
 def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
     pads = path_pads(shape, mu, contacts, load, (Motion(motion.direction, motion.h_l),))
     n_pads = pads.kn.shape[0]
-    down, up = along_line(pads, -1.0), along_line(pads, 1.0)
-    to_gross = lambda p, N, T: run_tracts(p, Line(), N, T, 0.0, None,  # noqa: E731
-                                          max_tracts=max_tracts, loop=loop)
     Na, Ta, seated = assemble(pads, CENTRIFUGAL_LOAD)
-    Na = jnp.where(seated, Na, jnp.ones(n_pads))  # keep the masked runs finite
-    Ta = jnp.where(seated, Ta, 0.0)
-    first = to_gross(up, Na, Ta)
     fn, ft = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
-    reached = (first.status == RESULTS.ok) & first.gross_slip
 
-    def run_pair(c, k):
-        fwd = to_gross(down, c["N"], c["T"])
-        bwd = to_gross(up, fwd.N_end, fwd.T_end)
-        runs = jnp.stack([fwd.status, bwd.status])
-        unseated = jnp.any(runs == RESULTS.unseated)
-        # A half that ends anywhere but in gross slip (its tracts ran out, e.g. two pads taking
-        # turns to stick and slip) leaves no Base-Cycle.
-        missed = ~unseated & ~(fwd.gross_slip & bwd.gross_slip & jnp.all(runs == RESULTS.ok))
-        here = jnp.concatenate([c["N"], c["T"]])
-        there = jnp.concatenate([bwd.N_end, bwd.T_end])
-        closed = jnp.max(jnp.abs(there - here)) <= CLOSE_TOL
-        nxt = accelerate(pads.mu, c["prev"], here, there, k > 0)
-        spans = jnp.stack([jnp.sum(jnp.where(h.active, h.dp, 0.0)) for h in (fwd, bwd)])
+    # One loop over moves to gross slip, so that the program holds one compiled run: move 0 from
+    # assembly along +X_r, then pairs of halves, forward (-X_r) and backward (+X_r), until the
+    # state at the start of a pair repeats.
+    def next_move(c, j):
+        forward = j % 2 == 1
+        run = run_tracts(along_line(pads, jnp.where(forward, -1.0, 1.0)), Line(), c["N"], c["T"],
+                         0.0, None, max_tracts=max_tracts, loop=loop)
+        # A run that ends anywhere but in gross slip (its tracts ran out, e.g. two pads taking
+        # turns to stick and slip) leaves no gross-slip state, and no Base-Cycle.
+        unseated = run.status == RESULTS.unseated
+        missed = ~unseated & ~(run.gross_slip & (run.status == RESULTS.ok))
+        top = jnp.where(forward, jnp.concatenate([c["N"], c["T"]]), c["top"])
+        there = jnp.concatenate([run.N_end, run.T_end])
+        pair_end = ~forward & (j > 0)
+        closed = pair_end & (jnp.max(jnp.abs(there - top)) <= CLOSE_TOL)
+        nxt = jnp.where(pair_end, accelerate(pads.mu, c["prev"], top, there, j > 2), there)
+        span = jnp.sum(jnp.where(run.active, run.dp, 0.0))
         # The modal force's rate over the forward half's first tract, per mm along -X_r.
-        rate = jnp.sum(fn * fwd.dN[0, 0] + ft * fwd.dT[0, 0])
-        return dict(N=nxt[:n_pads], T=nxt[n_pads:], prev=here, spans=spans,
-                    first_tract=fwd.dp[0], rate=rate, unseated=unseated, missed=missed,
-                    closed=closed & ~unseated & ~missed, stop=closed | unseated | missed,
-                    pairs=c["pairs"] + 1)
+        rate = jnp.sum(fn * run.dN[0, 0] + ft * run.dT[0, 0])
+        bad = unseated | missed
+        return dict(N=nxt[:n_pads], T=nxt[n_pads:], top=top,
+                    prev=jnp.where(pair_end, top, c["prev"]),
+                    spans=jnp.where(forward, c["spans"].at[0].set(span),
+                                    jnp.where(pair_end, c["spans"].at[1].set(span), c["spans"])),
+                    first_tract=jnp.where(forward, run.dp[0], c["first_tract"]),
+                    rate=jnp.where(forward, rate, c["rate"]),
+                    unseated=c["unseated"] | unseated, missed=c["missed"] | missed,
+                    reached=jnp.where(j == 0, ~bad, c["reached"]), closed=closed & ~bad,
+                    stop=closed | bad, pairs=c["pairs"] + pair_end.astype(jnp.int32))
 
-    ok0 = seated & reached
     no = jnp.array(False)
-    init = dict(N=jnp.where(ok0, first.N_end, jnp.ones(n_pads)),
-                T=jnp.where(ok0, first.T_end, 0.0), prev=jnp.zeros(2 * n_pads),
-                spans=jnp.ones(2), first_tract=jnp.array(1.0), rate=jnp.array(0.0),
-                unseated=no, missed=no, closed=no, stop=~ok0, pairs=jnp.array(0, jnp.int32))
-    end = repeat_until(run_pair, init, max_pairs, loop, lambda c: c["stop"])
+    init = dict(N=jnp.where(seated, Na, jnp.ones(n_pads)),  # keep the masked runs finite
+                T=jnp.where(seated, Ta, 0.0), top=jnp.zeros(2 * n_pads),
+                prev=jnp.zeros(2 * n_pads), spans=jnp.zeros(2), first_tract=jnp.array(0.0),
+                rate=jnp.array(0.0), unseated=no, missed=no, reached=no, closed=no,
+                stop=~seated, pairs=jnp.array(0, jnp.int32))
+    end = repeat_until(next_move, init, 1 + 2 * max_pairs, loop, lambda c: c["stop"])
+    reached = end["reached"]
     to_mrad = MRAD_PER_RAD / load.q_star
     a_bc = 0.5 * jnp.max(end["spans"]) * to_mrad
     a_fs = 0.5 * end["first_tract"] * to_mrad
@@ -150,8 +154,9 @@ def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
                             initial="gross_slip", loop=loop)
     # The first cause that applies: the history's, the halves', then the cycle's own.
     status = RESULTS.promote(jnp.zeros((), jnp.int32), ~seated, RESULTS.unseated)
-    status = RESULTS.promote(status, ~reached | end["missed"], RESULTS.unreachable)
+    status = RESULTS.promote(status, ~reached, RESULTS.unreachable)
     status = RESULTS.promote(status, end["unseated"], RESULTS.unseated)
+    status = RESULTS.promote(status, end["missed"], RESULTS.unreachable)
     status = RESULTS.promote(status, ~end["closed"], RESULTS.not_converged)
     status = RESULTS.promote(status, ~RESULTS.valid(cycle.status), cycle.status)
     valid = RESULTS.valid(status)
