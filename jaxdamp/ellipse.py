@@ -203,13 +203,14 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         Na, Ta, ok0 = assemble(pads, CENTRIFUGAL_LOAD)
         Na = jnp.where(ok0, Na, jnp.ones(n_pads))  # keep the masked runs finite
         Ta = jnp.where(ok0, Ta, 0.0)
+    # Assembly's half period from tau = pi runs as the periods' loop's first pass (one compiled
+    # elliptic run in the program instead of two: its first call compiled a third faster).
+    half_first = int(initial == "assembly")
     if initial == "assembly":
         to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
                               max_tracts=max_tracts, loop=loop)
-        half = run_tracts(pads, path, to_start.N_end, to_start.T_end, jnp.pi, two_pi,
-                          max_tracts=max_tracts, loop=loop)
-        N0, T0 = half.N_end, half.T_end
-        pre = jnp.stack([to_start.status, half.status])
+        N0, T0 = to_start.N_end, to_start.T_end
+        pre = to_start.status[None]
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
         up = run_tracts(along_line(pads, 1.0), Line(), Na, Ta, 0.0, None, max_tracts=max_tracts,
@@ -230,22 +231,25 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     T0 = jnp.where(bad0, 0.0, T0)
 
     def run_period(c, k):
-        arc = run_tracts(pads, path, c["N"], c["T"], 0.0, two_pi, max_tracts=max_tracts, loop=loop)
+        whole = k >= half_first  # else assembly's half period, tau from pi to 2 pi
+        start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
+        arc = run_tracts(pads, path, c["N"], c["T"], start, two_pi, max_tracts=max_tracts,
+                         loop=loop)
         here = jnp.concatenate([c["N"], c["T"]])
         there = jnp.concatenate([arc.N_end, arc.T_end])
-        gap = jnp.max(jnp.abs(there - here))
+        gap = jnp.where(whole, jnp.max(jnp.abs(there - here)), jnp.inf)
         bad = arc.status != RESULTS.ok
         # The period map is affine within one pattern of events: where the iterates converge
         # along one direction, the extrapolated fixed point is exact (`half.accelerate`).
-        nxt = accelerate(pads.mu, c["prev"], here, there, k >= 1)
+        nxt = accelerate(pads.mu, c["prev"], here, there, k >= 1 + half_first)
         return dict(N=nxt[:n_pads], T=nxt[n_pads:], prev=here, arc=arc, gap=gap,
                     closed=(gap <= CLOSE_TOL) & ~bad, stop=(gap <= CLOSE_TOL) | bad,
-                    periods=c["periods"] + 1)
+                    periods=c["periods"] + whole.astype(jnp.int32))
 
     init = dict(N=N0, T=T0, prev=jnp.zeros(2 * n_pads), arc=empty_tracts(n_pads, 2, max_tracts),
                 gap=jnp.asarray(jnp.inf), closed=jnp.array(False), stop=bad0 | ~a_ok,
                 periods=jnp.array(0, jnp.int32))
-    end = repeat_until(run_period, init, max_periods, loop, lambda c: c["stop"])
+    end = repeat_until(run_period, init, max_periods + half_first, loop, lambda c: c["stop"])
     arc = end["arc"]
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
