@@ -29,7 +29,7 @@ CHECKED = {
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
     "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
-    "path_response_curves",
+    "path_response_curves", "path_base_cycle",
     # jaxdamp.baselines
     "hbm_aft", "hbm_aft_path", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",
@@ -82,6 +82,7 @@ def test_unchecked_helpers_say_so(name):
 
 SHAPE = jd.family_shape("60sym")
 KEY = jax.random.PRNGKey(0)
+IN_PHASE = jd.in_phase_motion()  # built in float64, before a test turns it off
 
 BAD = [
     (lambda: jd.sample_scenarios(KEY, 4, contacts=jd.Contacts(kn=-1.0)),
@@ -92,6 +93,9 @@ BAD = [
     (lambda: jd.full_slip_work_shape_factors(SHAPE, 0.0), r"^mu must be in \(0, 5\]; got 0$"),
     (lambda: jd.full_slip_work_shape_factors(SHAPE._replace(theta_l=120.0), 0.5),
      r"^theta_l must be in \(0, 90\] deg; got 120$"),
+    (lambda: jd.path_base_cycle(SHAPE, 0.5, IN_PHASE, max_pairs=0),
+     r"^max_pairs must be"),
+    (lambda: jd.path_base_cycle(SHAPE, -0.5, IN_PHASE), r"^mu must be in \(0, 5\]"),
 ]
 
 
@@ -112,6 +116,7 @@ FLOAT32_REFUSED = [
     lambda: jd.base_cycles(SHAPE, np.array([0.4, 0.5])),
     lambda: jd.amplitude_curves(SHAPE, 0.5, [1e-3]),
     lambda: jd.sequence_curves(SHAPE, 0.5, [1e-3]),
+    lambda: jd.path_base_cycle(SHAPE, 0.5, IN_PHASE),
     lambda: prepare_curves_inputs(SHAPE, 0.5, jd.Contacts(), jd.LoadCase(), [1e-3], "gross_slip"),
 ]
 
