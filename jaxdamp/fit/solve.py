@@ -112,10 +112,15 @@ _model_jit = jax.jit(_model, static_argnames=("spec", "history"))
 def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
     """Residuals (flattened, padding zero) in units of the moment scale, pseudo-Huber rescaled
     where inv_delta > 0 (1 / delta; 0: plain least squares)."""
-    m, off, _, _ = _model(theta, shape, load, data, spec, history)
+    return _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)[0]
+
+
+def _residuals_and_status(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
+    """(`fit_residuals`, the cycles' statuses (L,))."""
+    m, off, status, _ = _model(theta, shape, load, data, spec, history)
     r = (data.moment - m - off[:, None]) * data.mask
     z = r * inv_delta
-    return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1)
+    return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1), status
 
 
 _residuals_jit = jax.jit(fit_residuals, static_argnums=(4, 5))
@@ -145,9 +150,14 @@ def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rt
     verbose = _verbose
     solver = optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3, verbose=verbose)
     sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False)
-    r = fn(sol.value, None)
-    jac = jax.jacfwd(fn)(sol.value, None)
-    _, _, status, _ = _model(sol.value, shape, load, data, spec, history)
+    # The residuals, their Jacobian and the statuses at the solution from one forward-mode pass
+    # (its primal is the residuals): the program holds the model twice fewer than with separate
+    # calls (the fit's first call compiled for 80 s, most of it copies of the amplitude kernel).
+    def with_status(theta):
+        r, status = _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)
+        return r, (r, status)
+
+    jac, (r, status) = jax.jacfwd(with_status, has_aux=True)(sol.value)
     return sol.value, r, jac, sol.result == optx.RESULTS.successful, sol.stats["num_steps"], status
 
 
