@@ -2,6 +2,7 @@
 in-phase path it is the paper's Base-Cycle (reached another way: assembly and a move to gross slip,
 the elliptic engine's cycle), above a_BC gross slip erases the history, the energy balances."""
 
+import jax
 import jax.numpy as jnp
 import numpy as np
 import pytest
@@ -88,3 +89,35 @@ def test_a_wedge_out_of_phase_has_none():
 def test_an_ellipse_is_refused():
     with pytest.raises(ValueError, match="straight path.*elliptic_cycle"):
         path_base_cycle(jd.family_shape("60sym"), 0.5, interblade_motion(90.0, 20.0, 100.0, 10.0))
+
+
+# 91 (fwd) and 133 (rev) worker-s, nearly all compiling the derivative programs of the elliptic
+# engine's masked scan (2026-11-27), like the elliptic cycle's own derivative test (test_ellipse)
+@pytest.mark.slow
+@pytest.mark.parametrize("mode", ["fwd", "rev"])
+def test_derivatives_match_central_differences(mode):
+    """d(a_BC, k_Re,BC, k_Im,BC)/d(mu, kn) of 60sym out of phase, through the events (forward mode
+    and reverse mode: the kernel's masked-scan derivative program), against central differences
+    of the values (no pad changes its sequence of states within the step)."""
+    from jaxdamp.params import prepare_inputs
+    from jaxdamp.path_base_cycle import path_base_cycle_kernel
+
+    from helpers import fd_jvp
+
+    shape, _, _, load = prepare_inputs(jd.family_shape("60sym"), 0.5, Contacts(), jd.LoadCase())
+
+    def outputs(x):
+        mu, kn = x[0], x[1]
+        p = path_base_cycle_kernel(shape, mu, Contacts(kn, 3492.1), load, OUT_OF_PHASE)
+        return jnp.stack([p.a_bc, p.k_re_bc, p.k_im_bc])
+
+    x = jnp.array([0.3, 20246.3])
+    assert jd.RESULTS.name_of(path_base_cycle_kernel(
+        shape, x[0], Contacts(x[1], 3492.1), load, OUT_OF_PHASE).status) == "ok"
+    if mode == "fwd":
+        ad = jax.jacfwd(outputs)(x)
+    else:
+        ad = jax.jacrev(outputs)(x)
+    for k, (v, h) in enumerate(((jnp.array([1.0, 0.0]), 1e-6), (jnp.array([0.0, 1.0]), 1e-2))):
+        fd = fd_jvp(lambda y: np.asarray(outputs(jnp.asarray(y))), x, v, h)
+        assert_tree_allclose(ad[:, k], fd, rtol=1e-5, atol=1e-9 * np.abs(fd).max())
