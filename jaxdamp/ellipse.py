@@ -318,7 +318,7 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     initial: "assembly" (F_D applied at X = 0, a straight move to X(pi) = -a X_r, then the path
     from tau = pi), "gross_slip" (from assembly a straight move along +X_r until every pad that
     can slip does, then the path from X(0) = a X_r) or an explicit (N, T) pair at tau = 0 (units
-    of F_D, in equilibrium with F_D).
+    of F_D, in equilibrium with F_D, one per pad: 3, or 4 for a wedge, every pad closed).
     shape: the curved-flat damper, or a wedge (`DamperShape.br2_over_hr`), which also runs here on
     a straight path (as an ellipse of zero width; the straight-path solvers take the curved-flat
     damper only).
@@ -333,23 +333,26 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     warn_small_rotation(amplitude_mrad, "psi_a", stacklevel=3)
     motion = validate_motion(motion)
     wedge = is_wedge(shape)
+    n_pads = len(pad_names(shape))
     if motion.quadrature is None:
         if not wedge:
             raise ValueError("motion must be elliptic for elliptic_cycle (a straight path: use "
                              "amplitude_cycle(..., motion=...))")
         motion = as_ellipse(motion)
-    if wedge and not isinstance(initial, str):
-        raise ValueError("initial must be assembly or gross_slip for a wedge")
     check_int("max_tracts", max_tracts, 1)
     check_int("max_periods", max_periods, 1)
     N_init = T_init = None
     if isinstance(initial, str):
         if initial not in INITIAL_STATES:
-            raise ValueError(f"initial must be assembly, gross_slip or an (N, T) pair of (3,) "
-                             f"arrays on an elliptic path; got {initial!r}")
+            raise ValueError(f"initial must be assembly, gross_slip or an (N, T) pair of "
+                             f"({n_pads},) arrays (one per pad); got {initial!r}")
         mode = initial
     else:
         N_init, T_init = (np.asarray(v, float) for v in initial)
+        if N_init.shape != (n_pads,) or T_init.shape != (n_pads,):
+            raise ValueError(f"initial (N, T) must be two arrays of one force per pad "
+                             f"({', '.join(pad_names(shape))}), shape ({n_pads},); got "
+                             f"{N_init.shape} and {T_init.shape}")
         res, cone, n_min = (float(v) for v in check_admissible(shape, mu, N_init, T_init))
         if not (res <= 1e-6 and cone <= 1e-9 and n_min >= 0.0):
             raise ValueError("initial (N, T) must be admissible: in equilibrium with F_D (residual "

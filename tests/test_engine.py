@@ -72,6 +72,21 @@ def test_a_wedge_with_opening_pads_agrees_with_the_time_marcher():
     assert_tree_allclose(tm.slip_fraction, ec.slip_fraction, rtol=0, atol=2 / 4000)
 
 
+def test_a_wedge_started_from_its_steady_state_repeats_it_at_once():
+    """An explicit start (N, T of the four pads at tau = 0) taken from the steady cycle is its
+    fixed point: the same cycle, pads opening and closing included, after one period."""
+    ec = cycle()
+    start = (np.asarray(ec.period.N0[0]), np.asarray(ec.period.T0[0]))
+    assert np.all(start[0] > 0.0)  # every pad closed at tau = 0, as an explicit start must be
+    ex = cycle(initial=start)
+    assert jd.RESULTS.name_of(ex.status) == "ok" and int(ex.periods) == 1
+    assert_tree_allclose((ex.k_re, ex.k_im, ex.open_fraction, ex.slip_fraction),
+                         (ec.k_re, ec.k_im, ec.open_fraction, ec.slip_fraction), rtol=1e-12,
+                         atol=1e-12)
+    with pytest.raises(ValueError, match=r"one force per pad \(R1, R2, L1, L2\), shape \(4,\)"):
+        cycle(initial=(start[0][:3], start[1][:3]))
+
+
 def test_open_pads_carry_nothing_and_every_tract_balances_the_damper():
     ec = cycle()
     sh, mu, c, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
