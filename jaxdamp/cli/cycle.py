@@ -170,9 +170,8 @@ def _run_path(args, shape, contacts, load, motion) -> int:
 
 
 def run(args) -> int:
-    from ..params import prepare_inputs
-
     from ..motion import in_phase_motion
+    from ..params import prepare_inputs
 
     contacts, load = C.contacts_from_args(args), C.load_from_args(args)  # --mu resolved here too
     wedge = args.damper == "wedge"
