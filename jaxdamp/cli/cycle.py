@@ -147,17 +147,19 @@ def _run_path(args, shape, contacts, load, motion) -> int:
     if p["psi_bc_mrad"] is None:
         C.emit(args, doc, head + "\n  no cycle (the status above says why)")
         return 0
+    # Rounded before printing, plus 0.0: a zero-width loop's k_Im of -4e-28 prints as 0.0.
+    fixed = lambda v, digits: f"{round(v, digits) + 0.0:.{digits}f}"  # noqa: E731
     lines = [head,
-             f"  a_fs = {p['psi_fs_mrad']:.4f} mrad   k_Re,fs = {p['k_re_fs']:.1f} N mm/mrad",
-             f"  a_BC = {p['psi_bc_mrad']:.4f} mrad   k_Re,BC = {p['k_re_bc']:.1f}   "
-             f"k_Im,BC = {p['k_im_bc']:.1f} N mm/mrad   (mrad of "
+             f"  a_fs = {p['psi_fs_mrad']:.4f} mrad   k_Re,fs = {fixed(p['k_re_fs'], 1)} N mm/mrad",
+             f"  a_BC = {p['psi_bc_mrad']:.4f} mrad   k_Re,BC = {fixed(p['k_re_bc'], 1)}   "
+             f"k_Im,BC = {fixed(p['k_im_bc'], 1)} N mm/mrad   (mrad of "
              + ("the left-hand blade's rotation)" if args.ibpa is not None else
                 "the path's parameter)" if args.motion is not None else "psi)"),
              f"  spans: forward {p['spans_mm']['forward']:.5f} mm, backward "
              f"{p['spans_mm']['backward']:.5f} mm, half-cycles run: {p['half_cycles']}",
              *(f"  WARNING: {w}" for w in p["warnings"]),
-             f"  energy per cycle (N mm): total {p['dissipated_energy_nmm']:.3f}   "
-             + "  ".join(f"{k} {v:.3f}" for k, v in p["energy_nmm"].items()),
+             f"  energy per cycle (N mm): total {fixed(p['dissipated_energy_nmm'], 3)}   "
+             + "  ".join(f"{k} {fixed(v, 3)}" for k, v in p["energy_nmm"].items()),
              "  slip fraction: " + "  ".join(f"{k} {v:.3f}" for k, v in p["slip_fraction"].items()),
              "  open fraction: " + "  ".join(f"{k} {v:.3f}" for k, v in p["open_fraction"].items()),
              "  transitions (tau of the period, deg):"]
