@@ -1,4 +1,4 @@
-"""The Base-Cycle on any straight platform path, for any pad set (the curved-flat damper or a wedge).
+"""The Base-Cycle on any straight platform path, for any pad set (curved-flat damper or wedge).
 
 The paper defines the Base-Cycle on its in-phase stroke: from full slip one way, the platforms
 reverse and move until every pad slips the other way (gross slip), reverse again, and so on until
@@ -24,8 +24,8 @@ three degrees of freedom in gross slip) and take turns to stick and slip along t
 On the paper's in-phase path for the curved-flat damper this is the paper's Base-Cycle, reached by
 another road (assembly and a move to gross slip instead of the full-slip statics; the elliptic
 engine instead of the Base-Cycle's halves): tests/test_path_base_cycle.py checks the five numbers
-against `five_numbers` and the paper's Table B3.1. An elliptic path has no halves that end in gross
-slip (the direction of motion turns all along it) and no Base-Cycle: `elliptic_cycle` there.
+against `five_numbers` and 74R's a_BC against Table B4.1. An elliptic path has no halves that end
+in gross slip (the direction of motion turns all along it) and no Base-Cycle: `elliptic_cycle`.
 """
 
 from __future__ import annotations
