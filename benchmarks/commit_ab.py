@@ -91,11 +91,11 @@ def main(argv=None) -> dict:
     info = machine()
     rows = []
     with contextlib.ExitStack() as stack:
-        base_tree = args.base_tree or stack.enter_context(_worktree(args.base))
+        base_tree = (args.base_tree.resolve() if args.base_tree
+                     else stack.enter_context(_worktree(args.base)))
         for k in range(args.rounds):
             for side, tree in (("base", base_tree), ("this", ROOT)):
-                row = dict(run_side(Path(base_tree).resolve() if side == "base" else tree),
-                           side=side, round=k)
+                row = dict(run_side(tree), side=side, round=k)
                 print(json.dumps(row), flush=True)
                 rows.append(row)
 
