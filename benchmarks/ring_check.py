@@ -2,26 +2,30 @@
 
 The small disk: `LumpedDisk(n_blades=6)` (the example disk's parameters, six blades). The damper:
 60sym, mu = 0.5, default contacts and load (q* = 100 mm), rotation centres h_C = 20 mm below D,
-damper size h_L = 10 mm. For every nodal diameter n = 0 ... 3 (engine order e = n), at a tip
-force F where the reduction's damper microslips at its peak (status ok, not shakedown):
+damper size h_L = 10 mm. For every nodal diameter n = 0 ... 3 (engine order e = n), at two tip
+forces: one where the damper microslips at the peak (its steady cycle depends on how it was
+reached) and one where the cycle at the peak is the same from assembly and from gross slip (the
+pads' slip erases the history: `history_free` records the two cycles' difference):
 
-- the reduction: `jaxdamp.row_response` on the disk's first family (`modal_family`, platforms
-  free), history "assembly": its peak amplitude and frequency. Cross-check: the one-mode peak
-  equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F_tip with k(psi) from one independent cycle
-  (`path_cycle_kernel`) at the row's psi;
+- the reduction: `jaxdamp.row_response` on the disk's first family with the platforms' residual
+  flexibility from the second family (`modal_family(..., residual=True)`: the damper in series
+  with it, `response.stiffness.through_residual`), history "assembly": its peak amplitude and
+  frequency. Cross-check: the one-mode peak equation with k from one independent cycle
+  (`path_cycle_kernel`) at the row's damper amplitude. The same reduction without the residual
+  (the free-platform modes alone) is the column "free platforms";
 - the same first harmonic with both families of the sector (the 2x2 sector problem of the lumped
   disk with the damper as the complex spring 1e-3 rho^2 k(psi) on the root rotation, rho = psi
-  per rad of root rotation): what the one-mode reduction drops is the second family (the damper
-  changes the mode shape at the platform), which this isolates;
+  per rad of root rotation): what the one-mode reduction with its residual still drops (the
+  second family's own tip motion), which this isolates;
 - the ring (`jaxdamp.baselines.ring.ring_response`: time integration, no reduction, no harmonic
   balance) started from rest (F_D applied with the platforms at rest, then the forcing: the
   physical history), at frequencies around the two-family peak, a parabola through the largest
-  three amplitudes (refined once) giving the ring's peak. At nodal diameter 0 one more run at the
-  ring's peak frequency has the reduction's history (assembly, a straight quasi-static move to
-  X(pi), then the vibration: `ring_response`'s start x0 with the force's phase set), so that the
-  history and the higher harmonics can be told apart (off nodal diameter 0 the dampers of a
-  travelling wave are at different points of their paths at any instant: no common start gives
-  them all that history). Every run has the same length (one
+  three amplitudes (refined twice) giving the ring's peak. At nodal diameter 0 in microslip one
+  more run at the ring's peak frequency has the reduction's history (assembly, a straight
+  quasi-static move to X(pi), then the vibration: `ring_response`'s start x0 with the force's
+  phase set), so that the history and the higher harmonics can be told apart (off nodal
+  diameter 0 the dampers of a travelling wave are at different points of their paths at any
+  instant: no common start gives them all that history). Every run has the same length (one
   compiled program); its last per-period change and Aitken's extrapolation of blade 0's first
   harmonic say how steady it is. Step size: 128 steps per period, checked against 64 and 256 once.
 
@@ -52,11 +56,16 @@ RESULTS = Path(__file__).parent / "results"
 N_SMALL, Q_STAR_MM, H_C_MM, H_L_MM, MU = 6, 100.0, 20.0, 10.0, 0.5
 STEPS, PERIODS = 128, 1500
 SHAPE = jd.family_shape("60sym")
-# Tip force per nodal diameter (N): where the reduction's damper microslips at its peak (status ok,
-# not shakedown; the peak 0.43, 0.38, 0.55 and 0.76 of the free one). Off nodal diameter 0 the
-# neighbouring platforms move more and more together radially (at N/2 only their relative
-# rotation and gap change reach the damper), so that slipping takes a larger tip motion.
-FORCES = {0: 2.0, 1: 2.0, 2: 5.0, 3: 10.0}
+# Tip forces per nodal diameter (N). Microslip: the reduction's damper microslips at its peak
+# (status ok, not shakedown; the peak 0.43, 0.38, 0.55 and 0.76 of the free one), and its steady
+# cycle depends on the history. History-free: the cycles from assembly and from gross slip agree
+# at the peak (to 1e-15; measured 2026-11-27), below the forces where the ring from rest lands on
+# the lower branch of a softening peak (nodal diameter 0 at 40 N: 14 % under the upper one). Off
+# nodal diameter 0 the neighbouring platforms move more and more together radially (at N/2 only
+# their relative rotation and gap change reach the damper), so that slipping takes a larger tip
+# motion.
+FORCES = {"microslip": {0: 2.0, 1: 2.0, 2: 5.0, 3: 10.0},
+          "history-free": {0: 20.0, 1: 20.0, 2: 20.0, 3: 20.0}}
 
 
 class Damper:
@@ -69,10 +78,10 @@ class Damper:
         self.cycle = jax.jit(path_cycle_kernel, static_argnames=("initial", "loop"))
         self.calls, self.seconds = 0, 0.0
 
-    def k(self, scene, psi):
+    def k(self, scene, psi, initial="assembly"):
         t = time.perf_counter()
         k_re, k_im, status = self.cycle(*self.args, jnp.asarray(float(psi)), scene.motion,
-                                        initial="assembly", loop="while")
+                                        initial=initial, loop="while")
         out = complex(float(k_re), float(k_im)), jd.RESULTS.name_of(int(status))
         self.calls += 1
         self.seconds += time.perf_counter() - t
@@ -107,40 +116,46 @@ def two_family_peak(disk, phi, rho, kd, omega_guess):
     return w, theta, x
 
 
-def reduction(disk, family, orders):
-    """`jaxdamp.row_response` at every engine order with its own force (the diagonal of the
-    engine orders x forces table)."""
+def reduction(family, orders, forces):
+    """`jaxdamp.row_response` at every engine order and force: {(e, F): peak dict}."""
     t = time.perf_counter()
-    forces = [FORCES[e] for e in orders]
     row = jd.row_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(), modes=family,
                           engine_orders=orders, force_n=forces, h_l_mm=H_L_MM)
     seconds = time.perf_counter() - t
-    out = []
+    out = {}
     for i, e in enumerate(orders):
-        out.append(dict(peak_mm=float(row.peaks.peak_amplitude_mm[i, i]),
-                        frequency_hz=float(row.peaks.peak_frequency_hz[i, i]),
-                        psi_mrad=float(row.peaks.psi_a_mrad[i, i]),
-                        status=jd.RESULTS.name_of(int(row.status[i, i])),
-                        free_peak_mm=float(row.free_peak_mm[i, i]),
-                        f0_hz=float(row.frequency_hz[i]), tip_force_n=float(row.tip_force_n[i, i])))
+        for j, f in enumerate(forces):
+            out[e, f] = dict(peak_mm=float(row.peaks.peak_amplitude_mm[i, j]),
+                             frequency_hz=float(row.peaks.peak_frequency_hz[i, j]),
+                             psi_mrad=float(row.peaks.psi_a_mrad[i, j]),
+                             status=jd.RESULTS.name_of(int(row.status[i, j])),
+                             free_peak_mm=float(row.free_peak_mm[i, j]),
+                             f0_hz=float(row.frequency_hz[i]),
+                             tip_force_n=float(row.tip_force_n[i, j]))
     return out, seconds
 
 
 def cross_checks(disk, family, damper, e, red):
-    """The one-mode peak equation at the row's psi (independent cycle), the effective loss
-    factor there, and the two-family peak at the same force."""
+    """The one-mode peak equation at the row's damper amplitude psi_d (independent cycle): the tip
+    amplitude A = psi_d |1 + c k| / r and A (eta k_b + 1e-3 r^2 Im(k / (1 + c k))) = F; the
+    effective loss factor there; whether the cycle there is history-free (from gross slip against
+    from assembly); and the two-family peak at the same force."""
     scene = jd.nodal_scene(family, e, Q_STAR_MM, H_L_MM)
-    mode = scene.mode
+    mode, c = scene.mode, scene.residual_mrad_per_nmm
     k, status = damper.k(scene, red["psi_mrad"])
-    amp = red["psi_mrad"] / mode.r
+    k_gs, _ = damper.k(scene, red["psi_mrad"], initial="gross_slip")
+    k_eff = k / (1.0 + c * k)
+    amp = red["psi_mrad"] * abs(1.0 + c * k) / mode.r
     f_tip = red["tip_force_n"]
-    residual = amp * abs(mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k.imag) / f_tip - 1.0
-    f_check = mode.f0_hz * np.sqrt(1.0 + 1e-3 * mode.r ** 2 * k.real / mode.k_b)
-    eta_eff = (mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k.imag) / (
-        mode.k_b + 1e-3 * mode.r ** 2 * k.real)
-    one = dict(peak_equation_residual=float(residual), frequency_check_hz=float(f_check),
-               k_re=k.real, k_im=k.imag, cycle_status=status, r_mrad_per_mm=mode.r, k_b=mode.k_b,
-               straight=bool(scene.straight), eta_eff=float(eta_eff))
+    residual = amp * abs(mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k_eff.imag) / f_tip - 1.0
+    f_check = mode.f0_hz * np.sqrt(1.0 + 1e-3 * mode.r ** 2 * k_eff.real / mode.k_b)
+    eta_eff = (mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k_eff.imag) / (
+        mode.k_b + 1e-3 * mode.r ** 2 * k_eff.real)
+    one = dict(peak_equation_residual=float(residual), amplitude_check=float(amp / red["peak_mm"] - 1),
+               frequency_check_hz=float(f_check), k_re=k.real, k_im=k.imag, cycle_status=status,
+               r_mrad_per_mm=mode.r, k_b=mode.k_b, residual_mrad_per_nmm=c,
+               straight=bool(scene.straight), eta_eff=float(eta_eff),
+               history_free=float(abs(k_gs - k) / abs(k)))
     # Two families: psi = rho |Theta|, with rho = r X_mode / Theta_mode (mrad per rad).
     t = time.perf_counter()
     phi = 2.0 * np.pi * scene.nodal_diameter / disk.n_blades
@@ -244,59 +259,74 @@ def parabola_peak(rows):
 def main() -> dict:
     started = time.perf_counter()
     disk = LumpedDisk(n_blades=N_SMALL)
-    family = jd.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM))
+    family = jd.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM, residual=True))
     damper = Damper()
     orders = list(range(N_SMALL // 2 + 1))
-    reds, row_seconds = reduction(disk, family, orders)
+    forces = sorted({f for per_nd in FORCES.values() for f in per_nd.values()})
+    reds, row_seconds = reduction(family, orders, forces)
     print(f"row_response: {row_seconds:.0f} s", flush=True)
+    bare, bare_seconds = reduction(family._replace(platform_residual=None), orders, forces)
+    print(f"row_response, free platforms: {bare_seconds:.0f} s", flush=True)
     rows = []
-    for e, red in zip(orders, reds):
-        force = FORCES[e]
-        one, two = cross_checks(disk, family, damper, e, red)
-        f2 = two["frequency_hz"]
-        width = 0.25 * one["eta_eff"] * f2  # a quarter of the half-power band around the peak
-        runs = [ring_at(disk, e, force, f2 + d * width) for d in (-1.0, 0.0, 1.0)]
-        fv, _ = parabola_peak(runs)
-        runs.append(ring_at(disk, e, force, fv, rho=two["rho_mrad_per_rad"]))
-        f_ring, a_ring = parabola_peak(runs)
-        # The damper in the ring against the reduction's cycle (history assembly) at the same
-        # amplitude of its path: what the ring's dampers dissipate, from their moments.
-        near = runs[-1]
-        k_cycle, st = damper.k(jd.nodal_scene(family, e, Q_STAR_MM, H_L_MM), near["psi_mrad"])
-        damper_check = dict(frequency_hz=near["frequency_hz"], psi_mrad=near["psi_mrad"],
-                            k_re_ring=near["k_re"], k_im_ring=near["k_im"], k_re_cycle=k_cycle.real,
-                            k_im_cycle=k_cycle.imag, cycle_status=st,
-                            rel_diff_k_im=near["k_im"] / k_cycle.imag - 1.0,
-                            rel_diff_k_re=near["k_re"] / k_cycle.real - 1.0)
-        rows.append(dict(engine_order=e, nodal_diameter=e, force_n=force, reduction=red,
-                         one_mode_check=one, two_family=two, damper_in_ring=damper_check,
-                         ring=dict(peak_mm=a_ring, frequency_hz=f_ring,
-                                   runs=sorted(runs, key=lambda r: r["frequency_hz"]),
-                                   seconds=sum(r["seconds"] for r in runs)),
-                         rel_diff_reduction=red["peak_mm"] / a_ring - 1.0,
-                         rel_diff_two_family=two["peak_mm"] / a_ring - 1.0,
-                         rel_diff_freq_reduction=red["frequency_hz"] / f_ring - 1.0,
-                         rel_diff_freq_two_family=two["frequency_hz"] / f_ring - 1.0))
-        if e == 0:
-            # The history: the same frequency started the reduction's way (assembly, a straight
-            # move to X(pi), then the path) against from rest.
-            nearest = min(runs, key=lambda r: abs(r["frequency_hz"] - f_ring))
-            assembled = ring_from_assembly(disk, e, force, nearest["frequency_hz"], two,
-                                           nearest["amplitude_mm"])
-            assembled["rel_diff_from_rest"] = assembled["amplitude_mm"] / nearest["amplitude_mm"] - 1
-            rows[-1]["ring"]["from_assembly"] = assembled
-            print(f"  ND 0 from assembly at {assembled['frequency_hz']:.2f} Hz: "
-                  f"{assembled['amplitude_mm']:.5g} mm ({assembled['rel_diff_from_rest']:+.2%} "
-                  f"against from rest)", flush=True)
-        worst = max(runs, key=lambda r: r["change_per_period"])
-        print(f"ND {e}: F {force:.4g} N, row_response {red['peak_mm']:.5g} mm at "
-              f"{red['frequency_hz']:.2f} Hz ({red['status']}), two-family {two['peak_mm']:.5g} at "
-              f"{two['frequency_hz']:.2f}, ring {a_ring:.5g} at {f_ring:.2f} "
-              f"({rows[-1]['rel_diff_reduction']:+.2%}); worst change/period "
-              f"{worst['change_per_period']:.1e}; ring {rows[-1]['ring']['seconds']:.0f} s; damper in "
-              f"the ring at psi {near['psi_mrad']:.4g}: k_Im {damper_check['rel_diff_k_im']:+.2%}, "
-              f"k_Re {damper_check['rel_diff_k_re']:+.2%} against the cycle", flush=True)
-    # Step-size convergence, once: nodal diameter 0 at its ring peak, 64, 128 and 256 steps.
+    for regime, per_nd in FORCES.items():
+        for e in orders:
+            force = per_nd[e]
+            red = reds[e, force]
+            one, two = cross_checks(disk, family, damper, e, red)
+            f2 = two["frequency_hz"]
+            width = 0.25 * one["eta_eff"] * f2  # a quarter of the half-power band around the peak
+            runs = [ring_at(disk, e, force, f2 + d * width) for d in (-1.0, 0.0, 1.0)]
+            fv, _ = parabola_peak(runs)
+            runs.append(ring_at(disk, e, force, fv))
+            fv, _ = parabola_peak(runs)  # refined once more: the vertex of the largest three
+            runs.append(ring_at(disk, e, force, fv, rho=two["rho_mrad_per_rad"]))
+            f_ring, a_ring = parabola_peak(runs)
+            # The damper in the ring against the reduction's cycle (history assembly) at the same
+            # amplitude of its path: what the ring's dampers dissipate, from their moments.
+            near = runs[-1]
+            k_cycle, st = damper.k(jd.nodal_scene(family, e, Q_STAR_MM, H_L_MM), near["psi_mrad"])
+            damper_check = dict(frequency_hz=near["frequency_hz"], psi_mrad=near["psi_mrad"],
+                                k_re_ring=near["k_re"], k_im_ring=near["k_im"],
+                                k_re_cycle=k_cycle.real, k_im_cycle=k_cycle.imag, cycle_status=st,
+                                rel_diff_k_im=near["k_im"] / k_cycle.imag - 1.0,
+                                rel_diff_k_re=near["k_re"] / k_cycle.real - 1.0)
+            free = bare[e, force]
+            rows.append(dict(regime=regime, engine_order=e, nodal_diameter=e, force_n=force,
+                             reduction=red, free_platforms=free, one_mode_check=one,
+                             two_family=two, damper_in_ring=damper_check,
+                             ring=dict(peak_mm=a_ring, frequency_hz=f_ring,
+                                       runs=sorted(runs, key=lambda r: r["frequency_hz"]),
+                                       seconds=sum(r["seconds"] for r in runs)),
+                             rel_diff_reduction=red["peak_mm"] / a_ring - 1.0,
+                             rel_diff_free_platforms=free["peak_mm"] / a_ring - 1.0,
+                             rel_diff_two_family=two["peak_mm"] / a_ring - 1.0,
+                             rel_diff_freq_reduction=red["frequency_hz"] / f_ring - 1.0,
+                             rel_diff_freq_two_family=two["frequency_hz"] / f_ring - 1.0))
+            if e == 0 and regime == "microslip":
+                # The history: the same frequency started the reduction's way (assembly, a
+                # straight move to X(pi), then the path) against from rest.
+                nearest = min(runs, key=lambda r: abs(r["frequency_hz"] - f_ring))
+                assembled = ring_from_assembly(disk, e, force, nearest["frequency_hz"], two,
+                                               nearest["amplitude_mm"])
+                assembled["rel_diff_from_rest"] = (assembled["amplitude_mm"]
+                                                   / nearest["amplitude_mm"] - 1)
+                assembled["rel_diff_reduction"] = red["peak_mm"] / assembled["amplitude_mm"] - 1
+                rows[-1]["ring"]["from_assembly"] = assembled
+                print(f"  ND 0 from assembly at {assembled['frequency_hz']:.2f} Hz: "
+                      f"{assembled['amplitude_mm']:.5g} mm ({assembled['rel_diff_from_rest']:+.2%} "
+                      f"against from rest)", flush=True)
+            worst = max(runs, key=lambda r: r["change_per_period"])
+            print(f"{regime} ND {e}: F {force:.4g} N, reduction {red['peak_mm']:.5g} mm at "
+                  f"{red['frequency_hz']:.2f} Hz ({red['status']}; free platforms "
+                  f"{free['peak_mm']:.5g}), two-family {two['peak_mm']:.5g} at "
+                  f"{two['frequency_hz']:.2f}, ring {a_ring:.5g} at {f_ring:.2f} "
+                  f"({rows[-1]['rel_diff_reduction']:+.2%}); history-free to "
+                  f"{one['history_free']:.1e}; worst change/period "
+                  f"{worst['change_per_period']:.1e}; ring {rows[-1]['ring']['seconds']:.0f} s; "
+                  f"damper in the ring at psi {near['psi_mrad']:.4g}: k_Im "
+                  f"{damper_check['rel_diff_k_im']:+.2%}, k_Re {damper_check['rel_diff_k_re']:+.2%} "
+                  f"against the cycle", flush=True)
+    # Step-size convergence, once: nodal diameter 0 at its microslip ring peak, 64, 128 and 256.
     e0 = rows[0]
     steps = {s: ring_at(disk, 0, e0["force_n"], e0["ring"]["frequency_hz"], steps=s)
              for s in (64, STEPS, 256)}
@@ -304,8 +334,9 @@ def main() -> dict:
                disk=dict(disk._asdict()), damper=dict(shape="60sym", mu=MU, contacts="default",
                                                        load="default", q_star_mm=Q_STAR_MM,
                                                        h_c_mm=H_C_MM, h_l_mm=H_L_MM),
-               history=dict(reduction="assembly", ring="from rest"),
+               history=dict(reduction="assembly", ring="from rest"), forces=FORCES,
                steps_per_period=STEPS, periods=PERIODS, row_response_seconds=row_seconds,
+               row_response_free_platforms_seconds=bare_seconds,
                kernel_calls=damper.calls, kernel_seconds=damper.seconds, rows=rows,
                step_convergence={str(s): dict(amplitude_mm=r["amplitude_mm"], seconds=r["seconds"])
                                  for s, r in steps.items()})
@@ -323,21 +354,28 @@ def plot(doc: dict) -> None:
     import matplotlib.pyplot as plt
 
     rows = doc["rows"]
-    fig, axes = plt.subplots(1, len(rows), figsize=(3.2 * len(rows), 3.4), constrained_layout=True)
-    for ax, row in zip(np.atleast_1d(axes), rows):
-        runs = row["ring"]["runs"]
-        ax.plot([r["frequency_hz"] for r in runs], [r["amplitude_mm"] for r in runs], "ko-",
-                ms=4, label="ring from rest (time integration)")
-        ax.plot(row["ring"]["frequency_hz"], row["ring"]["peak_mm"], "k*", ms=9, label="ring peak")
-        ax.plot(row["two_family"]["frequency_hz"], row["two_family"]["peak_mm"], "bs", ms=6,
-                label="two families, 1st harmonic")
-        ax.plot(row["reduction"]["frequency_hz"], row["reduction"]["peak_mm"], "r^", ms=7,
-                label="row_response (one mode)")
-        ax.set_title(f"ND {row['nodal_diameter']} (EO {row['engine_order']}), "
-                     f"F = {row['force_n']:.3g} N", fontsize=9)
-        ax.set_xlabel("frequency (Hz)")
-    np.atleast_1d(axes)[0].set_ylabel("peak tip amplitude (mm)")
-    np.atleast_1d(axes)[0].legend(fontsize=7)
+    regimes = list(dict.fromkeys(r["regime"] for r in rows))
+    per = max(sum(r["regime"] == g for r in rows) for g in regimes)
+    fig, axes = plt.subplots(len(regimes), per, figsize=(3.2 * per, 3.3 * len(regimes)),
+                             constrained_layout=True, squeeze=False)
+    for gi, regime in enumerate(regimes):
+        for ax, row in zip(axes[gi], [r for r in rows if r["regime"] == regime]):
+            runs = row["ring"]["runs"]
+            ax.plot([r["frequency_hz"] for r in runs], [r["amplitude_mm"] for r in runs], "ko-",
+                    ms=4, label="ring from rest (time integration)")
+            ax.plot(row["ring"]["frequency_hz"], row["ring"]["peak_mm"], "k*", ms=9,
+                    label="ring peak")
+            ax.plot(row["two_family"]["frequency_hz"], row["two_family"]["peak_mm"], "bs", ms=6,
+                    label="two families, 1st harmonic")
+            ax.plot(row["reduction"]["frequency_hz"], row["reduction"]["peak_mm"], "r^", ms=7,
+                    label="row_response (one mode + residual)")
+            ax.plot(row["free_platforms"]["frequency_hz"], row["free_platforms"]["peak_mm"], "mv",
+                    ms=6, label="row_response (free platforms)")
+            ax.set_title(f"{regime}: ND {row['nodal_diameter']}, F = {row['force_n']:.3g} N "
+                         f"({row['rel_diff_reduction']:+.2%})", fontsize=8)
+            ax.set_xlabel("frequency (Hz)")
+        axes[gi][0].set_ylabel("peak tip amplitude (mm)")
+    axes[0][0].legend(fontsize=6)
     fig.savefig(RESULTS / "ring_check.png", dpi=130)
 
 

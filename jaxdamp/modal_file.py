@@ -3,12 +3,15 @@
 
 Fields (one row per nodal diameter; the names of `ModalFamily`): n_blades, nodal_diameter,
 frequency_hz, loss_factor, modal_force, response_displacement, left_platform, right_platform,
-optionally name and unit_system. Complex fields are complex arrays in NPZ, and {"re": [...],
+optionally platform_residual (the platforms' residual flexibility, (n, 6, 6)), name and
+unit_system. Complex fields are complex arrays in NPZ, and {"re": [...],
 "im": [...]} objects in JSON (a real list is taken as real). unit_system says in which consistent
 units the modes are mass-normalised: "mm-N-s-t" (the default: mm, N, s, tonne) or "SI" (m, N, s,
 kg), converted here to mm-N-s-t: lengths per unit modal coordinate times sqrt(1000), rotations
 divided by sqrt(1000), modal forces times sqrt(1000) (a unit modal coordinate is sqrt(1000) times
-larger in SI). Rotations are in rad in both.
+larger in SI); the residual flexibility's entries by s_i s_j with s = (sqrt(1000), sqrt(1000),
+1 / sqrt(1000)) per platform (m/N -> mm/N, rad/(N m) -> rad/(N mm)). Rotations are in rad in
+both.
 
 Anything else is refused with one line naming the field (ValueError).
 """
@@ -21,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from .paper.files import atomic_file
-from .response.modes import FAMILY_FIELDS, ModalFamily, validate_family
+from .response.modes import FAMILY_FIELDS, OPTIONAL_FIELDS, ModalFamily, validate_family
 
 __all__ = ["UNIT_SYSTEMS", "EXAMPLE", "EXAMPLE_PATH", "load_modal_family", "save_modal_family",
            "family_from_mapping"]
@@ -42,7 +45,7 @@ def family_from_mapping(data) -> ModalFamily:
     """A checked ModalFamily from a mapping of the file's fields (as `np.load` or `json.load` give
     them): unit conversion, then `validate_family`."""
     keys = set(data.keys())
-    known = set(FAMILY_FIELDS) | {"n_blades", "name", "unit_system"}
+    known = set(FAMILY_FIELDS) | set(OPTIONAL_FIELDS) | {"n_blades", "name", "unit_system"}
     missing = [k for k in ["n_blades", *FAMILY_FIELDS] if k not in keys]
     if missing:
         raise ValueError(f"modes file must have the field {missing[0]} (fields: n_blades, "
@@ -50,7 +53,8 @@ def family_from_mapping(data) -> ModalFamily:
     extra = sorted(keys - known)
     if extra:
         raise ValueError(f"modes file has an unknown field {extra[0]!r} (fields: n_blades, "
-                         f"{', '.join(FAMILY_FIELDS)}, name, unit_system)")
+                         f"{', '.join(FAMILY_FIELDS)}, {', '.join(OPTIONAL_FIELDS)}, name, "
+                         f"unit_system)")
     units = str(np.asarray(data["unit_system"])) if "unit_system" in keys else UNIT_SYSTEMS[0]
     if units not in UNIT_SYSTEMS:
         raise ValueError(f"unit_system must be one of {', '.join(UNIT_SYSTEMS)}; got {units!r}")
@@ -58,12 +62,16 @@ def family_from_mapping(data) -> ModalFamily:
     if n_blades.shape != () or n_blades.dtype.kind not in "iu" and not (
             n_blades.dtype.kind == "f" and float(n_blades) == round(float(n_blades))):
         raise ValueError(f"n_blades must be an integer in [2, inf); got {data['n_blades']!r}")
-    fields = {name: _array(name, data[name]) for name in FAMILY_FIELDS}
+    fields = {name: _array(name, data[name]) for name in [*FAMILY_FIELDS, *OPTIONAL_FIELDS]
+              if name in keys}
     if units == "SI":
         for name, scale in _SI_SCALE.items():
             fields[name] = fields[name] * scale
         for name in ("left_platform", "right_platform"):
             fields[name] = fields[name] * _SI_PLATFORM
+        if "platform_residual" in fields:
+            both = np.tile(_SI_PLATFORM, 2)
+            fields["platform_residual"] = fields["platform_residual"] * np.outer(both, both)
     name = str(np.asarray(data["name"])) if "name" in keys else ""
     return validate_family(ModalFamily(int(n_blades), name=name, **fields))
 
@@ -112,6 +120,8 @@ def save_modal_family(family: ModalFamily, path) -> Path:
     family = validate_family(family)
     path = Path(path)
     fields = {name: np.asarray(getattr(family, name)) for name in FAMILY_FIELDS}
+    if np.any(family.platform_residual != 0):
+        fields["platform_residual"] = np.asarray(family.platform_residual)
     if path.suffix == ".npz":
         with atomic_file(path, "wb") as f:
             np.savez(f, n_blades=np.int64(family.n_blades), name=np.str_(family.name),

@@ -124,3 +124,25 @@ def test_bad_parameters_are_refused():
         sector_matrices(LumpedDisk(k_blade=-1.0), 0.0)
     with pytest.raises(ValueError, match="n_blades"):
         full_matrices(LumpedDisk(n_blades=1))
+
+
+@pytest.mark.parametrize("nd", [0, 1, 3])
+def test_residual_is_the_sectors_flexibility_without_the_first_mode(nd):
+    """platform_residual's theta-theta flexibility against the dense sector solve: (K - w^2 M)^-1
+    minus the first mode's theta_1^2 / (w_1^2 - w^2), at w around the first frequency (the
+    second family's own share, theta_2^2 / (w_2^2 - w^2), is what is left); mapped to the
+    platforms at D by their motion per rad of theta."""
+    from jaxdamp.conventions import platform_directions
+
+    disk = LumpedDisk(n_blades=6)
+    family = jd.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
+    phi = 2 * np.pi * nd / 6
+    M, K = sector_matrices(disk, phi)
+    lam, modes = sector_modes(disk, phi)
+    # Either side of w_1^2 by 1e-4 (the first mode's term then cancels to 1e-12), averaged: the
+    # second family's term is then w_1's to 1e-8.
+    g = np.mean([np.linalg.inv(K - w2 * M)[0, 0] - modes[0, 0] ** 2 / (lam[0] - w2)
+                 for w2 in lam[0] * (1.0 + np.array([-1e-4, 1e-4]))])
+    d = np.concatenate(platform_directions(100.0, 20.0))
+    assert_tree_allclose(family.platform_residual[nd], g * np.outer(d, d) + 0j, rtol=1e-6, atol=0.0)
+    assert not np.any(jd.validate_family(modal_family(disk, 100.0, 20.0)).platform_residual)

@@ -21,11 +21,19 @@ def _family():
     return ModalFamily(10, np.array([0, 2, 5]), np.array([500.0, 610.0, 640.0]),
                        np.array([1e-3, 2e-3, 1e-3]), rep(f.modal_force) * np.array([1, 1j, -1]),
                        rep(f.response_displacement), rep(f.left_platform) * (1 + 0.5j),
-                       rep(f.right_platform), "three rows")
+                       rep(f.right_platform), "three rows", _residual())
+
+
+def _residual():
+    """A Hermitian positive-definite flexibility per row, (mm, mm, rad) per (N, N, N mm)."""
+    rng = np.random.default_rng(3)
+    a = rng.normal(size=(3, 6, 6)) + 1j * rng.normal(size=(3, 6, 6))
+    scale = np.tile([1e-4, 1e-4, 1e-8], 2)  # mm/N and rad/(N mm) sized entries
+    return scale[None, :, None] * (a @ np.conj(np.swapaxes(a, 1, 2))) * scale[None, None, :]
 
 
 def _fields(fam):
-    return [np.asarray(getattr(fam, k)) for k in ModalFamily._fields[1:8]]
+    return [np.asarray(getattr(fam, k)) for k in ModalFamily._fields[1:8] + ("platform_residual",)]
 
 
 @pytest.mark.parametrize("suffix", [".npz", ".json"])
@@ -52,12 +60,19 @@ def test_si_units_give_the_same_reduction(tmp_path):
     si["response_displacement"] = cplx(doc["response_displacement"]) / r
     for side in ("left_platform", "right_platform"):
         si[side] = cplx(doc[side]) * np.array([1 / r, 1 / r, r])
+    # The residual flexibility is physical, not modal: m/N is 1e-3 mm/N, rad/(N m) 1e3 rad/(N mm),
+    # m/(N m) and rad/N the same numbers.
+    kind = np.tile([0, 0, 1], 2)  # translation (0) or rotation (1), per row and column
+    per_kinds = np.array([[1e-3, 1.0], [1.0, 1e3]])  # m/N, m/(N m) | rad/N, rad/(N m) in mm-N
+    si["platform_residual"] = cplx(doc["platform_residual"]) * per_kinds[np.ix_(kind, kind)]
     si_fam = family_from_mapping(si)
     for e in (0, 2, 5, 8):
         a, b = nodal_scene(fam, e, 100.0, 30.0), nodal_scene(si_fam, e, 100.0, 30.0)
-        assert_tree_allclose([np.array(list(b.mode)), np.array(b.force_per_unit)],
-                             [np.array(list(a.mode)), np.array(a.force_per_unit)],
-                             rtol=1e-12, atol=0.0)
+        assert_tree_allclose([np.array(list(b.mode)), np.array(b.force_per_unit),
+                              np.array(b.residual_mrad_per_nmm)],
+                             [np.array(list(a.mode)), np.array(a.force_per_unit),
+                              np.array(a.residual_mrad_per_nmm)], rtol=1e-12, atol=0.0)
+    assert a.residual_mrad_per_nmm > 0
 
 
 def test_example_disk_file_loads():

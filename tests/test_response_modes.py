@@ -139,3 +139,55 @@ def test_family_repr_is_one_line():
     assert "24 blades" in text and "\n" not in text
     assert "ModalFamily" in repr(jd.ModalFamily(2, [0], [1.0], [0.0], [1.0], [1.0],
                                                 [[0, 0, 0]], [[0, 1, 0]]))
+
+
+def _with_residual(fam, c6):
+    return fam._replace(platform_residual=np.broadcast_to(c6, (len(fam.nodal_diameter), 6, 6)))
+
+
+@pytest.mark.parametrize("c6, needle", [
+    (np.zeros((6, 5)), "platform_residual must have shape (13, 6, 6)"),
+    (np.diag([1.0, 1, 1, 1, 1, np.nan]), "platform_residual must be finite"),
+    (np.triu(np.ones((6, 6))), "platform_residual must be Hermitian"),
+    (-np.eye(6), "platform_residual must be positive semi-definite"),
+])
+def test_bad_residuals_are_refused_naming_the_field(c6, needle):
+    fam = _row()
+    fam = fam._replace(platform_residual=np.broadcast_to(c6, (13,) + c6.shape)) if c6.shape == (
+        6, 6) else fam._replace(platform_residual=c6)
+    with pytest.raises(ValueError) as e:
+        validate_family(fam)
+    assert needle in str(e.value) and "\n" not in str(e.value)
+
+
+def test_no_residual_is_zero_flexibility():
+    fam = validate_family(_row())
+    assert fam.platform_residual.shape == (13, 6, 6) and not np.any(fam.platform_residual)
+    assert all(nodal_scene(fam, e, Q, H_L).residual_mrad_per_nmm == 0.0 for e in (0, 3, 12))
+
+
+@pytest.mark.parametrize("e", [0, 1, 5, 12])
+def test_path_residual_of_a_rotation_flexibility(e):
+    """Platforms that turn about C by theta with a residual flexibility g (rad per N mm) on theta:
+    C6 = g d d^T, d = (left; right) per rad. The damper's generalized force M (N mm, work
+    1e-3 M psi) is a moment 1e-3 rho M on theta, rho = d psi / d theta (mrad/rad), so c = 1e-3
+    rho^2 g, whatever the interblade phase angle. rho from the path's own size per rad of
+    theta: the path is r X_unit per mm of tip, theta = r_theta per mm of tip."""
+    from jaxdamp.conventions import platform_directions
+
+    g = 3.0e-9
+    left, right = platform_directions(Q, H_C)
+    d = np.concatenate([left, right])
+    fam = _with_residual(_row(), g * np.outer(d, d))
+    s = nodal_scene(fam, e, Q, H_L)
+    theta_per_tip = BladeMode().r / 1e3  # rad per mm of tip: _row's blade
+    x = np.asarray(s.motion.direction) + 1j * (0.0 if s.straight else np.asarray(
+        s.motion.quadrature))  # (mm, mm, mrad) per mrad of psi
+    # rho: mrad of psi per rad of theta. |X_hat per rad of theta| in (mm, mm, mrad) units equals
+    # |x| psi per rad of theta.
+    phi = 2 * np.pi * e / 24
+    per_theta = (np.exp(1j * phi) * left - right) * np.array([1.0, 1.0, 1e3])
+    rho = np.linalg.norm(per_theta) / np.linalg.norm(x)
+    assert_tree_allclose(np.array(s.residual_mrad_per_nmm), np.array(1e-3 * rho ** 2 * g),
+                         rtol=1e-12, atol=0.0)
+    assert_tree_allclose(np.array(rho), np.array(s.mode.r / theta_per_tip), rtol=1e-12, atol=0.0)

@@ -141,29 +141,40 @@ def sector_modes(disk: LumpedDisk, phi_rad) -> tuple[np.ndarray, np.ndarray]:
     return lam, modes
 
 
-def modal_family(disk: LumpedDisk, q_star_mm: float, h_c_mm: float, name: str = "") -> ModalFamily:
+def modal_family(disk: LumpedDisk, q_star_mm: float, h_c_mm: float, name: str = "",
+                 residual: bool = False) -> ModalFamily:
     """The first (blade bending) family of the disk at nodal diameters 0 ... N // 2, per the
     cyclic-symmetry sector eigenproblem (module docstring), as a ModalFamily: modes mass-
     normalised per sector, response point the tip, the modal force of a unit engine-order tip
-    force Phi_tip, platforms per the Fig. 4 kinematics with the damper's q* and h_C (mm)."""
+    force Phi_tip, platforms per the Fig. 4 kinematics with the damper's q* and h_C (mm).
+
+    residual: also the platforms' residual flexibility (`ModalFamily.platform_residual`) from the
+    second family at the first one's frequency, theta_2^2 / (omega_2^2 - omega_1^2) on the root
+    rotation (rad per N mm), mapped to the platforms at D as d d^T with d = (left; right) per rad
+    of theta: exact for this disk, whose only other mode per nodal diameter is the second (and
+    whose platforms move only with theta)."""
     d = _checked(disk)
     check_range("q_star_mm", q_star_mm, 0.0, np.inf, lo_open=True, hi_open=True, unit="mm")
     check_range("h_c_mm", h_c_mm, -np.inf, np.inf, hi_open=True, lo_open=True, unit="mm")
     n = int(d.n_blades)
     nds = np.arange(n // 2 + 1)
     left, right = platform_directions(q_star_mm, h_c_mm)
-    freq, theta, tip = [], [], []
+    freq, theta, tip, flex = [], [], [], []
     for nd in nds:
         lam, modes = sector_modes(d, 2.0 * np.pi * nd / n)
         freq.append(np.sqrt(lam[0]) / (2.0 * np.pi))
         theta.append(modes[0, 0])
         tip.append(modes[1, 0])
+        flex.append(modes[0, 1] ** 2 / (lam[1] - lam[0]))
     theta, tip = np.array(theta), np.array(tip)
+    both = np.concatenate([left, right])
+    platform_residual = (np.array(flex)[:, None, None] * np.outer(both, both)[None]).astype(complex)
     return ModalFamily(n, nds, np.array(freq), np.full(nds.size, float(d.eta)),
                        tip.astype(complex), tip.astype(complex),
                        (theta[:, None] * left[None, :]).astype(complex),
                        (theta[:, None] * right[None, :]).astype(complex),
-                       name or f"lumped disk, {n} blades, first family")
+                       name or f"lumped disk, {n} blades, first family",
+                       platform_residual if residual else None)
 
 
 def example_family() -> ModalFamily:

@@ -90,7 +90,9 @@ def _row_json(res) -> list:
         rows.append({"engine_order": int(e), "nodal_diameter": int(res.nodal_diameter[i]),
                      "ibpa_deg": C.number(res.ibpa_deg[i]),
                      "path": "elliptic" if res.elliptic[i] else "straight",
-                     "frequency_hz": C.number(res.frequency_hz[i]), "forces": per_force})
+                     "frequency_hz": C.number(res.frequency_hz[i]),
+                     "residual_mrad_per_nmm": C.number(res.residual_mrad_per_nmm[i]),
+                     "forces": per_force})
     return rows
 
 

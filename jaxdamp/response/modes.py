@@ -20,6 +20,22 @@ so that dv is real and positive (dv peaks at tau = 0; a phase of the mode is a s
 
 The forced response per engine order is then `jaxdamp.response`'s, with the damper's k(psi) on
 that path (`stiffness.path_damper`): |D(omega, A)| A = F with D as in the package docstring.
+
+Residual flexibility (optional): where the damper is stiff against the platform's own support, it
+changes the mode shape there, and a reduction on the free-platform mode alone overestimates the
+damping it adds (docs/blade_example.md). The family may carry `platform_residual`, per nodal
+diameter the 6x6 flexibility of the two platforms at D (left u, v, theta, then right) from every
+mode the family leaves out (the static residual, K^-1 minus the family's own Phi Phi^H /
+omega^2, or better that of the left-out modes at the family's frequency). The damper's
+first-harmonic load on a blade is e^{-i phi} F on its left platform and -F on its right (F on
+blade j+1's left platform, its reaction on blade j's right), so the relative motion it adds is
+C_rel F with C_rel = [e^{i phi} I, -I] C [e^{-i phi} I; -I]. Its component along the path, per
+generalized force of the damper (M = k psi, N mm), is c = 1e3 X^H C_rel X / |X|^4 (mrad per N mm;
+X the path per rad of psi in (mm, mm, rad)): exact where the left-out modes move the platforms
+along the path (the lumped disk's, whose platforms only turn), a projection otherwise. The damper
+then sits in series with c: at the free-platform path amplitude psi = r A the damper's own
+amplitude is psi_d = psi / |1 + c k(psi_d)| and the mode sees k(psi_d) / (1 + c k(psi_d))
+(`stiffness.through_residual`).
 """
 
 from __future__ import annotations
@@ -34,7 +50,7 @@ from ..motion import Motion, general_motion
 from .scene import BladeMode
 
 __all__ = ["ModalFamily", "NodalScene", "validate_family", "excited_nodal_diameter", "nodal_scene",
-           "nodal_scenes", "family_from_blade_mode", "FAMILY_FIELDS"]
+           "nodal_scenes", "family_from_blade_mode", "FAMILY_FIELDS", "OPTIONAL_FIELDS"]
 
 # The modal file's fields: name -> (shape after the nodal-diameter axis, complex allowed, unit).
 FAMILY_FIELDS = {
@@ -45,6 +61,10 @@ FAMILY_FIELDS = {
     "response_displacement": ((), True, "mm per unit modal coordinate"),
     "left_platform": ((3,), True, "(mm, mm, rad) per unit modal coordinate"),
     "right_platform": ((3,), True, "(mm, mm, rad) per unit modal coordinate"),
+}
+# Optional fields: name -> (shape after the nodal-diameter axis, unit); zeros where absent.
+OPTIONAL_FIELDS = {
+    "platform_residual": ((6, 6), "(mm, mm, rad) per (N, N, N mm)"),
 }
 
 
@@ -63,6 +83,10 @@ class ModalFamily(NamedTuple):
         counter-clockwise) at the damper's point D of the blade's left-hand and right-hand
         platform, per unit modal coordinate of blade 0 (blade j: times e^{i j phi}).
     name: a label for tables and figures.
+    platform_residual: (n, 6, 6) complex Hermitian, positive semi-definite, or None (zeros): the
+        residual flexibility of the platforms at D, (left u, v, theta, right u, v, theta) in
+        (mm, mm, rad) per (N, N, N mm), from the modes the family leaves out (module docstring),
+        for the travelling wave of blade 0 (blade j: times e^{i j phi}).
     """
 
     n_blades: int
@@ -74,6 +98,7 @@ class ModalFamily(NamedTuple):
     left_platform: np.ndarray
     right_platform: np.ndarray
     name: str = ""
+    platform_residual: np.ndarray | None = None
 
     def __repr__(self):
         nd = np.asarray(self.nodal_diameter)
@@ -118,7 +143,33 @@ def validate_family(family: ModalFamily) -> ModalFamily:
         raise ValueError("response_displacement must be non-zero at every nodal diameter (mm per "
                          "unit modal coordinate): the response is reduced to that point")
     out["nodal_diameter"] = nd.astype(int)
+    out["platform_residual"] = _residual(family.platform_residual, n)
     return ModalFamily(n_blades=n_blades, name=str(family.name), **out)
+
+
+RESIDUAL_RTOL = 1e-9  # of the largest entry: how far from Hermitian and PSD a residual may be
+
+
+def _residual(value, n) -> np.ndarray:
+    """platform_residual checked: zeros where None; shape (n, 6, 6), finite, Hermitian and
+    positive semi-definite (a flexibility stores energy, it makes none) to RESIDUAL_RTOL."""
+    tail, unit = OPTIONAL_FIELDS["platform_residual"]
+    if value is None:
+        return np.zeros((n,) + tail, complex)
+    c = np.asarray(value)
+    if c.shape != (n,) + tail:
+        raise ValueError(f"platform_residual must have shape {(n,) + tail} (one 6x6 per nodal "
+                         f"diameter); got {c.shape}")
+    c = c.astype(complex)
+    if not np.all(np.isfinite(c)):
+        raise ValueError(f"platform_residual must be finite ({unit})")
+    scale = max(float(np.max(np.abs(c))), np.finfo(float).tiny)
+    if np.max(np.abs(c - np.conj(np.swapaxes(c, 1, 2)))) > RESIDUAL_RTOL * scale:
+        raise ValueError("platform_residual must be Hermitian (C = C^H at every nodal diameter)")
+    if np.min(np.linalg.eigvalsh(c)) < -RESIDUAL_RTOL * scale:
+        raise ValueError("platform_residual must be positive semi-definite (a flexibility: no "
+                         "negative eigenvalue)")
+    return c
 
 
 def excited_nodal_diameter(engine_order: int, n_blades: int) -> tuple[int, bool]:
@@ -134,6 +185,8 @@ class NodalScene(NamedTuple):
     mode: BladeMode (f0_hz, k_b N/mm, eta, r mrad/mm) in tip coordinates.
     motion: the damper's path per mrad of psi = r A (a straight or elliptic `jaxdamp.Motion`).
     force_per_unit: tip force amplitude (N) per N of the engine-order excitation.
+    residual_mrad_per_nmm: c, the path's residual flexibility (module docstring; 0 without
+        platform_residual): the damper's amplitude is psi_d = r A / |1 + c k(psi_d)|.
     """
 
     engine_order: int
@@ -142,6 +195,7 @@ class NodalScene(NamedTuple):
     mode: BladeMode
     motion: Motion
     force_per_unit: float
+    residual_mrad_per_nmm: float = 0.0
 
     @property
     def straight(self) -> bool:
@@ -202,7 +256,17 @@ def _reduced(family: ModalFamily, engine_order, q_star_mm, h_l_mm) -> NodalScene
     mode = BladeMode(float(family.frequency_hz[i]), omega ** 2 / abs(tip) ** 2,
                      float(family.loss_factor[i]), r)
     force = abs(complex(family.modal_force[i])) / abs(tip)
-    return NodalScene(e, nd, float(np.rad2deg(phi)), mode, motion, force)
+    residual = _path_residual(pick(family.platform_residual[i]), shift, unit)
+    return NodalScene(e, nd, float(np.rad2deg(phi)), mode, motion, force, residual)
+
+
+def _path_residual(c6, shift, unit) -> float:
+    """c (mrad per N mm): the platforms' residual flexibility c6 (6x6) seen by the damper along
+    its path, unit (mm, mm, mrad) per mrad of psi (module docstring)."""
+    d = np.concatenate([np.conj(shift) * np.eye(3), -np.eye(3)])  # (6, 3): the damper's load
+    c_rel = d.conj().T @ c6 @ d
+    x = np.asarray(unit) * np.array([MRAD_PER_RAD, MRAD_PER_RAD, 1.0])  # per rad, (mm, mm, rad)
+    return float(MRAD_PER_RAD * np.real(x.conj() @ c_rel @ x) / np.real(x.conj() @ x) ** 2)
 
 
 def family_from_blade_mode(mode: BladeMode, q_star_mm: float, h_c_mm: float = 0.0,

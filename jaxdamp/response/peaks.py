@@ -17,7 +17,7 @@ from ..params import check_param
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel, is_traced,
-                        path_cycle_kernel, path_damper)
+                        path_cycle_kernel, path_damper, through_residual, with_residual)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
            "SHARED_GRID_FACTOR", "Peaks", "peak_residual", "peak_frequency_hz", "peak_response",
@@ -313,7 +313,7 @@ PATH_REPEATS = 64
 
 
 def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
-               initial: str = "assembly", frf_points: int = 0):
+               initial: str = "assembly", frf_points: int = 0, residual=None):
     """(the damper on the path, its peaks at force_n (1-D), and with frf_points > 0 the damped
     FRFs' (amplitudes, k_re, k_im), (n_f, frf_points) each): `path_damper` (values only: while
     loops) and `peak_response`; then one batch of steady cycles at every root (the peaks'
@@ -321,9 +321,13 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     use. The cycle at each peak overrides a valid peak's status where it says more: a pad that
     opens there on a straight path (liftoff), a damper unseated on an ellipse, a cycle that does
     not settle (the grid may miss these), or a damper that sticks there (shakedown: no
-    dissipation). Unchecked, traceable (jit, vmap)."""
+    dissipation). residual: the path's residual flexibility c (mrad per N mm, `modes`; None: the
+    program without it): the damper in series with it (`with_residual`), its peaks' psi_a_mrad
+    the damper's own amplitude. Unchecked, traceable (jit, vmap)."""
     damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
                          repeats=PATH_REPEATS)
+    if residual is not None:
+        damper = with_residual(damper, residual)
     forces = jnp.asarray(force_n, float)
     peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
     roots = peaks.roots_mm  # (n_f, MAX_ROOTS), 0 where absent
@@ -333,8 +337,17 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
             _frf_tops(mode, forces, peaks))
         amplitudes.append(grids)
     flat = jnp.concatenate([a.reshape(-1) for a in amplitudes])
-    k_re, k_im, status = jax.vmap(lambda a: path_cycle_kernel(
-        shape, mu, contacts, load, a, motion, initial, PATH_LOOP, PATH_REPEATS))(mode.r * flat)
+
+    def cycles(psi):
+        return jax.vmap(lambda a: path_cycle_kernel(
+            shape, mu, contacts, load, a, motion, initial, PATH_LOOP, PATH_REPEATS))(psi)
+
+    if residual is None:
+        k_re, k_im, status = cycles(mode.r * flat)
+    else:
+        k_re, k_im, status, psi_d = through_residual(cycles, mode.r * flat, residual)
+        peaks = peaks._replace(psi_a_mrad=jnp.where(
+            peaks.psi_a_mrad > 0, psi_d[:roots.size].reshape(roots.shape)[:, 0], 0.0))
     n = roots.size
     at_roots = damper._replace(k_of_psi=lambda _: (k_re[:n].reshape(roots.shape),
                                                    k_im[:n].reshape(roots.shape)))

@@ -41,6 +41,8 @@ class RowResponse(NamedTuple):
     tip_force_n: (m, n_f) the tip force of each excitation. worst: (n_f,) index of the engine
     order with the largest valid damped peak (-1 where none is valid). elliptic: (m,) whether the
     damper's path is an ellipse (else straight). initial: the contact history.
+    residual_mrad_per_nmm: (m,) the path's residual flexibility c (`modes`; 0 where the family
+    has no platform_residual): where non-zero, psi_a_mrad is the damper's own amplitude.
     """
 
     engine_order: np.ndarray
@@ -55,6 +57,7 @@ class RowResponse(NamedTuple):
     elliptic: np.ndarray
     initial: str
     status: np.ndarray
+    residual_mrad_per_nmm: np.ndarray
 
     def __repr__(self):
         w = int(np.asarray(self.worst).reshape(-1)[0])
@@ -87,16 +90,19 @@ def engine_orders_of(text: str, n_blades: int) -> list[int]:
 
 
 @functools.cache
-def row_program(initial: str = "assembly"):
+def row_program(initial: str = "assembly", residual: bool = False):
     """One compiled program per contact history: (shape, mu, contacts, load, modes, motions,
     tip_forces (m, n_f)) -> Peaks with fields (m, n_f), vmapped over the m engine orders (modes
     and motions stacked; all straight or all elliptic: the path's kind is the pytree's
-    structure, so each kind compiles once)."""
-    def run(shape, mu, contacts, load, modes, motions, tip_forces):
-        def one(mode, motion, forces):
-            return path_peaks(shape, mu, contacts, load, mode, motion, forces, initial)[1]
+    structure, so each kind compiles once). residual: the program takes one more argument, the
+    paths' residual flexibilities (m,) (mrad per N mm, `modes`), and puts the damper in series
+    with them; a family without platform_residual runs the program without."""
+    def run(shape, mu, contacts, load, modes, motions, tip_forces, *residuals):
+        def one(mode, motion, forces, *c):
+            return path_peaks(shape, mu, contacts, load, mode, motion, forces, initial,
+                              residual=c[0] if c else None)[1]
 
-        return jax.vmap(one)(modes, motions, tip_forces)
+        return jax.vmap(one)(modes, motions, tip_forces, *residuals)
 
     return batch_jit(run)
 
@@ -132,7 +138,8 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
     elliptic = np.array([not s.straight for s in scenes])
     tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
-    program = row_program(initial)
+    residual = np.array([s.residual_mrad_per_nmm for s in scenes])
+    program = row_program(initial, bool(np.any(residual != 0)))
     runner = runner or (lambda prog, args: prog(*args))
     n_f = padded_size(forces.size, FORCE_BUCKET)
     rows = [None] * len(orders)
@@ -147,9 +154,10 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
         modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
                               for f in BladeMode._fields))
         tips = tip[take][:, np.minimum(np.arange(n_f), forces.size - 1)]
+        extra = (jnp.asarray(residual[take]),) if np.any(residual != 0) else ()
         got = jax.device_get(runner(program, (shape, mu, contacts, load, modes_k,
                                               _stack([s.motion for s in part]),
-                                              jnp.asarray(tips))))
+                                              jnp.asarray(tips), *extra)))
         for j, i in enumerate(idx):
             rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j, :forces.size], got)
     peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
@@ -161,5 +169,5 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     return RowResponse(np.array(orders), np.array([s.nodal_diameter for s in scenes]),
                        np.array([s.ibpa_deg for s in scenes]),
                        np.array([s.mode.f0_hz for s in scenes]), forces, tip, peaks, free, worst,
-                       elliptic, initial, np.asarray(peaks.status))
+                       elliptic, initial, np.asarray(peaks.status), residual)
 
