@@ -42,10 +42,13 @@ def paper():
     return paper_tables()
 
 
-# The heaviest test files of the default tier first (worker-seconds of the run of 2026-11-25,
-# docs/performance.md): with `--dist loadfile` (scripts/test.sh) a worker takes a whole file at a
-# time, so a long file scheduled last would leave the other worker idle; longest first, the two
-# finish together (`--full` runs in the same order).
+# The heaviest test files of the default tier first (worker-seconds of the run of 2026-11-25).
+# What this order decides under `--dist loadfile` is small: pytest-xdist hands the files out by
+# their number of tests (its --loadscope-reorder default), so this order only breaks its ties. Its
+# own order, tried with --no-loadscope-reorder and the files sorted by measured worker-seconds
+# (2026-11-27), ran the default tier in 10 min 32 s against 10 min 17 s: a file's cost depends on
+# which programs its worker has compiled for earlier files (the same tests took 1212 instead of
+# 1135 worker-seconds), so balancing files by their cost alone does not pay.
 HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
                "test_calibration.py", "test_timemarch.py", "test_docs.py", "test_batch.py",
                "test_study.py", "test_cli_exported.py", "test_response.py", "test_uncertainty.py",
