@@ -104,3 +104,29 @@ def test_row_json_table_and_figure(capsys, tmp_path, modes_file):
     code, text, _ = run(capsys, *argv)
     assert code == 0 and "worst at F = 20 N: engine order" in text
     assert json.dumps(d)  # plain JSON
+
+
+@pytest.mark.slow  # the straight row program with the residual, about 1.5 min to build
+def test_a_residual_file_gives_the_row_response_of_its_family(capsys, tmp_path):
+    """A modal file with platform_residual (the lumped disk's, six blades): the command reads it
+    and reports the reduction with the residual, as `row_response` on the same family, and the
+    path's residual flexibility per engine order."""
+    import jaxdamp as jd
+    from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family
+
+    family = modal_family(LumpedDisk(n_blades=6), 100.0, 20.0, residual=True)
+    path = save_modal_family(family, tmp_path / "disk.json")
+    code, out, _ = run(capsys, "response", "--shape", "60sym", "--mu", "0.5", "--modes",
+                       str(path), "--h-l", "10", "--engine-order", "0,3", "--force-n", "2,20",
+                       "--json")
+    assert code == 0
+    rows = strict_json(out)["engine_orders"]
+    row = jd.row_response(jd.family_shape("60sym"), 0.5, modes=family, engine_orders=[0, 3],
+                          force_n=[2.0, 20.0], h_l_mm=10.0)
+    got = np.array([[p["peak_amplitude_mm"] for p in r["forces"]] for r in rows])
+    assert_tree_allclose(got, np.asarray(row.peaks.peak_amplitude_mm), rtol=1e-12, atol=0.0)
+    c = [jd.nodal_scene(jd.validate_family(family), e, 100.0, 10.0).residual_mrad_per_nmm
+         for e in (0, 3)]
+    assert_tree_allclose(np.array([r["residual_mrad_per_nmm"] for r in rows]), np.array(c),
+                         rtol=1e-12, atol=0.0)
+    assert min(c) > 0
