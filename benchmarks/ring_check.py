@@ -59,8 +59,9 @@ SHAPE = jd.family_shape("60sym")
 # Tip forces per nodal diameter (N). Microslip: the reduction's damper microslips at its peak
 # (status ok, not shakedown; the peak 0.43, 0.38, 0.55 and 0.76 of the free one), and its steady
 # cycle depends on the history. History-free: the cycles from assembly and from gross slip agree
-# at the peak (to 1e-15; measured 2026-11-27), below the forces where the ring from rest lands on
-# the lower branch of a softening peak (nodal diameter 0 at 40 N: 14 % under the upper one). Off
+# at the peak (to 1e-11 or better; measured 2026-11-27); not higher: at nodal diameter 0 and 40 N
+# a first try found the ring from rest 14 % below the first harmonic (likely the lower branch of
+# the strongly softening peak; not pursued). Off
 # nodal diameter 0 the neighbouring platforms move more and more together radially (at N/2 only
 # their relative rotation and gap change reach the damper), so that slipping takes a larger tip
 # motion.
