@@ -139,7 +139,8 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     elliptic = np.array([not s.straight for s in scenes])
     tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
     residual = np.array([s.residual_mrad_per_nmm for s in scenes])
-    program = row_program(initial, bool(np.any(residual != 0)))
+    flexible = bool(np.any(residual != 0))  # else the program without the residual
+    program = row_program(initial, flexible)
     runner = runner or (lambda prog, args: prog(*args))
     n_f = padded_size(forces.size, FORCE_BUCKET)
     rows = [None] * len(orders)
@@ -154,7 +155,7 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
         modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
                               for f in BladeMode._fields))
         tips = tip[take][:, np.minimum(np.arange(n_f), forces.size - 1)]
-        extra = (jnp.asarray(residual[take]),) if np.any(residual != 0) else ()
+        extra = (jnp.asarray(residual[take]),) if flexible else ()
         got = jax.device_get(runner(program, (shape, mu, contacts, load, modes_k,
                                               _stack([s.motion for s in part]),
                                               jnp.asarray(tips), *extra)))
