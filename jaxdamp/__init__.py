@@ -22,7 +22,7 @@ Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
   `peak_response`, `peak_band`, `frf`, `designer_diagram`; on a platform path (`Motion`):
   `path_response_curves`; across a blade row from modal data:
-  `ModalFamily`, `nodal_scene`, `row_response` (files: `jaxdamp.modal_file`).
+  `ModalFamily`, `nodal_scene`, `row_response`, `row_band` (files: `jaxdamp.modal_file`).
 - Measured loops: `fit_loops` (mu, kn, kt with intervals from moment or contact loops).
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
 
@@ -173,6 +173,8 @@ from .response import validate_family as validate_family
 from .response import nodal_scene as nodal_scene
 from .response import RowResponse as RowResponse
 from .response import row_response as row_response
+from .response import row_band as row_band
+from .response import RowBand as RowBand
 from .response import engine_orders_of as engine_orders_of
 from .response import path_damper as path_damper
 from .response import path_cycle_kernel as path_cycle_kernel
@@ -229,7 +231,7 @@ __all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometr
            "design_peaks", "peak_band", "ResponseCurves", "response_curves", "path_response_curves",
            "DesignerDiagram",
            "ModalFamily", "NodalScene", "validate_family", "nodal_scene", "RowResponse",
-           "row_response", "engine_orders_of", "path_damper", "path_cycle_kernel", "prepare_scene",
+           "row_response", "row_band", "RowBand", "engine_orders_of", "path_damper", "path_cycle_kernel", "prepare_scene",
            "designer_diagram", "DIAGRAM_MUS", "Uncertainty", "Scenarios", "PeakDistribution",
            "sample_scenarios", "peak_distribution", "magnification_kernel", "LoopFit", "fit_loops",
            "fit_problem", "sample_loop"]

@@ -35,9 +35,11 @@ import numpy as np
 from ._validate import check_int, check_range
 from .linalg import solve3
 from .amplitude import amplitude_kernel
+from .ellipse import elliptic_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic, row_subsets
+from .residual import through_residual
 from .runtime import padded_size
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
@@ -121,10 +123,27 @@ def recession_rays(G, tol=1e-12):
     return jnp.where(ok[:, None], R, 0.0), ok
 
 
-def _k_of_state(shape, mu, contacts, load, psi, T, P, n0):
+def _k_of_state(shape, mu, contacts, load, psi, T, P, n0, motion=None, residual=None):
+    """(k_re, k_im, status) of the steady cycle from the state T (N = P T + n0) at the path's
+    forward extreme: the in-phase path (motion None), a straight Motion, or an ellipse's X(0) =
+    a X_r (`ellipse.elliptic_kernel`). On a platform path values only (while loops trace faster).
+    residual: the path's residual flexibility c (mrad per N mm): the state's damper in series
+    with it at the path amplitude psi (`jaxdamp.residual.through_residual`; its own amplitude is
+    smaller), as the mode sees it."""
     N = P @ T + n0
-    ac = amplitude_kernel(shape, mu, contacts, load, psi, N, T, initial="explicit")
-    return ac.k_re, ac.k_im, ac.status
+
+    def cycle(a):
+        if motion is None:
+            c = amplitude_kernel(shape, mu, contacts, load, a, N, T, initial="explicit")
+        elif motion.quadrature is None:
+            c = amplitude_kernel(shape, mu, contacts, load, a, N, T, initial="explicit",
+                                 motion=motion, loop="while")
+        else:
+            c = elliptic_kernel(shape, mu, contacts, load, a, motion, N, T, initial="explicit",
+                                loop="while")
+        return c.k_re, c.k_im, c.status
+
+    return cycle(psi) if residual is None else through_residual(cycle, psi, residual)[:3]
 
 
 def _extent(X, mask):
@@ -152,7 +171,7 @@ def _uniform_states(key, V, ok, G, h, n):
     return jnp.where(inside[first][:, None], X[first], centre[None, :])
 
 
-def _sample(shape, mu, contacts, load, psi, key, n_samples):
+def _sample(shape, mu, contacts, load, psi, key, n_samples, motion=None, residual=None):
     P, n0, G, h = admissible_polytope(shape, mu)
     V, ok = polytope_vertices(G, h)
     order = jnp.argsort(~ok, stable=True)[:VERTEX_SLOTS]
@@ -181,7 +200,8 @@ def _sample(shape, mu, contacts, load, psi, key, n_samples):
     far = jnp.where(jnp.any(ray_ok), uniform[jnp.arange(rest) % half] + dist * ray, sparse(k5, rest))
     T = jnp.concatenate([Vm, uniform, sparse(k2, quarter), far])
     valid_point = jnp.concatenate([ok, jnp.full(n_samples, jnp.any(ok))])
-    k_re, k_im, status = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0))(T)
+    k_re, k_im, status = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0,
+                                                        motion, residual))(T)
     status = jnp.where(valid_point, status, jnp.int32(RESULTS.singular))
     return T, P @ T.T + n0[:, None], k_re, k_im, status, valid_point
 
@@ -304,14 +324,27 @@ class BandKernel(NamedTuple):
 
 
 def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
-                steps: int = 6, starts: int = 2) -> BandKernel:
+                steps: int = 6, starts: int = 2, motion=None, residual=None) -> BandKernel:
     """The band at psi (mrad), pure JAX (jit / vmap over amplitudes or designs; values only).
 
     The polytope's vertices and n_samples random admissible states are run as cycles; the `starts`
     best samples of each bound then start `steps` trust-region steps (`_trust_region`, 0: none);
-    each bound's final state is re-run by the plain cycle (`amplitude_kernel`, loop "auto") to
-    confirm it."""
-    T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples)
+    each bound's final state is then re-run by the plain cycle (`amplitude_kernel`, loop "auto")
+    to confirm it (with steps 0 the bounds are the samples' cycles themselves).
+
+    motion: a platform path (`jaxdamp.motion.Motion`, straight or elliptic; None: the paper's
+    in-phase motion) for the curved-flat damper. The admissible states are the same on every path
+    (the damper's equilibrium with F_D does not depend on where the platforms are); on a path the
+    state is the one at X(0) = a X_r and the band is the samples' (steps must be 0: the
+    trust-region model is the in-phase cycle's closed-form first harmonic). residual: a path's
+    residual flexibility c (mrad per N mm, `jaxdamp.response.modes`): every state's damper in
+    series with it at the path amplitude psi (`_k_of_state`), the band of what the mode sees
+    (steps 0 too)."""
+    if (motion is not None or residual is not None) and steps > 0:
+        raise ValueError("steps must be 0 with a motion or a residual: the trust-region refinement "
+                         "runs on the in-phase path only")
+    T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples, motion,
+                                             residual)
     valid = RESULTS.valid(status)
     values = jnp.stack([k_re, k_re, k_im, k_im])  # (4, samples)
     signs, which = jnp.asarray(SIGNS), jnp.asarray(WHICH)
@@ -348,11 +381,15 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         refined = jnp.zeros(4, bool)
         T_at = T_best
     P, n0, _, _ = admissible_polytope(shape, mu)
-    k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0))(
-        T_at)
-    bounds = jnp.where(which == 0, k_re_c, k_im_c)
-    claimed = jnp.where(refined, bound, sampled) if steps > 0 else sampled
-    confirmed = RESULTS.valid(st_c) & (jnp.abs(bounds - claimed) <= CONFIRM_TOL * scale)
+    if steps > 0:
+        k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P,
+                                                              n0, motion, residual))(T_at)
+        bounds = jnp.where(which == 0, k_re_c, k_im_c)
+        claimed = jnp.where(refined, bound, sampled)
+        confirmed = RESULTS.valid(st_c) & (jnp.abs(bounds - claimed) <= CONFIRM_TOL * scale)
+    else:
+        # the samples' own cycles: a re-run would be the same computation in the same program
+        bounds, confirmed = sampled, jnp.ones(4, bool)
     # no valid cycle: the problem of the first real state (not a degenerate vertex slot); the
     # polytope has no vertex at all where the statics are singular
     first_bad = status[jnp.argmax(real)]

@@ -28,7 +28,7 @@ CHECKED = {
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
-    "validate_family", "nodal_scene", "row_response", "prepare_scene", "engine_orders_of",
+    "validate_family", "nodal_scene", "row_response", "row_band", "prepare_scene", "engine_orders_of",
     "path_response_curves", "path_base_cycle",
     # jaxdamp.baselines
     "hbm_aft", "hbm_aft_path", "regularized_aft", "time_march", "march_ellipse", "modal_family",

@@ -25,7 +25,8 @@ from .stiffness import PATH_HISTORIES
 ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power of two, at least 4
 FORCE_BUCKET = 4
 
-__all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of"]
+__all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
+           "prepare_row"]
 
 
 class RowResponse(NamedTuple):
@@ -111,6 +112,57 @@ def _stack(trees):
     return jax.tree_util.tree_map(lambda *v: jnp.stack([jnp.asarray(x, float) for x in v]), *trees)
 
 
+def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=None,
+                     buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, 1)) -> list:
+    """Run a row program on the engine orders of each path kind (straight, elliptic) as one
+    batch: program(*design, modes, motions, tip forces (m, n_f), *extra[, residuals (m,)]) with
+    the engine orders and the forces padded (repeating the last) to `runtime.padded_size(n,
+    minimum, steps per octave)` with buckets = (the orders' minimum, the forces' minimum, steps
+    per octave: 1, powers of two); residuals only where any is non-zero (else the program without
+    them).
+    runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
+    its batch's host outputs (force axes still padded), in scenes' order."""
+    runner = runner or (lambda prog, args: prog(*args))
+    n_f = padded_size(tip.shape[1], buckets[1], buckets[2])
+    tip = tip[:, np.minimum(np.arange(n_f), tip.shape[1] - 1)]
+    flexible = bool(np.any(residual != 0))
+    elliptic = np.array([not s.straight for s in scenes])
+    rows = [None] * len(scenes)
+    for kind in (False, True):
+        idx = np.flatnonzero(elliptic == kind)
+        if not idx.size:
+            continue
+        # Padding repeats the last engine order: its numbers are dropped below.
+        take = np.concatenate([idx, np.full(padded_size(idx.size, buckets[0], buckets[2])
+                                            - idx.size, idx[-1])])
+        part = [scenes[i] for i in take]
+        modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
+                              for f in BladeMode._fields))
+        residuals = (jnp.asarray(residual[take]),) if flexible else ()
+        got = jax.device_get(runner(program, (*design, modes_k, _stack([s.motion for s in part]),
+                                              jnp.asarray(tip[take]), *extra, *residuals)))
+        for j, i in enumerate(idx):
+            rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j], got)
+    return rows
+
+
+def prepare_row(shape, mu, contacts, load, modes: ModalFamily, engine_orders, force_n, h_l_mm):
+    """Every check of a row's inputs, before any work: ((shape, mu, contacts, load) prepared,
+    forces (n_f,), engine orders (list), their NodalScenes, tip forces (m, n_f), residual
+    flexibilities (m,)). ValueError naming the parameter and its range."""
+    shape, mu, contacts, load, _ = prepare_scene(shape, mu, contacts, load, BladeMode())
+    forces = np.asarray(force_n, float).reshape(-1)
+    check_param("force_n", forces)
+    check_param("h_l", h_l_mm)
+    orders = [int(e) for e in np.asarray(engine_orders).reshape(-1)]
+    if not orders:
+        raise ValueError("engine_orders must hold at least one integer >= 0")
+    scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
+    tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
+    residual = np.array([s.residual_mrad_per_nmm for s in scenes])
+    return (shape, mu, contacts, load), forces, orders, scenes, tip, residual
+
+
 def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily, engine_orders,
                  force_n=(1.0,), h_l_mm: float, initial: str = "assembly",
                  runner=None) -> RowResponse:
@@ -128,39 +180,12 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     saves it traced, `cli.exported`)."""
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
-    shape, mu, contacts, load, _ = prepare_scene(shape, mu, contacts, load, BladeMode())
-    forces = np.asarray(force_n, float).reshape(-1)
-    check_param("force_n", forces)
-    check_param("h_l", h_l_mm)
-    orders = [int(e) for e in np.asarray(engine_orders).reshape(-1)]
-    if not orders:
-        raise ValueError("engine_orders must hold at least one integer >= 0")
-    scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
+    (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepare_row(
+        shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
     elliptic = np.array([not s.straight for s in scenes])
-    tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
-    residual = np.array([s.residual_mrad_per_nmm for s in scenes])
-    flexible = bool(np.any(residual != 0))  # else the program without the residual
-    program = row_program(initial, flexible)
-    runner = runner or (lambda prog, args: prog(*args))
-    n_f = padded_size(forces.size, FORCE_BUCKET)
-    rows = [None] * len(orders)
-    for kind in (False, True):
-        idx = np.flatnonzero(elliptic == kind)
-        if not idx.size:
-            continue
-        # Padding repeats the last engine order (and force): its numbers are dropped below.
-        take = np.concatenate([idx, np.full(padded_size(idx.size, ENGINE_ORDER_BUCKET) - idx.size,
-                                            idx[-1])])
-        part = [scenes[i] for i in take]
-        modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
-                              for f in BladeMode._fields))
-        tips = tip[take][:, np.minimum(np.arange(n_f), forces.size - 1)]
-        extra = (jnp.asarray(residual[take]),) if flexible else ()
-        got = jax.device_get(runner(program, (shape, mu, contacts, load, modes_k,
-                                              _stack([s.motion for s in part]),
-                                              jnp.asarray(tips), *extra)))
-        for j, i in enumerate(idx):
-            rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j, :forces.size], got)
+    program = row_program(initial, bool(np.any(residual != 0)))
+    rows = [jax.tree_util.tree_map(lambda v: v[:forces.size], r) for r in run_by_path_kind(
+        program, (shape, mu, contacts, load), scenes, tip, residual, runner=runner)]
     peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
     eta_kb = np.array([s.mode.eta * s.mode.k_b for s in scenes])[:, None]
     free = np.where(eta_kb > 0, tip / np.where(eta_kb > 0, eta_kb, 1.0), np.inf)

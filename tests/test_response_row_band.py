@@ -1,0 +1,122 @@
+"""The band over contact histories on a platform path and across a blade row (`band_kernel` with a
+motion, `jaxdamp.row_band`): every history's cycle and peak lies inside it, its bounds are the
+cycles of admissible states that the public elliptic cycle reproduces, on the in-phase path it is
+the in-phase band's samples, and past gross slip (where every history gives the same cycle) it
+closes to its bracket's resolution."""
+
+import jax
+import jax.numpy as jnp
+import numpy as np
+import pytest
+
+import jaxdamp as jd
+from helpers import assert_tree_allclose
+from jaxdamp.band import band_kernel
+from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family
+from jaxdamp.modal_file import load_modal_family
+from jaxdamp.response.modes import nodal_scene
+from jaxdamp.response.row_band import BISECTIONS, TABLE_DECADES, TABLE_POINTS
+
+SHAPE, MU = jd.family_shape("60sym"), 0.5
+LOAD = jd.LoadCase()
+KEY = jax.random.PRNGKey(0)
+H_L = 10.0
+# the table's step, halved BISECTIONS times in log A: the bracket's relative width
+RESOLUTION = 10.0 ** (TABLE_DECADES / (TABLE_POINTS - 1) / 2 ** BISECTIONS) - 1.0
+
+
+def _path(engine_order):
+    return nodal_scene(load_modal_family("example"), engine_order, LOAD.q_star, H_L)
+
+
+def test_bad_arguments_are_refused_before_any_work():
+    fam = load_modal_family("example")
+    with pytest.raises(ValueError) as e:
+        jd.row_band(SHAPE, MU, modes=fam, engine_orders=[3], force_n=[5.0], h_l_mm=H_L,
+                    n_samples=1)
+    assert "n_samples must be" in str(e.value) and "\n" not in str(e.value)
+    undamped = fam._replace(loss_factor=np.where(fam.nodal_diameter == 3, 0.0, fam.loss_factor))
+    with pytest.raises(ValueError, match="loss_factor must be > 0 at nodal diameter 3"):
+        jd.row_band(SHAPE, MU, modes=undamped, engine_orders=[3], force_n=[5.0], h_l_mm=H_L)
+    with pytest.raises(ValueError, match="steps must be 0 with a motion"):
+        band_kernel(SHAPE, MU, jd.Contacts(), LOAD, 1.0, KEY, motion=_path(3).motion)
+
+
+def test_elliptic_band_holds_both_histories_and_its_states_reproduce_its_bounds():
+    """ND 3 of the example disk (an ellipse), at an amplitude in the microslip range where the
+    band is open: the assembly and gross-slip cycles (the public `elliptic_cycle`) lie inside the
+    band, and each bound's initial state, run by `elliptic_cycle(initial=(N, T))` (checked
+    admissible there), gives that bound."""
+    motion = _path(3).motion
+    psi = 8.0
+    band = jax.jit(lambda p: band_kernel(SHAPE, MU, jd.Contacts(), LOAD, p, KEY, n_samples=16,
+                                         steps=0, motion=motion))(psi)
+    lo_re, hi_re, lo_im, hi_im = np.asarray(band.bounds)
+    assert int(band.status) == 0 and hi_im > lo_im + 10.0  # open: 0 ... 25 N mm/mrad
+    for initial in ("assembly", "gross_slip"):
+        ec = jd.elliptic_cycle(SHAPE, MU, psi, motion, initial=initial)
+        assert int(ec.status) == 0
+        assert lo_im <= float(ec.k_im) <= hi_im and lo_re <= float(ec.k_re) <= hi_re
+    for i, bound in enumerate(np.asarray(band.bounds)):
+        ec = jd.elliptic_cycle(SHAPE, MU, psi, motion, initial=(np.asarray(band.N[i]),
+                                                               np.asarray(band.T[i])))
+        value = float(ec.k_re) if i < 2 else float(ec.k_im)
+        assert abs(value - bound) <= 1e-9 * abs(hi_re)
+
+
+@pytest.mark.slow  # about 60 worker-s (2026-11-27)
+def test_band_on_the_in_phase_motion_is_the_in_phase_bands_samples():
+    """The in-phase path given as a straight Motion (the path engine's explicit start) gives the
+    in-phase band's samples (`band_kernel` without a motion, no refinement)."""
+    motion = jd.in_phase_motion(LOAD.q_star)
+    psi = jnp.array([0.6, 1.2, 4.0])
+    run = jax.jit(jax.vmap(lambda p, m: band_kernel(SHAPE, MU, jd.Contacts(), LOAD, p, KEY,
+                                                    n_samples=32, steps=0, motion=m),
+                           in_axes=(0, None)))
+    on_path = run(psi, motion)
+    in_phase = jax.jit(jax.vmap(lambda p: band_kernel(SHAPE, MU, jd.Contacts(), LOAD, p, KEY,
+                                                      n_samples=32, steps=0)))(psi)
+    assert np.all(np.asarray(in_phase.status) == 0)
+    assert_tree_allclose(on_path.bounds, in_phase.bounds, rtol=1e-9, atol=1e-6)
+    np.testing.assert_array_equal(on_path.n_valid, in_phase.n_valid)
+
+
+def _histories_inside(band, rows):
+    for row in rows:
+        amp = row.peaks.peak_amplitude_mm
+        assert np.all(np.asarray(row.status) == 0)
+        assert np.all(band.peak_min_mm <= amp) and np.all(amp <= band.peak_max_mm), (
+            band.peak_min_mm, amp, band.peak_max_mm)
+
+
+@pytest.mark.slow  # about 6 worker-min (2026-11-27): two row band programs, four row programs
+def test_row_band_holds_every_history_and_closes_past_gross_slip():
+    """The example disk, 60sym mu 0.5, a straight (ND 0) and an elliptic (ND 3) path: both
+    histories' peaks (`row_response`) lie inside the band at 2, 5 and 20 N; the band is open in
+    microslip (2 N) and at 20 N, past gross slip, where every admissible state settles on the same
+    cycle, it is no wider than its brackets."""
+    fam = load_modal_family("example")
+    kw = dict(modes=fam, engine_orders=[0, 3], force_n=[2.0, 5.0, 20.0], h_l_mm=H_L)
+    band = jd.row_band(SHAPE, MU, **kw)
+    assert np.all(band.status == 0)
+    assert_tree_allclose(band.resolution, np.full(band.resolution.shape, RESOLUTION), rtol=1e-9,
+                         atol=0.0)
+    _histories_inside(band, [jd.row_response(SHAPE, MU, initial=h, **kw)
+                             for h in ("assembly", "gross_slip")])
+    width = band.peak_max_mm / band.peak_min_mm - 1.0
+    assert np.all(width[:, 0] > 0.3)  # 2 N: the histories differ by 10 %, the band by 50 %
+    assert np.all(width[:, 2] <= 2.0 * RESOLUTION + 1e-12)
+
+
+@pytest.mark.slow  # about 4 worker-min (2026-11-27): every state's cycle runs to its fixed point
+def test_row_band_with_residual_flexibility_holds_every_history():
+    """A family with platform_residual: each admissible state's damper in series with it; the
+    histories' peaks with the residual (`row_response`) lie inside the band, at nodal diameter 0
+    of the lumped disk, where the residual matters most."""
+    disk = LumpedDisk(n_blades=6)
+    family = jd.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+    kw = dict(modes=family, engine_orders=[0], force_n=[2.0, 20.0], h_l_mm=H_L)
+    band = jd.row_band(SHAPE, MU, n_samples=8, **kw)
+    assert np.all(band.status == 0)
+    _histories_inside(band, [jd.row_response(SHAPE, MU, initial=h, **kw)
+                             for h in ("assembly", "gross_slip")])
