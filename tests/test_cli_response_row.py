@@ -33,7 +33,6 @@ def modes_file(tmp_path):
 
 
 @pytest.mark.parametrize("extra, needle", [
-    (["--band"], "--band is not available with --modes"),
     (["--diagram"], "--diagram is not available with --modes"),
     (["--stiffness", "interpolated"], "--stiffness interpolated"),
     (["--f0-hz", "400"], "--f0-hz describes the one-mode blade"),
@@ -64,6 +63,18 @@ def test_engine_order_of_a_missing_nodal_diameter(capsys, tmp_path):
     assert code == 2
     assert "--engine-order 9 excites nodal diameter 1 (n_blades 8), which the modal family lacks" \
         in one_error_line(err)
+
+
+def test_band_needs_a_loss_factor_at_every_excited_nodal_diameter(capsys, tmp_path, modes_file):
+    """Refused in one line before any program runs: the band's table ends at the free peak."""
+    fam = json.loads(Path(modes_file).read_text())
+    fam["loss_factor"] = [0.0] * len(fam["loss_factor"])
+    path = tmp_path / "undamped.json"
+    path.write_text(json.dumps(fam))
+    code, out, err = run(capsys, "response", "--shape", "60sym", "--modes", str(path), "--h-l",
+                         "30", "--engine-order", "1", "--band")
+    assert code == 2 and out == ""
+    assert "loss_factor must be > 0 at nodal diameter 1 for the band" in one_error_line(err)
 
 
 def test_plot_dir_checked_before_the_modes_file(capsys, tmp_path):
@@ -104,6 +115,37 @@ def test_row_json_table_and_figure(capsys, tmp_path, modes_file):
     code, text, _ = run(capsys, *argv)
     assert code == 0 and "worst at F = 20 N: engine order" in text
     assert json.dumps(d)  # plain JSON
+
+
+@pytest.mark.slow  # the elliptic row and row band programs, about 3 min to build
+def test_row_band_json_table_and_figure(capsys, tmp_path):
+    """--band with --modes: per engine order and force the band's bounds (as `row_band` gives
+    them), which hold the history's peak, the worst engine order over every history, the band's
+    table lines and the shaded figure."""
+    import jaxdamp as jd
+    from jaxdamp.modal_file import load_modal_family
+
+    plots = tmp_path / "figs"
+    argv = ["response", "--shape", "60sym", "--mu", "0.5", "--modes", str(EXAMPLE), "--h-l", "10",
+            "--engine-order", "3,5", "--force-n", "2,20", "--band"]
+    code, out, _ = run(capsys, *argv, "--json", "--plot", str(plots))
+    assert code == 0
+    d = strict_json(out)
+    assert d["status"] == "ok" and d["inputs"]["band"] is True and d["inputs"]["band_samples"] == 64
+    band = jd.row_band(jd.family_shape("60sym"), 0.5, modes=load_modal_family(EXAMPLE),
+                       engine_orders=[3, 5], force_n=[2.0, 20.0], h_l_mm=10.0)
+    got = np.array([[[p["band"]["peak_amplitude_min_mm"], p["band"]["peak_amplitude_max_mm"]]
+                     for p in r["forces"]] for r in d["engine_orders"]])
+    assert_tree_allclose(got, np.stack([band.peak_min_mm, band.peak_max_mm], axis=-1), rtol=1e-12,
+                         atol=0.0)
+    amps = np.array([[p["peak_amplitude_mm"] for p in r["forces"]] for r in d["engine_orders"]])
+    assert np.all(got[..., 0] <= amps) and np.all(amps <= got[..., 1])
+    worst = [w["band"]["engine_order"] for w in d["worst"]]
+    assert worst == [[3, 5][int(np.argmax(band.peak_max_mm[:, j]))] for j in range(2)]
+    assert (plots / "row.png").stat().st_size > 0
+    code, text, _ = run(capsys, *argv)
+    assert code == 0 and "band over every admissible contact history" in text
+    assert "over every history: engine order" in text
 
 
 @pytest.mark.slow  # the straight row program with the residual, about 1.5 min to build

@@ -62,8 +62,9 @@ def register(sub) -> None:
                    help="contact history of the exact curve (default gross_slip; with --modes, "
                         "--ibpa or --motion assembly)")
     p.add_argument("--band", action="store_true",
-                   help="also the peak's bounds over every admissible contact history (the band "
-                        "of k(psi_a) tabulated on 24 amplitudes; about a minute)")
+                   help="also the peak's bounds over every admissible contact history (in-phase: "
+                        "the band of k(psi_a) tabulated on 24 amplitudes, about a minute; with "
+                        "--modes: per engine order, each peak bracketed, minutes)")
     p.add_argument("--diagram", action="store_true",
                    help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
     p.add_argument("--plot", metavar="DIR",

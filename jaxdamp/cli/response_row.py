@@ -10,8 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..response import BladeMode, row_response
+from ..response import BladeMode, row_band, row_response
 from ..response.row import engine_orders_of
+from ..response.row_band import check_band_family
 from ..status import RESULTS
 from . import common as C
 from . import exported
@@ -52,7 +53,7 @@ def check_row_args(args) -> None:
         if given is not None:
             raise C.CliError(f"{flag} gives one platform path; with --modes the modal file gives "
                              "each engine order's: drop it")
-    for flag, on in (("--band", args.band), ("--diagram", args.diagram),
+    for flag, on in (("--diagram", args.diagram),
                      ("--uncertainty", getattr(args, "uncertainty", False))):
         if on:
             raise C.CliError(f"{flag} is not available with --modes yet (one design's response "
@@ -70,7 +71,15 @@ def check_row_args(args) -> None:
                          "(0, 10000] mm")
 
 
-def _row_json(res) -> list:
+def _band_entry(band, i, j) -> dict:
+    ok = bool(RESULTS.valid(band.status[i, j]))
+    return {"peak_amplitude_min_mm": C.number(band.peak_min_mm[i, j]) if ok else None,
+            "peak_amplitude_max_mm": C.number(band.peak_max_mm[i, j]) if ok else None,
+            "resolution": C.number(float(np.max(band.resolution[i, j]))),
+            "status": RESULTS.name_of(band.status[i, j])}
+
+
+def _row_json(res, band=None) -> list:
     rows = []
     for i, e in enumerate(res.engine_order):
         per_force = []
@@ -87,6 +96,8 @@ def _row_json(res) -> list:
                 "peak_reduction": C.number(free / amp) if ok and amp > 0 and np.isfinite(free)
                 else None,
                 "status": RESULTS.name_of(res.status[i, j])})
+            if band is not None:
+                per_force[-1]["band"] = _band_entry(band, i, j)
         rows.append({"engine_order": int(e), "nodal_diameter": int(res.nodal_diameter[i]),
                      "ibpa_deg": C.number(res.ibpa_deg[i]),
                      "path": "elliptic" if res.elliptic[i] else "straight",
@@ -96,7 +107,7 @@ def _row_json(res) -> list:
     return rows
 
 
-def _worst_json(res) -> list:
+def _worst_json(res, band=None) -> list:
     out = []
     for j, force in enumerate(res.force_n):
         w = int(res.worst[j])
@@ -105,6 +116,13 @@ def _worst_json(res) -> list:
                     "nodal_diameter": int(res.nodal_diameter[w]) if w >= 0 else None,
                     "peak_amplitude_mm": C.number(res.peaks.peak_amplitude_mm[w, j])
                     if w >= 0 else None})
+        if band is not None:
+            valid = np.asarray(RESULTS.valid(band.status[:, j]))
+            b = int(np.argmax(np.where(valid, band.peak_max_mm[:, j], -np.inf))) if valid.any() else -1
+            out[-1]["band"] = {"engine_order": int(band.engine_order[b]) if b >= 0 else None,
+                               "nodal_diameter": int(band.nodal_diameter[b]) if b >= 0 else None,
+                               "peak_amplitude_max_mm": C.number(band.peak_max_mm[b, j])
+                               if b >= 0 else None}
     return out
 
 
@@ -125,11 +143,26 @@ def _text(args, res, family, rows, worst) -> str:
                          f"{fmt(p['peak_frequency_hz'], '10.3f')} "
                          f"{fmt(p['free_peak_amplitude_mm'], '11.5g')} "
                          f"{fmt(p['peak_reduction'], '8.3g')}  {p['status']}")
+    if args.band:
+        lines.append("  band over every admissible contact history (peak amplitude, mm):")
+        lines.append(f"  {'EO':>3} {'ND':>3} {'F, N':>7} {'A* min':>10} {'A* max':>10}  status")
+        for r in rows:
+            for p in r["forces"]:
+                b = p["band"]
+                lines.append(f"  {r['engine_order']:3d} {r['nodal_diameter']:3d} "
+                             f"{p['force_n']:7g} {fmt(b['peak_amplitude_min_mm'], '10.5g')} "
+                             f"{fmt(b['peak_amplitude_max_mm'], '10.5g')}  {b['status']}")
     for w in worst:
         lines.append(f"  worst at F = {w['force_n']:g} N: " + (
             f"engine order {w['engine_order']} (nodal diameter {w['nodal_diameter']}), A* = "
             f"{w['peak_amplitude_mm']:.5g} mm" if w["engine_order"] is not None
             else "no valid peak"))
+        b = w.get("band")
+        if b is not None:
+            lines.append("    over every history: " + (
+                f"engine order {b['engine_order']} (nodal diameter {b['nodal_diameter']}), A* up "
+                f"to {b['peak_amplitude_max_mm']:.5g} mm" if b["engine_order"] is not None
+                else "no valid band"))
     if args.plot:
         lines.append(f"  figure written to {args.plot}/row.png")
     return "\n".join(lines)
@@ -143,15 +176,25 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
     plot_dir = None if args.plot is None else C.check_output_dir("--plot", args.plot)
     family = load_modal_family(args.modes)
     orders = engine_orders_of(args.engine_order, family.n_blades)
-    bar = C.progress_bar(args, total=1, desc="peaks per engine order", unit="row")
-    res = row_response(scene.shape, scene.mu, scene.contacts, scene.load, modes=family,
-                       engine_orders=orders, force_n=forces, h_l_mm=args.h_l,
-                       initial=args.initial, runner=lambda prog, a: exported.call(
+    if args.band:
+        check_band_family(family, orders)
+    bar = C.progress_bar(args, total=1 + bool(args.band), desc="peaks per engine order",
+                         unit="stage")
+    design = (scene.shape, scene.mu, scene.contacts, scene.load)
+    res = row_response(*design, modes=family, engine_orders=orders, force_n=forces,
+                       h_l_mm=args.h_l, initial=args.initial, runner=lambda prog, a: exported.call(
                            "row_peaks", prog, a, args.initial))
     bar.update(1)
+    band = None
+    if args.band:
+        bar.set_description("band over histories")
+        band = row_band(*design, modes=family, engine_orders=orders, force_n=forces,
+                        h_l_mm=args.h_l, runner=lambda prog, a: exported.call("row_band", prog, a))
+        bar.update(1)
     bar.close()
-    rows, worst = _row_json(res), _worst_json(res)
+    rows, worst = _row_json(res, band), _worst_json(res, band)
     statuses = [RESULTS[p["status"]] for r in rows for p in r["forces"]]
+    statuses += [RESULTS[p["band"]["status"]] for r in rows for p in r["forces"] if "band" in p]
     # The document's status: a failure if any peak failed, else shakedown if the damper sticks at
     # some peak, else ok (codes are not ordered by severity).
     failed = [s for s in statuses if not RESULTS.valid(s)]
@@ -160,13 +203,15 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
         "inputs": {"shape": C.shape_echo(shape), "mu": args.mu, "contacts": C.contacts_echo(contacts),
                    "load": C.load_echo(load), "modes_file": str(args.modes),
                    "family": family.name, "n_blades": family.n_blades, "h_l_mm": args.h_l,
-                   "engine_orders": orders, "force_n": list(forces), "initial": res.initial},
+                   "engine_orders": orders, "force_n": list(forces), "initial": res.initial,
+                   "band": bool(args.band), "band_samples": None if band is None else band.n_samples},
         "engine_orders": rows, "worst": worst}, reason=C.status_reason(status, contacts, load))
     if plot_dir is not None:
         from ..plotting.response import row_figure
 
-        C.save_figure(row_figure(res, title=f"{family.name or 'blade row'}: peak response per "
-                                 f"engine order ({res.initial} history)"),
+        shaded = "; shaded: every history" if band is not None else ""
+        C.save_figure(row_figure(res, band=band, title=f"{family.name or 'blade row'}: peak "
+                                 f"response per engine order ({res.initial} history{shaded})"),
                       plot_dir / "row.png", dpi=120)
     C.emit(args, doc, _text(args, res, family, rows, worst))
     return 0

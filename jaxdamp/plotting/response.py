@@ -149,10 +149,11 @@ def harmonic_error_figure(forces_n, single, references, *, title=None):
 
 
 
-def row_figure(row, *, title=None):
+def row_figure(row, *, band=None, title=None):
     """The blade row at a glance (`jaxdamp.row_response`): peak tip amplitude (mm, log axis)
     against nodal diameter (left) and against engine order (right), with the damper (solid, one
     line per force) and without it (dashed), the worst engine order of each force circled.
+    band: a `jaxdamp.row_band` of the same row, shaded between its lowest and highest peak.
     Points whose status is not valid are left out."""
     import matplotlib.pyplot as plt
 
@@ -176,13 +177,19 @@ def row_figure(row, *, title=None):
             w = int(np.asarray(row.worst)[j])
             if w >= 0:
                 ax.plot(x[w], amp[w, j], "o", ms=11, mfc="none", mec=c)
+            if band is not None:
+                held = order[np.asarray(RESULTS.valid(band.status[order, j]))]
+                ax.fill_between(x[held], band.peak_min_mm[held, j], band.peak_max_mm[held, j],
+                                color=c, alpha=0.18, lw=0,
+                                label=f"F = {force:g} N, every contact history")
         ax.set_yscale("log")
         ax.set_xlabel(label)
         ax.grid(True, which="both", alpha=0.3)
     axes[0].set_ylabel("peak tip amplitude A*, mm")
     axes[1].legend(fontsize=7, loc="best")
-    fig.suptitle(title or f"Peak response across the row ({row.initial} history; circled: the worst "
-                 "engine order)", fontsize=10)
+    fig.suptitle(title or f"Peak response across the row ({row.initial} history"
+                 + ("; shaded: the band over every history" if band is not None else "")
+                 + "; circled: the worst engine order)", fontsize=10)
     fig.tight_layout()
     return fig
 
