@@ -118,7 +118,8 @@ def _worst_json(res, band=None) -> list:
                     if w >= 0 else None})
         if band is not None:
             valid = np.asarray(RESULTS.valid(band.status[:, j]))
-            b = int(np.argmax(np.where(valid, band.peak_max_mm[:, j], -np.inf))) if valid.any() else -1
+            b = (int(np.argmax(np.where(valid, band.peak_max_mm[:, j], -np.inf))) if valid.any()
+                 else -1)
             out[-1]["band"] = {"engine_order": int(band.engine_order[b]) if b >= 0 else None,
                                "nodal_diameter": int(band.nodal_diameter[b]) if b >= 0 else None,
                                "peak_amplitude_max_mm": C.number(band.peak_max_mm[b, j])
@@ -204,7 +205,8 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
                    "load": C.load_echo(load), "modes_file": str(args.modes),
                    "family": family.name, "n_blades": family.n_blades, "h_l_mm": args.h_l,
                    "engine_orders": orders, "force_n": list(forces), "initial": res.initial,
-                   "band": bool(args.band), "band_samples": None if band is None else band.n_samples},
+                   "band": bool(args.band),
+                   "band_samples": None if band is None else band.n_samples},
         "engine_orders": rows, "worst": worst}, reason=C.status_reason(status, contacts, load))
     if plot_dir is not None:
         from ..plotting.response import row_figure

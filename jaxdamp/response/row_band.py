@@ -31,11 +31,13 @@ from .modes import ModalFamily, excited_nodal_diameter
 from .row import prepare_row, run_by_path_kind
 from .stiffness import interpolated_damper
 
-__all__ = ["RowBand", "row_band", "row_band_program", "check_band_family", "TABLE_POINTS", "TABLE_DECADES", "BISECTIONS"]
+__all__ = ["RowBand", "row_band", "row_band_program", "check_band_family", "TABLE_POINTS",
+           "TABLE_DECADES", "BISECTIONS"]
 
 TABLE_POINTS = 24  # amplitudes of the band's table per engine order (log-spaced)
 TABLE_DECADES = 3.0  # the table spans [psi_free 10^-3, psi_free], psi_free = r F_max / (eta k_b)
 BISECTIONS = 6  # halvings of each root's bracket: a table step of 1.33 becomes 1.0045
+
 
 class RowBand(NamedTuple):
     """The peak's bounds over every admissible contact history, per engine order (leading axis
@@ -73,8 +75,8 @@ class RowBand(NamedTuple):
 def row_band_program(n_samples: int, residual: bool = False):
     """One compiled program per sample count: (shape, mu, contacts, load, modes, motions,
     tip_forces (m, n_f), key[, residuals (m,)]) -> (peak_max (m, n_f), peak_min, resolution
-    (m, n_f, 2), status (m, n_f), table (m, P), k_Im's band on it (m, P, 2)), vmapped over the m engine
-    orders of one path kind (each kind compiles once, as `row_program`)."""
+    (m, n_f, 2), status (m, n_f), table (m, P), k_Im's band on it (m, P, 2)), vmapped over the m
+    engine orders of one path kind (each kind compiles once, as `row_program`)."""
     def run(shape, mu, contacts, load, modes, motions, tip_forces, key, *residuals):
         design_status = interpolated_damper(shape, mu, contacts, load).status
 
@@ -121,6 +123,8 @@ def row_band_program(n_samples: int, residual: bool = False):
         return jax.vmap(one)(modes, motions, tip_forces, *residuals)
 
     return batch_jit(run)
+
+
 def check_band_family(modes: ModalFamily, engine_orders) -> None:
     """ValueError naming loss_factor where an engine order's nodal diameter has none: the band's
     table ends at the free peak F / (eta k_b). (A nodal diameter the family lacks is
