@@ -117,7 +117,7 @@ def test_row_json_table_and_figure(capsys, tmp_path, modes_file):
     assert json.dumps(d)  # plain JSON
 
 
-@pytest.mark.slow  # the elliptic row and row band programs, about 3 min to build
+@pytest.mark.slow  # the elliptic row and row band programs: 116 worker-s (2026-11-27)
 def test_row_band_json_table_and_figure(capsys, tmp_path):
     """--band with --modes: per engine order and force the band's bounds (as `row_band` gives
     them), which hold the history's peak, the worst engine order over every history, the band's

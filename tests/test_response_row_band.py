@@ -64,7 +64,7 @@ def test_elliptic_band_holds_both_histories_and_its_states_reproduce_its_bounds(
         assert abs(value - bound) <= 1e-9 * abs(hi_re)
 
 
-@pytest.mark.slow  # about 60 worker-s (2026-11-27)
+@pytest.mark.slow  # 37 worker-s (2026-11-27)
 def test_band_on_the_in_phase_motion_is_the_in_phase_bands_samples():
     """The in-phase path given as a straight Motion (the path engine's explicit start) gives the
     in-phase band's samples (`band_kernel` without a motion, no refinement)."""
@@ -89,7 +89,7 @@ def _histories_inside(band, rows):
             band.peak_min_mm, amp, band.peak_max_mm)
 
 
-@pytest.mark.slow  # about 6 worker-min (2026-11-27): two row band programs, four row programs
+@pytest.mark.slow  # 465 worker-s (2026-11-27): two row band programs, four row programs
 def test_row_band_holds_every_history_and_closes_past_gross_slip():
     """The example disk, 60sym mu 0.5, a straight (ND 0) and an elliptic (ND 3) path: both
     histories' peaks (`row_response`) lie inside the band at 2, 5 and 20 N; the band is open in
@@ -108,7 +108,8 @@ def test_row_band_holds_every_history_and_closes_past_gross_slip():
     assert np.all(width[:, 2] <= 2.0 * RESOLUTION + 1e-12)
 
 
-@pytest.mark.slow  # about 4 worker-min (2026-11-27): every state's cycle runs to its fixed point
+@pytest.mark.slow  # 832 worker-s with ND 0 and 2 and 16 samples (2026-11-27); now ND 0 and 8
+# samples, not timed since: every state's cycle runs to its own series fixed point
 def test_row_band_with_residual_flexibility_holds_every_history():
     """A family with platform_residual: each admissible state's damper in series with it; the
     histories' peaks with the residual (`row_response`) lie inside the band, at nodal diameter 0
