@@ -81,56 +81,78 @@ def peak_frequency_hz(damper: DamperStiffness, mode: BladeMode, amplitude_mm):
 ROOT_RTOL = 1e-13  # relative step (or bracket width) at which a root has converged
 
 
-def _bracketed_root(g, lo, hi, glo, ghi, steps):
-    """Root of g in [lo, hi] from g(lo) = glo, g(hi) = ghi of opposite signs: the Illinois
-    variant of regula falsi (superlinear, the bracket is kept), at most `steps` evaluations,
-    stopping when a step or the bracket is below ROOT_RTOL of the root.
+def _bracketed_roots(g, lo, hi, glo, ghi, steps):
+    """Roots of g in the brackets [lo, hi] (arrays of one shape) from g(lo) = glo, g(hi) = ghi of
+    opposite signs: the Illinois variant of regula falsi (superlinear, the bracket is kept), at
+    most `steps` evaluations per bracket, a bracket stopping when its step or width is below
+    ROOT_RTOL of its root. g maps an array of amplitudes to their residuals elementwise.
+
+    Every bracket advances in one call of g per step (a bracket that has converged keeps its
+    values), so that the damper curve appears once in the loop, on the brackets' array: vmapping
+    a scalar search instead made JAX batch the curve's nested loops once per vmap level (tracing
+    the in-phase response program took 26 s of a 49 s first call).
 
     Values only, and derivative-free: the damper curve's values run its fast program (loops that
     stop when done), while a Newton step would need its derivative program. `_root_ift`
-    differentiates the root by the implicit function theorem, never through this loop, so it may
-    be a while loop (under vmap it runs until every root has converged)."""
+    differentiates the roots by the implicit function theorem, never through this loop, so it may
+    be a while loop (it runs until every bracket has converged)."""
 
     def body(c):
-        i, lo, hi, glo, ghi, x, side, _ = c
-        d = ghi - glo
+        i, lo0, hi0, glo0, ghi0, x0, side0, done0 = c
+        active = (i < steps) & ~done0
+        d = ghi0 - glo0
         ok = d != 0
-        x_new = jnp.where(ok, (lo * ghi - hi * glo) / jnp.where(ok, d, 1.0), 0.5 * (lo + hi))
-        x_new = jnp.clip(x_new, lo, hi)
+        x_new = jnp.where(ok, (lo0 * ghi0 - hi0 * glo0) / jnp.where(ok, d, 1.0), 0.5 * (lo0 + hi0))
+        x_new = jnp.clip(x_new, lo0, hi0)
         gx = g(x_new)
-        right = jnp.sign(gx) == jnp.sign(ghi)  # the root is left of x_new: x_new becomes hi
+        right = jnp.sign(gx) == jnp.sign(ghi0)  # the root is left of x_new: x_new becomes hi
         # Illinois: halve the value kept at the end that did not move twice in a row.
-        glo = jnp.where(right, jnp.where(side > 0, 0.5 * glo, glo), gx)
-        ghi = jnp.where(right, gx, jnp.where(side < 0, 0.5 * ghi, ghi))
-        lo, hi = jnp.where(right, lo, x_new), jnp.where(right, x_new, hi)
+        glo = jnp.where(right, jnp.where(side0 > 0, 0.5 * glo0, glo0), gx)
+        ghi = jnp.where(right, gx, jnp.where(side0 < 0, 0.5 * ghi0, ghi0))
+        lo, hi = jnp.where(right, lo0, x_new), jnp.where(right, x_new, hi0)
         side = jnp.where(right, 1, -1)
         tol = ROOT_RTOL * jnp.abs(x_new)
-        done = (gx == 0) | (jnp.abs(x_new - x) <= tol) | (hi - lo <= tol)
-        return i + 1, lo, hi, glo, ghi, x_new, side, done
+        done = (gx == 0) | (jnp.abs(x_new - x0) <= tol) | (hi - lo <= tol)
+        new = (lo, hi, glo, ghi, x_new, side, done)
+        old = (lo0, hi0, glo0, ghi0, x0, side0, done0)
+        return (i + active, *(jnp.where(active, n, o) for n, o in zip(new, old)))
 
     def more(c):
-        return (c[0] < steps) & ~c[7]
+        return jnp.any((c[0] < steps) & ~c[7])
 
-    start = (jnp.array(0), lo, hi, glo, ghi, hi, jnp.array(0), (hi - lo <= 0) | (glo == 0))
+    start = (jnp.zeros(jnp.shape(lo), jnp.int32), lo, hi, glo, ghi, hi,
+             jnp.zeros(jnp.shape(lo), jnp.int32), (hi - lo <= 0) | (glo == 0))
     x = jax.lax.while_loop(more, body, start)[5]
     return jnp.where(glo == 0, lo, x)
 
 
 def _root_ift(g, g_values, lo, hi, glo, ghi, steps):
-    """A root of the scalar g in the bracket [lo, hi], differentiable by the implicit function
-    theorem (jax.lax.custom_root: dA* = -g_theta / g_A, through whatever g closes over). The
-    search runs on g_values: g's values, with nothing to differentiate."""
+    """Roots of g in the brackets [lo, hi] (arrays; g elementwise, so its Jacobian is diagonal),
+    differentiable by the implicit function theorem: dA* = -g_theta / g_A, through whatever g
+    closes over (hoisted by jax.closure_convert). The search runs on g_values: g's values, with
+    nothing to differentiate.
+
+    A custom JVP rather than jax.lax.custom_root: custom_root traces its tangent solve (the
+    damper curve's JVP, the largest trace of the response program: 12 of 39 s under a profiler)
+    on every call, differentiated or not; a custom JVP rule is traced only under
+    differentiation."""
     lo, hi, glo, ghi = (jax.lax.stop_gradient(v) for v in (lo, hi, glo, ghi))
+    x = _bracketed_roots(g_values, lo, hi, glo, ghi, steps)
+    g_closed, consts = jax.closure_convert(g, x)
 
-    def solve(f, x0):
-        return _bracketed_root(g_values, lo, hi, glo, ghi, steps)
+    @jax.custom_jvp
+    def root(x, consts):
+        return x
 
-    def tangent_solve(f_lin, y):
-        d = f_lin(jnp.ones_like(y))
-        ok = jnp.abs(d) > 0
-        return jnp.where(ok, y / jnp.where(ok, d, 1.0), 0.0)
+    @root.defjvp
+    def root_jvp(primals, tangents):  # x's own tangent is zero: it comes from the values
+        (x, c), (_, dc) = primals, tangents
+        g_a = jax.jvp(lambda a: g_closed(a, *c), (x,), (jnp.ones_like(x),))[1]  # the diagonal
+        g_t = jax.jvp(lambda *cc: g_closed(x, *cc), tuple(c), tuple(dc))[1]
+        ok = jnp.abs(g_a) > 0
+        return x, jnp.where(ok, -g_t / jnp.where(ok, g_a, 1.0), 0.0)
 
-    return jax.lax.custom_root(g, 0.5 * (lo + hi), solve, tangent_solve)
+    return root(jax.lax.stop_gradient(x), tuple(consts))
 
 
 SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
@@ -198,39 +220,35 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     # the grid's residual at F = 0 serves every force.
     values = damper._replace(k_of_psi=damper.values)
     a_im = jax.lax.stop_gradient(peak_residual(values, mode, 0.0, grid))
+    # Every force at once (arrays (n_f, ...)): the curve appears once per use in the program.
+    force = forces[:, None]
+    gg = a_im[None, :] - force
+    change = (jnp.sign(gg[:, :-1]) != jnp.sign(gg[:, 1:])) & (gg[:, :-1] != 0)
+    n_roots = jnp.sum(change, axis=1).astype(jnp.int32)
+    # The first max_roots sign changes, in ascending order (cells without a change sort last).
+    cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1), axis=1)[:, :max_roots]
+    found = jnp.arange(max_roots, dtype=jnp.int32)[None, :] < n_roots[:, None]
+    lo = grid[cells]
+    hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
+    glo = jnp.take_along_axis(gg, cells, axis=1)
+    ghi = jnp.take_along_axis(gg, cells + 1, axis=1)
 
-    def one_force(force):
-        def g_of(a):
-            return peak_residual(damper, mode, force, a)
+    def g_values(a):
+        return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
 
-        def g_values(a):
-            return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
-
-        gg = a_im - force
-        change = (jnp.sign(gg[:-1]) != jnp.sign(gg[1:])) & (gg[:-1] != 0)
-        n_roots = jnp.sum(change).astype(jnp.int32)
-        # The first max_roots sign changes, in ascending order (cells without a change sort last).
-        cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1))[:max_roots]
-        found = jnp.arange(max_roots, dtype=jnp.int32) < n_roots
-        lo = grid[cells]
-        hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
-
-        if differentiable:
-            roots = jax.vmap(lambda *b: _root_ift(g_of, g_values, *b, REFINE_STEPS))(
-                lo, hi, gg[cells], gg[cells + 1])
-        else:
-            roots = jax.vmap(lambda *b: _bracketed_root(g_values, *b, REFINE_STEPS))(
-                lo, hi, gg[cells], gg[cells + 1])
-        roots = jnp.where(found, roots, 0.0)
-        freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)),
-                           0.0) if frequencies else jnp.zeros_like(roots))
-        last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
-        status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
-        peak = roots[0]
-        return Peaks(roots, freqs, found, n_roots, peak, freqs[0], mode.r * peak, roots[last],
-                     status)
-
-    peaks = jax.vmap(one_force)(forces)
+    if differentiable:
+        roots = _root_ift(lambda a: peak_residual(damper, mode, force, a), g_values,
+                          lo, hi, glo, ghi, REFINE_STEPS)
+    else:
+        roots = _bracketed_roots(g_values, lo, hi, glo, ghi, REFINE_STEPS)
+    roots = jnp.where(found, roots, 0.0)
+    freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
+             if frequencies else jnp.zeros_like(roots))
+    last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
+    status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
+    peak = roots[:, 0]
+    peaks = Peaks(roots, freqs, found, n_roots, peak, freqs[:, 0], mode.r * peak,
+                  jnp.take_along_axis(roots, last[:, None], axis=1)[:, 0], status)
     return jax.tree_util.tree_map(lambda x: x[0], peaks) if f.ndim == 0 else peaks
 
 
@@ -271,9 +289,37 @@ def curves_program(method: str, options: tuple = ()):
     (shape, mu, contacts, load, mode, forces (n,)) -> ResponseCurves, on prepared inputs."""
     def run(shape, mu, contacts, load, mode, forces):
         d = damper_stiffness_kernel(shape, mu, contacts, load, method, **dict(options))
-        return _curves(d, mode, forces, peak_response(d, mode, forces))
+        # Values only: the program's inputs are checked concretely (`response_curves`), so
+        # nothing differentiates it, and the roots' derivative rule would be one more trace.
+        peaks = peak_response(d, mode, forces, differentiable=False, frequencies=False)
+        at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, FRF_POINTS)
+        k_re, k_im = d.k_of_psi(mode.r * flat)  # the curve at the roots and the FRFs, one batch
+        n = at_roots.size
+        peaks = _with_root_frequencies(peaks, d, mode, at_roots, k_re[:n].reshape(at_roots.shape),
+                                       k_im[:n].reshape(at_roots.shape))
+        return _curves(d, mode, forces, peaks,
+                       (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape)))
 
     return batch_jit(run)
+
+
+def _root_and_frf_amplitudes(mode: BladeMode, forces, peaks: Peaks, frf_points: int):
+    """(the amplitudes at the roots (n_f, MAX_ROOTS), 1 where absent; the damped FRFs' amplitude
+    grids (n_f, frf_points), None without frf_points; both flat, one array): where a response
+    program evaluates the damper curve once after the peak search."""
+    at_roots = jnp.where(peaks.found, peaks.roots_mm, 1.0)
+    grids = (jax.vmap(lambda t: frf_amplitude_grid(t, frf_points))(_frf_tops(mode, forces, peaks))
+             if frf_points else None)
+    parts = [at_roots] if grids is None else [at_roots, grids]
+    return at_roots, grids, jnp.concatenate([a.reshape(-1) for a in parts])
+
+
+def _with_root_frequencies(peaks: Peaks, damper: DamperStiffness, mode: BladeMode, at_roots,
+                           k_re, k_im) -> Peaks:
+    """The peaks with their frequencies, from the curve's values (k_re, k_im) at_roots."""
+    at = damper._replace(k_of_psi=lambda _: (k_re, k_im))
+    freqs = jnp.where(peaks.found, peak_frequency_hz(at, mode, at_roots), 0.0)
+    return peaks._replace(frequency_hz=freqs, peak_frequency_hz=freqs[:, 0])
 
 
 def _frf_tops(mode: BladeMode, forces, peaks: Peaks):
@@ -330,13 +376,8 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
         damper = with_residual(damper, residual)
     forces = jnp.asarray(force_n, float)
     peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
-    roots = peaks.roots_mm  # (n_f, MAX_ROOTS), 0 where absent
-    amplitudes = [jnp.where(peaks.found, roots, 1.0)]
-    if frf_points:
-        grids = jax.vmap(lambda t: frf_amplitude_grid(t, frf_points))(
-            _frf_tops(mode, forces, peaks))
-        amplitudes.append(grids)
-    flat = jnp.concatenate([a.reshape(-1) for a in amplitudes])
+    at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
+    shape_r, n = at_roots.shape, at_roots.size
 
     def cycles(psi):
         return jax.vmap(lambda a: path_cycle_kernel(
@@ -347,15 +388,12 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     else:
         k_re, k_im, status, psi_d = through_residual(cycles, mode.r * flat, residual)
         peaks = peaks._replace(psi_a_mrad=jnp.where(
-            peaks.psi_a_mrad > 0, psi_d[:roots.size].reshape(roots.shape)[:, 0], 0.0))
-    n = roots.size
-    at_roots = damper._replace(k_of_psi=lambda _: (k_re[:n].reshape(roots.shape),
-                                                   k_im[:n].reshape(roots.shape)))
-    freqs = jnp.where(peaks.found, peak_frequency_hz(at_roots, mode, amplitudes[0]), 0.0)
-    at_peak = status[:n].reshape(roots.shape)[:, 0]
+            peaks.psi_a_mrad > 0, psi_d[:n].reshape(shape_r)[:, 0], 0.0))
+    peaks = _with_root_frequencies(peaks, damper, mode, at_roots, k_re[:n].reshape(shape_r),
+                                   k_im[:n].reshape(shape_r))
+    at_peak = status[:n].reshape(shape_r)[:, 0]
     told = RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok) & (peaks.psi_a_mrad > 0)
-    peaks = peaks._replace(frequency_hz=freqs, peak_frequency_hz=freqs[:, 0],
-                           status=jnp.where(told, at_peak, peaks.status))
+    peaks = peaks._replace(status=jnp.where(told, at_peak, peaks.status))
     if not frf_points:
         return damper, peaks, None
     return damper, peaks, (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape))
