@@ -62,7 +62,8 @@ INITIAL_STATES = ("gross_slip", "assembly")
 __all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
            "gross_slip_state", "gross_slip_on_path", "check_admissible", "transitions_chart",
            "moment_loop", "slip_fraction",
-           "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES"]
+           "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES", "PRELIMINARY_HALVES",
+           "history_halves"]
 
 
 # One type for every half since the tract engine (jaxdamp.half); the old name stays for callers.
@@ -210,6 +211,17 @@ def _loop_numbers(shape, load, psi_a, fwd: Half, bwd: Half, motion=None):
     return k_re, k_im, energy, wb - wf
 
 
+# Halves run before the (forward, backward) pairs: from assembly a quarter travel forward, then a
+# backward half to the forward extreme.
+PRELIMINARY_HALVES = {"assembly": 2}
+
+
+def history_halves(initial: str, max_pairs: int = MAX_PAIRS) -> int:
+    """The rows of `AmplitudeCycle.history_dv` (and history_slack): every half the iteration may
+    run from this initial state (each row MAX_TRACTS tracts long)."""
+    return PRELIMINARY_HALVES.get(initial, 0) + 2 * max_pairs
+
+
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
                      initial="gross_slip", max_tracts: int = MAX_TRACTS,
                      max_pairs: int = MAX_PAIRS, loop: str = "auto", motion=None) -> AmplitudeCycle:
@@ -245,7 +257,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
     a_dv = travel_mm(psi, load.q_star)
     travel = 2.0 * a_dv
-    n_pre = 0
+    n_pre = PRELIMINARY_HALVES.get(initial, 0)
     unreachable = jnp.array(False)
     if initial == "gross_slip" and motion is None:
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
@@ -255,7 +267,6 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
         ok0 = ok0 & reached
     elif initial == "assembly":
         N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
-        n_pre = 2  # a quarter travel forward, then a backward half to the forward extreme
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
         ok0 = jnp.min(N0) > 0.0
@@ -266,7 +277,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
 
     # One scan over half-cycles (a single compiled half: the program stays small under grad):
     # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat.
-    n_halves = n_pre + 2 * max_pairs
+    n_halves = history_halves(initial, max_pairs)
 
     def next_half(c, j):
         k = j - n_pre  # index within the pair iteration (negative: preliminary)

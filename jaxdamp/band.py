@@ -34,7 +34,7 @@ import numpy as np
 
 from ._validate import check_int, check_range
 from .linalg import solve3
-from .amplitude import amplitude_kernel
+from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel, history_halves
 from .ellipse import elliptic_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
@@ -261,7 +261,9 @@ def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius
     radius, then runs the exact cycle there: accepted if not worse, else the radius shrinks. Within
     one tract sequence k_Im is quadratic in T, so there the model is exact and the step lands on the
     sequence's own optimum; the exact cycle at every step keeps a model that crossed into another
-    sequence from being believed. Returns (T, sign * k / scale, status) of the best state."""
+    sequence from being believed. Returns per start (the accepted state T, sign * k / scale and
+    status there, the last proposal T_try, not run yet: `band_kernel` runs every start's last
+    proposal in one batch with the bounds' confirmation)."""
     P, n0, G, h = admissible_polytope(shape, mu)
     eye = jnp.eye(3)
     A = jnp.concatenate([G, -eye, eye])
@@ -290,20 +292,21 @@ def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius
             t = jnp.minimum(1.0, jnp.min(t_out) * (1.0 + 1e-6) + 1e-12)
             return (T_acc, v_acc, m_acc, r, T_acc + t * d), None
 
-        m0 = jax.eval_shape(lambda: _k_model(shape, mu, contacts, load, psi, T_start, P, n0, wh))
-        m0 = jax.tree_util.tree_map(lambda x: jnp.zeros(x.shape, x.dtype), m0)
-        m0 = m0._replace(status=jnp.int32(RESULTS.not_converged))
-        init = (T_start, jnp.inf, m0, radius, T_start)
+        init = (T_start, jnp.inf, _no_model(), radius, T_start)
         (T_acc, v_acc, m_acc, _, T_try), _ = jax.lax.scan(step, init, None, length=steps)
-        st_acc = m_acc.status
-        # the last proposal, by a plain cycle
-        k_re, k_im, st = _k_of_state(shape, mu, contacts, load, psi, T_try, P, n0)
-        v = s * jnp.where(wh == 0, k_re, k_im) / scale
-        accept = RESULTS.valid(st) & jnp.all(G @ T_try + h >= -ADMISSIBLE_TOL) & (v <= v_acc)
-        return (jnp.where(accept, T_try, T_acc), jnp.where(accept, v, v_acc),
-                jnp.where(accept, st, st_acc))
+        return T_acc, v_acc, m_acc.status, T_try
 
     return jax.vmap(one)(T0, sign, which)
+
+
+def _no_model() -> _Model:
+    """The trust region's model before its first step: zeros of `_k_model`'s shapes (the region's
+    rows: two per tract slot of every half an explicit start runs), status not_converged. Built
+    from the shapes rather than by tracing `_k_model` once more (jax.eval_shape traced the
+    cycle's forward-mode program: a tenth of the band program's trace)."""
+    rows = 2 * history_halves("explicit", MAX_PAIRS) * MAX_TRACTS
+    return _Model(jnp.zeros(()), jnp.zeros(3), jnp.zeros((3, 3)), jnp.int32(RESULTS.not_converged),
+                  jnp.zeros((rows, 3)), jnp.zeros(rows))
 
 
 SIGNS = np.array([1.0, -1.0, 1.0, -1.0])  # each bound minimises sign * k (BOUNDS' order)
@@ -367,29 +370,42 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         _, pos = jax.lax.top_k(-distinct, starts)  # (4, starts)
         top = jnp.take_along_axis(order, pos, axis=1)
         T0 = T[top].reshape(4 * starts, 3)
-        T_opt, v_opt, _ = _trust_region(shape, mu, contacts, load, psi, T0, jnp.repeat(signs, starts),
-                                        jnp.repeat(which, starts), scale, jnp.maximum(spread, 1e-6),
-                                        steps)
+        sign_s, which_s = jnp.repeat(signs, starts), jnp.repeat(which, starts)
+        T_acc, v_acc, _, T_try = _trust_region(shape, mu, contacts, load, psi, T0, sign_s, which_s,
+                                               scale, jnp.maximum(spread, 1e-6), steps)
+        # One batch of plain cycles (`_k_of_state`): every start's last proposal and accepted
+        # state, and the best samples; the bounds' confirmation re-runs are among them (one copy
+        # of the cycle in the program instead of two).
+        P, n0, G, h = admissible_polytope(shape, mu)
+        k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P,
+                                                              n0))(
+            jnp.concatenate([T_try, T_acc, T_best]))
+        k_c = jnp.where(jnp.concatenate([which_s, which_s, which]) == 0, k_re_c, k_im_c)
+        n_s = 4 * starts
+        v_try = sign_s * k_c[:n_s] / scale
+        accept = (RESULTS.valid(st_c[:n_s]) & jnp.all(T_try @ G.T + h >= -ADMISSIBLE_TOL, axis=1)
+                  & (v_try <= v_acc))  # the last proposal, where not worse
+        v_opt = jnp.where(accept, v_try, v_acc)
         v_opt = jnp.where(jnp.isfinite(v_opt), v_opt, jnp.inf).reshape(4, starts)
         pick = jnp.argmin(v_opt, axis=1)
         bound = signs * v_opt[jnp.arange(4), pick] * scale
-        T_opt = T_opt.reshape(4, starts, 3)[jnp.arange(4), pick]
+        slot = jnp.arange(4) * starts + pick  # the picked start of each bound
+        took_try = accept[slot]
+        T_opt = jnp.where(took_try[:, None], T_try[slot], T_acc[slot])
         # the refined state only where it beats the sample beyond rounding
         refined = any_valid & (signs * bound < signs * sampled - 1e-12 * scale)
         T_at = jnp.where(refined[:, None], T_opt, T_best)
+        # each bound's state by the plain cycle, from the batch: its confirmation
+        at = jnp.where(refined, jnp.where(took_try, slot, n_s + slot), 2 * n_s + jnp.arange(4))
+        bounds = k_c[at]
+        confirmed = RESULTS.valid(st_c[at]) & (jnp.abs(bounds - jnp.where(refined, bound, sampled))
+                                               <= CONFIRM_TOL * scale)
     else:
         refined = jnp.zeros(4, bool)
         T_at = T_best
-    P, n0, _, _ = admissible_polytope(shape, mu)
-    if steps > 0:
-        k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P,
-                                                              n0, motion, residual))(T_at)
-        bounds = jnp.where(which == 0, k_re_c, k_im_c)
-        claimed = jnp.where(refined, bound, sampled)
-        confirmed = RESULTS.valid(st_c) & (jnp.abs(bounds - claimed) <= CONFIRM_TOL * scale)
-    else:
         # the samples' own cycles: a re-run would be the same computation in the same program
         bounds, confirmed = sampled, jnp.ones(4, bool)
+    P, n0, _, _ = admissible_polytope(shape, mu)
     # no valid cycle: the problem of the first real state (not a degenerate vertex slot); the
     # polytope has no vertex at all where the statics are singular
     first_bad = status[jnp.argmax(real)]
