@@ -383,8 +383,8 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         k_c = jnp.where(jnp.concatenate([which_s, which_s, which]) == 0, k_re_c, k_im_c)
         n_s = 4 * starts
         v_try = sign_s * k_c[:n_s] / scale
-        accept = (RESULTS.valid(st_c[:n_s]) & jnp.all(T_try @ G.T + h >= -ADMISSIBLE_TOL, axis=1)
-                  & (v_try <= v_acc))  # the last proposal, where not worse
+        inside = jnp.all(T_try @ G.T + h[None, :] >= -ADMISSIBLE_TOL, axis=1)
+        accept = RESULTS.valid(st_c[:n_s]) & inside & (v_try <= v_acc)  # where not worse
         v_opt = jnp.where(accept, v_try, v_acc)
         v_opt = jnp.where(jnp.isfinite(v_opt), v_opt, jnp.inf).reshape(4, starts)
         pick = jnp.argmin(v_opt, axis=1)

@@ -10,6 +10,7 @@ from __future__ import annotations
 import jax
 import jax.numpy as jnp
 
+from .loops import batched_together
 from .status import RESULTS
 
 __all__ = ["RESIDUAL_RTOL", "RESIDUAL_ITERATIONS", "through_residual"]
@@ -50,7 +51,7 @@ def through_residual(cycle, psi, c):
 
     zeros = jnp.zeros_like(psi)
     _, p, _, k_re, k_im, status, done = jax.lax.while_loop(
-        more, body, (jnp.array(0), psi, zeros, zeros, zeros, jnp.zeros(psi.shape, jnp.int32),
-                     jnp.zeros(psi.shape, bool)))
+        more, body, batched_together((jnp.array(0), psi, zeros, zeros, zeros,
+                                      jnp.zeros(psi.shape, jnp.int32), jnp.zeros(psi.shape, bool))))
     k = (k_re + 1j * k_im) / (1.0 + c * (k_re + 1j * k_im))
     return jnp.real(k), jnp.imag(k), RESULTS.promote(status, ~done, RESULTS.not_converged), p

@@ -11,6 +11,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..loops import batched_together
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from ..params import check_param
@@ -122,7 +123,7 @@ def _bracketed_roots(g, lo, hi, glo, ghi, steps):
 
     start = (jnp.zeros(jnp.shape(lo), jnp.int32), lo, hi, glo, ghi, hi,
              jnp.zeros(jnp.shape(lo), jnp.int32), (hi - lo <= 0) | (glo == 0))
-    x = jax.lax.while_loop(more, body, start)[5]
+    x = jax.lax.while_loop(more, body, batched_together(start))[5]
     return jnp.where(glo == 0, lo, x)
 
 
