@@ -6,7 +6,7 @@ loops first."""
 
 from __future__ import annotations
 
-from functools import partial
+import functools
 from statistics import NormalDist
 from typing import Callable, NamedTuple
 
@@ -125,40 +125,67 @@ def _residuals_and_status(theta, shape, load, data: _Data, spec: FitSpec, histor
 
 _residuals_jit = jax.jit(fit_residuals, static_argnums=(4, 5))
 
-_LISTENERS: list = []  # the running fit's step callback (one compiled program for every caller)
+def _lm_residuals(theta, args):
+    """The solver's function: (residuals, the cycles' statuses) at theta, args = (shape, load,
+    data, inv_delta, spec, history); spec and history are static."""
+    shape, load, data, inv_delta, spec, history = args
+    return _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)
 
 
-def _report(step, loss, step_size):
-    for f in _LISTENERS[-1:]:
-        f(step, loss, step_size)
+@functools.cache
+def _lm_programs():
+    """(start, step, at_solution): optimistix's Levenberg-Marquardt run one step per call from
+    Python, each part jitted once per process (equinox's filter_jit: the solver state holds
+    non-array parts, which it keeps static).
 
-
-def _verbose(**kw):
-    jax.debug.callback(_report, kw["num_steps"][1], kw["loss_last_accepted_step"][1],
-                       kw["step_size"][1])
-
-
-@partial(jax.jit, static_argnames=("spec", "history", "max_steps", "rtol"))
-def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol):
+    Why not one `optx.least_squares` program: its progress came out through a host callback, and
+    JAX cannot store a program with a host callback in the persistent compilation cache (the
+    callback's address is part of the program), so every process compiled the fit again (a repeat
+    `jaxdamp fit-loops` took as long as the first, 58 s). Stepping from Python reports each step
+    itself and every program is cached. The residuals, their Jacobian and the statuses at the
+    solution come from the solver's own linearisation at its last accepted point (no second
+    forward-mode copy of the model)."""
     # Imported here, not with the module: optimistix (with equinox) adds 1-2 s to every
     # `import jaxdamp` (measured 2026-11-25), and only the loop fit uses it.
+    import equinox as eqx
     import optimistix as optx
 
-    def fn(theta, args):
-        return fit_residuals(theta, shape, load, data, spec, history, inv_delta)
+    def solver(rtol):
+        return optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3)
 
-    verbose = _verbose
-    solver = optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3, verbose=verbose)
-    sol = optx.least_squares(fn, solver, theta0, max_steps=max_steps, throw=False)
-    # The residuals, their Jacobian and the statuses at the solution from one forward-mode pass
-    # (its primal is the residuals): the program holds the model twice fewer than with separate
-    # calls (the fit's first call compiled for 80 s, most of it copies of the amplitude kernel).
-    def with_status(theta):
-        r, status = _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)
-        return r, (r, status)
+    @eqx.filter_jit
+    def start(theta, args, rtol):
+        f_struct, aux_struct = jax.eval_shape(lambda: _lm_residuals(theta, args))
+        return solver(rtol).init(_lm_residuals, theta, args, {}, f_struct, aux_struct, frozenset())
 
-    jac, (r, status) = jax.jacfwd(with_status, has_aux=True)(sol.value)
-    return sol.value, r, jac, sol.result == optx.RESULTS.successful, sol.stats["num_steps"], status
+    @eqx.filter_jit
+    def step(theta, state, args, rtol):
+        lm = solver(rtol)
+        theta, state, _ = lm.step(_lm_residuals, theta, args, {}, state, frozenset())
+        done, result = lm.terminate(_lm_residuals, theta, args, {}, state, frozenset())
+        r = state.f_info.residual
+        return theta, state, done, result == optx.RESULTS.successful, 0.5 * jnp.sum(r * r)
+
+    @eqx.filter_jit
+    def at_solution(state):
+        return state.f_info.residual, state.f_info.jac.as_matrix(), state.aux
+
+    return start, step, at_solution
+
+
+def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol, report):
+    """Levenberg-Marquardt from theta0 (at most max_steps steps; report(step, loss) after each):
+    (theta, residuals, Jacobian, statuses at theta, converged, steps)."""
+    start, step, at_solution = _lm_programs()
+    args = (shape, load, data, inv_delta, spec, history)
+    theta, state = theta0, start(theta0, args, rtol)
+    done, ok, n = False, True, 0
+    while not done and n < max_steps:
+        theta, state, done, ok, loss = step(theta, state, args, rtol)
+        done, ok, n = bool(done), bool(ok), n + 1
+        report(n, float(loss))
+    r, jac, status = at_solution(state)
+    return theta, r, jac, status, done and ok, n
 
 
 class LoopFit(NamedTuple):
@@ -398,7 +425,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     cycle, "gross_slip" or "assembly". mu: "shared" or "contact"; kn, kt: "shared", "side"
     (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"} (numbers; default DEFAULT_START, a
     generic guess). robust: a second, pseudo-Huber stage.
-    callback(stage, step, loss): called as the solver goes (from the compiled solve).
+    callback(stage, step, loss): called after every solver step (loss: 0.5 sum r^2 at the last
+    accepted step), and once with step 0 at the generic start.
 
     Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
     parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
@@ -414,35 +442,23 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     history, steps = [], []
     stage_box = [0]
 
-    def cb(step, loss, step_size):
-        if int(step) == 0:  # optimistix reports no loss before its first step
-            return
-        history.append((stage_box[0], int(step), float(loss)))
+    def report(step, loss):
+        history.append((stage_box[0], step, loss))
         if callback is not None:
-            callback(stage_box[0], int(step), float(loss))
+            callback(stage_box[0], step, loss)
 
-    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol)
-    history.append((0, 0, prob.loss0))  # the generic start
-    if callback is not None:
-        callback(0, 0, prob.loss0)
-    _LISTENERS.append(cb)
-    try:
-        theta, r, jac, ok, nsteps, status = _solve(jnp.asarray(theta), shape_j, load_j, data,
-                                                   jnp.asarray(0.0), **kw)
-        steps.append(int(nsteps))
-        converged = bool(ok)
-        mask = np.asarray(data.mask).reshape(-1) > 0
-        if robust:
-            delta = ROBUST_DELTA * max(_robust_sd(np.asarray(r)[mask]), 1e-12)
-            stage_box[0] = 1
-            theta, r, jac, ok, nsteps, status = _solve(theta, shape_j, load_j, data,
-                                                       jnp.asarray(1.0 / delta), **kw)
-            steps.append(int(nsteps))
-            converged = bool(ok)
-        jax.effects_barrier()
-        history.sort()  # (stage, step): debug callbacks may arrive out of order
-    finally:
-        _LISTENERS.remove(cb)
+    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol, report=report)
+    report(0, prob.loss0)  # the generic start
+    theta, r, jac, status, converged, nsteps = _solve(jnp.asarray(theta), shape_j, load_j, data,
+                                                      jnp.asarray(0.0), **kw)
+    steps.append(nsteps)
+    mask = np.asarray(data.mask).reshape(-1) > 0
+    if robust:
+        delta = ROBUST_DELTA * max(_robust_sd(np.asarray(r)[mask]), 1e-12)
+        stage_box[0] = 1
+        theta, r, jac, status, converged, nsteps = _solve(theta, shape_j, load_j, data,
+                                                          jnp.asarray(1.0 / delta), **kw)
+        steps.append(nsteps)
     theta, r, jac = np.asarray(theta), np.asarray(r)[mask], np.asarray(jac)[mask]
     n, p = r.size, theta.size
     dof = max(n - p, 1)
