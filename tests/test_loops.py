@@ -92,3 +92,24 @@ def test_unknown_loop_is_refused():
         amplitude_kernel(s, m, c, ld, 1.0, loop="fori")
     with pytest.raises(ValueError, match="loop must be one of auto, scan, while"):
         base_cycle_kernel(s, m, c, ld, loop="fori")
+
+
+def test_batched_together_keeps_values_and_batches_every_leaf_with_any():
+    """`loops.batched_together`: the carry unchanged (inf, NaN, integers and booleans included),
+    and under vmap a leaf that does not depend on the mapped input comes out batched as soon as
+    another leaf does (out_axes=None then refuses it), so that a loop's carries are batched from
+    its first pass; with no batched leaf nothing is."""
+    from jaxdamp.loops import batched_together
+
+    carry = (jnp.array([1.0, jnp.inf, jnp.nan]), jnp.array(3, jnp.int32), jnp.array([True, False]))
+    out = batched_together(carry)
+    np.testing.assert_array_equal(out[0], carry[0])
+    assert out[1].dtype == jnp.int32 and int(out[1]) == 3 and out[2].tolist() == [True, False]
+
+    xs = jnp.arange(4.0)
+    alone = jax.vmap(lambda x: batched_together((jnp.ones(2), jnp.zeros(())))[0], out_axes=None)(xs)
+    np.testing.assert_array_equal(alone, np.ones(2))  # nothing batched: stays unbatched
+    with pytest.raises(ValueError):
+        jax.vmap(lambda x: batched_together((x, jnp.ones(2)))[1], out_axes=None)(xs)
+    tied = jax.vmap(lambda x: batched_together((x, jnp.ones(2)))[1])(xs)
+    np.testing.assert_array_equal(tied, np.ones((4, 2)))
