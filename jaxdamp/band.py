@@ -348,6 +348,7 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
                          "runs on the in-phase path only")
     T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples, motion,
                                              residual)
+    P, n0, G, h = admissible_polytope(shape, mu)
     valid = RESULTS.valid(status)
     values = jnp.stack([k_re, k_re, k_im, k_im])  # (4, samples)
     signs, which = jnp.asarray(SIGNS), jnp.asarray(WHICH)
@@ -376,7 +377,6 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         # One batch of plain cycles (`_k_of_state`): every start's last proposal and accepted
         # state, and the best samples; the bounds' confirmation re-runs are among them (one copy
         # of the cycle in the program instead of two).
-        P, n0, G, h = admissible_polytope(shape, mu)
         k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P,
                                                               n0))(
             jnp.concatenate([T_try, T_acc, T_best]))
@@ -405,7 +405,6 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         T_at = T_best
         # the samples' own cycles: a re-run would be the same computation in the same program
         bounds, confirmed = sampled, jnp.ones(4, bool)
-    P, n0, _, _ = admissible_polytope(shape, mu)
     # no valid cycle: the problem of the first real state (not a degenerate vertex slot); the
     # polytope has no vertex at all where the statics are singular
     first_bad = status[jnp.argmax(real)]

@@ -295,11 +295,8 @@ def curves_program(method: str, options: tuple = ()):
         peaks = peak_response(d, mode, forces, differentiable=False, frequencies=False)
         at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, FRF_POINTS)
         k_re, k_im = d.k_of_psi(mode.r * flat)  # the curve at the roots and the FRFs, one batch
-        n = at_roots.size
-        peaks = _with_root_frequencies(peaks, d, mode, at_roots, k_re[:n].reshape(at_roots.shape),
-                                       k_im[:n].reshape(at_roots.shape))
-        return _curves(d, mode, forces, peaks,
-                       (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape)))
+        peaks, on_grids = _at_roots_and_grids(peaks, d, mode, at_roots, grids, k_re, k_im)
+        return _curves(d, mode, forces, peaks, on_grids)
 
     return batch_jit(run)
 
@@ -315,12 +312,18 @@ def _root_and_frf_amplitudes(mode: BladeMode, forces, peaks: Peaks, frf_points: 
     return at_roots, grids, jnp.concatenate([a.reshape(-1) for a in parts])
 
 
-def _with_root_frequencies(peaks: Peaks, damper: DamperStiffness, mode: BladeMode, at_roots,
-                           k_re, k_im) -> Peaks:
-    """The peaks with their frequencies, from the curve's values (k_re, k_im) at_roots."""
-    at = damper._replace(k_of_psi=lambda _: (k_re, k_im))
+def _at_roots_and_grids(peaks: Peaks, damper: DamperStiffness, mode: BladeMode, at_roots, grids,
+                        k_re, k_im):
+    """(the peaks with their frequencies, the damped FRFs' (amplitudes, k_re, k_im) or None
+    without grids) from the curve's values (k_re, k_im) on `_root_and_frf_amplitudes`' flat
+    array."""
+    n = at_roots.size
+    at = damper._replace(k_of_psi=lambda _: (k_re[:n].reshape(at_roots.shape),
+                                             k_im[:n].reshape(at_roots.shape)))
     freqs = jnp.where(peaks.found, peak_frequency_hz(at, mode, at_roots), 0.0)
-    return peaks._replace(frequency_hz=freqs, peak_frequency_hz=freqs[:, 0])
+    on_grids = (None if grids is None
+                else (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape)))
+    return peaks._replace(frequency_hz=freqs, peak_frequency_hz=freqs[:, 0]), on_grids
 
 
 def _frf_tops(mode: BladeMode, forces, peaks: Peaks):
@@ -332,18 +335,14 @@ def _frf_tops(mode: BladeMode, forces, peaks: Peaks):
 
 
 def _curves(d: DamperStiffness, mode: BladeMode, forces, peaks: Peaks,
-            on_grids=None) -> ResponseCurves:
+            on_grids) -> ResponseCurves:
     """The three FRFs around the peaks of every force: the damped one up to `_frf_tops`, the
     free and stuck ones across their own. on_grids: (amplitudes, k_re, k_im), (n_f, n) each, the
-    damped FRFs' amplitudes and the curve there, computed already (`path_peaks`)."""
-    if on_grids is None:
-        damped = jax.vmap(lambda f, t: frf(d, mode, f, frf_amplitude_grid(t)))(
-            forces, _frf_tops(mode, forces, peaks))
-    else:
-        def tabulated(f, a, k_re, k_im):  # the curve's values at exactly these amplitudes
-            return frf(d._replace(k_of_psi=lambda _: (k_re, k_im)), mode, f, a)
+    damped FRFs' amplitudes and the curve there, computed already (`_at_roots_and_grids`)."""
+    def tabulated(f, a, k_re, k_im):  # the curve's values at exactly these amplitudes
+        return frf(d._replace(k_of_psi=lambda _: (k_re, k_im)), mode, f, a)
 
-        damped = jax.vmap(tabulated)(forces, *on_grids)
+    damped = jax.vmap(tabulated)(forces, *on_grids)
     free = jax.vmap(lambda f: linear_frf(mode, 0.0, f))(forces)
     stuck = jax.vmap(lambda f: linear_frf(mode, d.k_re_stuck, f))(forces)
     return ResponseCurves(peaks, damped, free, stuck, d.status, d.k_re_stuck)
@@ -390,14 +389,10 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
         k_re, k_im, status, psi_d = through_residual(cycles, mode.r * flat, residual)
         peaks = peaks._replace(psi_a_mrad=jnp.where(
             peaks.psi_a_mrad > 0, psi_d[:n].reshape(shape_r)[:, 0], 0.0))
-    peaks = _with_root_frequencies(peaks, damper, mode, at_roots, k_re[:n].reshape(shape_r),
-                                   k_im[:n].reshape(shape_r))
+    peaks, on_grids = _at_roots_and_grids(peaks, damper, mode, at_roots, grids, k_re, k_im)
     at_peak = status[:n].reshape(shape_r)[:, 0]
     told = RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok) & (peaks.psi_a_mrad > 0)
-    peaks = peaks._replace(status=jnp.where(told, at_peak, peaks.status))
-    if not frf_points:
-        return damper, peaks, None
-    return damper, peaks, (grids, k_re[n:].reshape(grids.shape), k_im[n:].reshape(grids.shape))
+    return damper, peaks._replace(status=jnp.where(told, at_peak, peaks.status)), on_grids
 
 
 @functools.cache

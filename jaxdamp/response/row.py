@@ -26,7 +26,7 @@ ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power 
 FORCE_BUCKET = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
-           "prepare_row"]
+           "prepare_row", "flexible_row"]
 
 
 class RowResponse(NamedTuple):
@@ -118,14 +118,13 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     batch: program(*design, modes, motions, tip forces (m, n_f), *extra[, residuals (m,)]) with
     the engine orders and the forces padded (repeating the last) to `runtime.padded_size(n,
     minimum, steps per octave)` with buckets = (the orders' minimum, the forces' minimum, steps
-    per octave: 1, powers of two); residuals only where any is non-zero (else the program without
-    them).
+    per octave: 1, powers of two); residual: the (m,) residual flexibilities, or None for the
+    program without them (`flexible_row`).
     runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
     its batch's host outputs (force axes still padded), in scenes' order."""
     runner = runner or (lambda prog, args: prog(*args))
     n_f = padded_size(tip.shape[1], buckets[1], buckets[2])
     tip = tip[:, np.minimum(np.arange(n_f), tip.shape[1] - 1)]
-    flexible = bool(np.any(residual != 0))
     elliptic = np.array([not s.straight for s in scenes])
     rows = [None] * len(scenes)
     for kind in (False, True):
@@ -138,12 +137,18 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
         part = [scenes[i] for i in take]
         modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
                               for f in BladeMode._fields))
-        residuals = (jnp.asarray(residual[take]),) if flexible else ()
+        residuals = () if residual is None else (jnp.asarray(residual[take]),)
         got = jax.device_get(runner(program, (*design, modes_k, _stack([s.motion for s in part]),
                                               jnp.asarray(tip[take]), *extra, *residuals)))
         for j, i in enumerate(idx):
             rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j], got)
     return rows
+
+
+def flexible_row(residual):
+    """The residual flexibilities (m,) a row program takes, or None where all are zero (a family
+    without platform_residual runs the program without them)."""
+    return residual if np.any(residual != 0) else None
 
 
 def prepare_row(shape, mu, contacts, load, modes: ModalFamily, engine_orders, force_n, h_l_mm):
@@ -183,9 +188,10 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepare_row(
         shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
     elliptic = np.array([not s.straight for s in scenes])
-    program = row_program(initial, bool(np.any(residual != 0)))
+    flexible = flexible_row(residual)
+    program = row_program(initial, flexible is not None)
     rows = [jax.tree_util.tree_map(lambda v: v[:forces.size], r) for r in run_by_path_kind(
-        program, (shape, mu, contacts, load), scenes, tip, residual, runner=runner)]
+        program, (shape, mu, contacts, load), scenes, tip, flexible, runner=runner)]
     peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
     eta_kb = np.array([s.mode.eta * s.mode.k_b for s in scenes])[:, None]
     free = np.where(eta_kb > 0, tip / np.where(eta_kb > 0, eta_kb, 1.0), np.inf)

@@ -28,7 +28,7 @@ from ..band import band_kernel
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, excited_nodal_diameter
-from .row import prepare_row, run_by_path_kind
+from .row import flexible_row, prepare_row, run_by_path_kind
 from .stiffness import interpolated_damper
 
 __all__ = ["RowBand", "row_band", "row_band_program", "check_band_family", "TABLE_POINTS",
@@ -156,10 +156,11 @@ def row_band(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily, en
     check_int("n_samples", n_samples, 2)
     check_int("seed", seed, 0)
     check_band_family(modes, orders)
-    program = row_band_program(int(n_samples), bool(np.any(residual != 0)))
+    flexible = flexible_row(residual)
+    program = row_band_program(int(n_samples), flexible is not None)
     # padded by at most a quarter, from 1: a padded engine order or force costs as much as a real
     # one here (a minute or more for a row), against the seconds of a history's peaks
-    rows = run_by_path_kind(program, (shape, mu, contacts, load), scenes, tip, residual,
+    rows = run_by_path_kind(program, (shape, mu, contacts, load), scenes, tip, flexible,
                             (jax.random.PRNGKey(seed),), runner, buckets=(1, 1, 4))
     peak_max, peak_min, resolution, status, table, k = (np.stack([r[i] for r in rows])
                                                         for i in range(6))
