@@ -1,4 +1,5 @@
-"""XLA compiler options for jaxdamp's batched programs, chosen by measurement.
+"""XLA compiler options chosen by measurement: per program for the batched ones (`batch_jit`), and
+for a whole process that compiles for a first call rather than for speed (`compile_for_latency`).
 
 On CPU, recent XLA hands small reductions (over the 3 contacts, the 8 candidate stick/slip sets)
 to YNNPACK library calls; for arrays of (designs, 8, 3) each call costs more than the loop XLA
@@ -10,11 +11,14 @@ of reduction order does).
 
 The options are passed per compiled program (`batch_jit`), so importing jaxdamp changes nothing
 and an XLA that does not know them costs nothing: they are probed once and dropped if rejected.
+`compile_for_latency` changes the process's XLA_FLAGS and is called explicitly, by the CLI only.
 """
 
 from __future__ import annotations
 
 import functools
+import importlib.util
+import os
 
 import jax
 
@@ -33,6 +37,41 @@ def batch_compiler_options() -> dict:
     except Exception:  # noqa: BLE001 - an older or newer XLA without the option: use its defaults
         return {}
     return dict(CPU_BATCH_OPTIONS)
+
+
+# Measured (issue 32): XLA options that make XLA compile about twice as fast and run slower, for
+# processes that run each program once on one design (a first CLI call is mostly XLA compilation).
+# Either one alone saved little (the cycle's program: 3.8 s default, 3.8 s at level 0, 3.4 s
+# without the fusion emitters, 1.5-2.2 s with both); its run took 0.3-0.5 ms either way, the
+# response's 9 -> 50 ms, the band's 0.3 -> 2.6 s (docs/performance.md, "Compiling for a first call").
+LATENCY_OPTIONS = {"xla_backend_optimization_level": 0, "xla_cpu_use_fusion_emitters": False}
+# Accelerator plugins for jaxlib: where one is installed the default backend may not be the CPU,
+# and the latency options were measured on the CPU only.
+_ACCELERATOR_PLUGINS = ("jax_plugins", "jax_cuda12_plugin", "jax_cuda13_plugin", "jax_rocm7_plugin",
+                        "libtpu")
+
+
+def compile_for_latency() -> bool:
+    """Ask XLA to compile this process's programs fast rather than optimise them
+    (`LATENCY_OPTIONS` added to the XLA_FLAGS environment variable; a program's own
+    compiler_options can ask for them too). XLA reads that variable
+    once, at the process's first compilation, so this is for a process's start (the CLI calls it
+    before any computation, for its one-design commands), and it is process-wide. A flag the
+    user set in XLA_FLAGS is kept; nothing is changed where JAX_PLATFORMS names another platform
+    than the CPU or an accelerator plugin is installed. Returns whether XLA_FLAGS changed."""
+    platforms = os.environ.get("JAX_PLATFORMS", "").strip().lower()
+    if platforms not in ("", "cpu"):
+        return False
+    if not platforms and any(importlib.util.find_spec(name) is not None
+                             for name in _ACCELERATOR_PLUGINS):
+        return False
+    flags = os.environ.get("XLA_FLAGS", "")
+    missing = [f"--{name}={str(value).lower()}" for name, value in LATENCY_OPTIONS.items()
+               if f"--{name}=" not in flags]
+    if not missing:
+        return False
+    os.environ["XLA_FLAGS"] = " ".join([flags.strip(), *missing]).strip()
+    return True
 
 
 def padded_size(n: int, min_step: int, steps_per_octave: int = 1) -> int:
@@ -79,4 +118,5 @@ def batch_jit(fun=None, **kwargs):
     return _BatchJit(fun, kwargs)
 
 
-__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "batch_compiler_options", "batch_jit"]
+__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LATENCY_OPTIONS", "batch_compiler_options",
+           "batch_jit", "compile_for_latency"]

@@ -258,3 +258,37 @@ def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
     # The paper's Table B value for 60sym at mu 0.5 (k_Im,BC = 4921), within the 0.7 % of the
     # reference contact pair's fit (jaxdamp.params.REFERENCE_KN)
     assert abs(doc["k_im_bc"] / 4921.0 - 1.0) < 0.007
+
+
+def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
+    """JAXDAMP_COMPILE: auto compiles the one-design commands fast (runtime.compile_for_latency)
+    and leaves the long-running ones optimised; fast and optimized apply to every command; any
+    other value is refused in one line naming the variable and its values."""
+    from jaxdamp import cli
+
+    monkeypatch.delenv("JAX_PLATFORMS", raising=False)
+    cases = [("auto", ["cycle", "--shape", "74R"], True), ("auto", ["design-br", "--mu", "0.5"], True),
+             ("auto", ["study", "--out", "x"], False), ("", ["sweep"], False),
+             ("fast", ["study"], True), ("optimized", ["cycle"], False)]
+    for mode, argv, fast in cases:
+        monkeypatch.setenv(cli.COMPILE_ENV, mode)
+        monkeypatch.delenv("XLA_FLAGS", raising=False)
+        assert cli._choose_compilation(argv) is None
+        assert ("--xla_backend_optimization_level=0" in os.environ.get("XLA_FLAGS", "")) == fast, (
+            mode, argv)
+    monkeypatch.setenv(cli.COMPILE_ENV, "quick")
+    error = cli._choose_compilation(["cycle"])
+    assert "JAXDAMP_COMPILE='quick'" in error and "auto, fast, optimized" in error
+    assert "\n" not in error
+
+
+def test_unknown_compilation_mode_exits_2_before_any_work(tmp_path):
+    import subprocess
+    import sys
+
+    env = {**os.environ, "JAXDAMP_COMPILE": "quick", "JAXDAMP_CACHE_DIR": str(tmp_path / "cache")}
+    out = subprocess.run([sys.executable, "-m", "jaxdamp.cli", "cycle", "--shape", "60sym"],
+                         capture_output=True, text=True, env=env, timeout=120)
+    assert out.returncode == 2 and out.stdout == ""
+    assert out.stderr.count("\n") == 1 and "JAXDAMP_COMPILE" in out.stderr
+    assert not (tmp_path / "cache").exists()

@@ -1,6 +1,7 @@
 """jaxdamp.runtime: the measured compiler options reach the batched programs, are dropped where XLA
 rejects them, change no result beyond rounding, and importing jaxdamp starts no backend."""
 
+import os
 import subprocess
 import sys
 
@@ -102,3 +103,42 @@ def test_one_padding_rule():
         fine = padded_size(n, 16, 8)
         assert fine >= n and fine % 16 == 0 and (fine - n) <= max(16, n / 8)
     assert len({padded_size(n, 8) for n in range(1, 1025)}) == 8  # 8, 16, ..., 1024
+
+
+def test_compile_for_latency_adds_its_flags_and_keeps_the_users(monkeypatch):
+    monkeypatch.delenv("JAX_PLATFORMS", raising=False)
+    monkeypatch.setenv("XLA_FLAGS", "--xla_backend_optimization_level=2")
+    assert runtime.compile_for_latency()
+    flags = os.environ["XLA_FLAGS"].split()
+    # The user's level stays; the flag they did not set is added, once.
+    assert flags == ["--xla_backend_optimization_level=2", "--xla_cpu_use_fusion_emitters=false"]
+    assert not runtime.compile_for_latency()
+    monkeypatch.delenv("XLA_FLAGS")
+    assert runtime.compile_for_latency()
+    assert sorted(os.environ["XLA_FLAGS"].split()) == [
+        "--xla_backend_optimization_level=0", "--xla_cpu_use_fusion_emitters=false"]
+
+
+def test_compile_for_latency_leaves_other_platforms_alone(monkeypatch):
+    monkeypatch.setenv("JAX_PLATFORMS", "cuda")
+    monkeypatch.delenv("XLA_FLAGS", raising=False)
+    assert not runtime.compile_for_latency()
+    assert "XLA_FLAGS" not in os.environ
+
+
+def test_fast_compiled_cycle_equals_the_optimised_one():
+    """The latency options change how XLA optimises, not what it computes: the Base-Cycle's five
+    numbers of two designs agree with the default compilation to rounding (the event chain
+    amplifies a last-bit difference by its conditioning, far below 1e-10)."""
+    from jaxdamp.cycle import base_cycle_kernel
+    from jaxdamp.harmonics import five_numbers_kernel
+    from jaxdamp.params import prepare_inputs
+
+    def numbers(*inputs):
+        return five_numbers_kernel(base_cycle_kernel(*inputs))
+
+    for name, mu in (("74R", 0.5), ("60sym", 0.3)):
+        inputs = prepare_inputs(jd.family_shape(name), mu, jd.Contacts(), jd.LoadCase())
+        fast = jax.jit(numbers, compiler_options=runtime.LATENCY_OPTIONS)(*inputs)
+        optimised = jax.jit(numbers)(*inputs)
+        assert_tree_allclose(fast, optimised, rtol=1e-10, atol=1e-12)

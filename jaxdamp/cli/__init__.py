@@ -8,6 +8,8 @@ Exit codes: 0 with a result (whose "status" says whether it is a working damper)
 (one line on stderr naming the parameter and its valid range, before any computing).
 Compiled programs are cached in $JAXDAMP_CACHE_DIR (default $XDG_CACHE_HOME/jaxdamp/jax or
 ~/.cache/jaxdamp/jax; JAXDAMP_CACHE_DIR=off disables the cache, deleting the folder clears it).
+Programs of the one-design commands compile fast rather than optimised (JAXDAMP_COMPILE=auto, the
+default; fast or optimized for every command).
 """
 
 from __future__ import annotations
@@ -72,6 +74,31 @@ def configure_runtime() -> None:
 # each call to a worker thread by default, ~60 us of a ~210 us warm Base-Cycle call; batched
 # commands keep the default (benchmarks/results/cpu_runtime_options.json, no_async_dispatch).
 SYNC_DISPATCH_COMMANDS = frozenset({"statics", "design-br", "cycle", "grad", "section"})
+
+
+# Commands that run each program once, on one design or a few: their first call is mostly XLA
+# compilation, so XLA compiles them fast rather than optimises (runtime.compile_for_latency; a
+# first `cycle` 7.2 -> 4.7 s, `response` 23.9 -> 15.1 s). The commands that run their programs
+# long (sweep, calibrate, fit-loops, study, optimize) keep optimised code: compiled fast, a repeat
+# `study` took 87 -> 97 s and a repeat `fit-loops` 18.5 -> 26.4 s (docs/performance.md).
+FAST_COMPILE_COMMANDS = frozenset({"statics", "design_br", "cycle", "amplitude", "grad", "response",
+                                   "section"})
+COMPILE_ENV = "JAXDAMP_COMPILE"
+COMPILE_MODES = ("auto", "fast", "optimized")
+
+
+def _choose_compilation(argv) -> str | None:
+    """Apply JAXDAMP_COMPILE (auto: per command, fast for FAST_COMPILE_COMMANDS; fast; optimized)
+    before anything compiles; returns an error line for a value it does not know, else None."""
+    mode = os.environ.get(COMPILE_ENV, "auto").strip().lower() or "auto"
+    if mode not in COMPILE_MODES:
+        return (f"jaxdamp: error: {COMPILE_ENV}={os.environ[COMPILE_ENV]!r}: expected one of "
+                f"{', '.join(COMPILE_MODES)}")
+    if mode == "fast" or (mode == "auto" and _only_command(argv) in FAST_COMPILE_COMMANDS):
+        from ..runtime import compile_for_latency
+
+        compile_for_latency()
+    return None
 
 
 def _sync_dispatch() -> None:
@@ -190,7 +217,12 @@ def console() -> None:
     Interpreter teardown with JAX loaded (its client, thread pools and caches) took about a third
     of a second here, a quarter of a second CLI call; nothing of the command's is left to do by then (output is
     flushed, files are closed and the compilation cache is written when a program compiles), so the
-    process ends with os._exit."""
+    process ends with os._exit. The process's XLA options are chosen first (`_choose_compilation`):
+    XLA reads them at its first compilation."""
+    error = _choose_compilation(sys.argv[1:])
+    if error is not None:
+        print(error, file=sys.stderr)
+        os._exit(2)
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:
@@ -200,7 +232,7 @@ def console() -> None:
     os._exit(code)
 
 
-__all__ = ["COMMANDS", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
+__all__ = ["COMMANDS", "COMPILE_ENV", "FAST_COMPILE_COMMANDS", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
            "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
            "check_output_dir", "check_output_file", "contacts_echo", "contacts_from_args", "document", "save_figure", "write_text", "emit", "float_list",
            "load_echo",
