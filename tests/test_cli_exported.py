@@ -41,6 +41,69 @@ def test_saved_export_is_reused_without_tracing(monkeypatch, tmp_path):
     assert len(list((tmp_path / "exported").iterdir())) == 3
 
 
+def test_a_shipped_program_serves_an_empty_cache_folder_without_tracing(monkeypatch, tmp_path):
+    """A program saved with the package (exported.SHIPPED_DIR) is what a new cache folder runs:
+    no trace, no export; the user's folder stays empty of exports."""
+    shipped, user = tmp_path / "shipped", tmp_path / "user"
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path / "maker"))
+    args = (jnp.arange(3.0), (jnp.asarray(1.5), jnp.asarray(3.0)))
+    exported.call("toy", _program, args)
+    shipped.mkdir()
+    for saved in (tmp_path / "maker" / "exported").iterdir():
+        saved.rename(shipped / saved.name)
+    monkeypatch.setattr(exported, "SHIPPED_DIR", shipped)
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(user))
+    exported.forget_loaded()
+    n = len(TRACES)
+
+    def no_export(*a, **k):
+        raise AssertionError("traced and exported again")
+
+    monkeypatch.setattr(exported.jexport, "export", no_export)
+    out = exported.call("toy", _program, (jnp.arange(3.0) + 1.0, args[1]))
+    assert len(TRACES) == n and not (user / "exported").exists()
+    np.testing.assert_array_equal(out["sum"], np.arange(3.0) + 2.5)
+
+
+def test_shipped_programs_match_the_sources():
+    """The programs saved with the package were saved by these sources (their key holds the
+    sources' digest, so stale ones are never used, only useless): after a change to jaxdamp, run
+    `python scripts/export_programs.py`."""
+    import json
+
+    manifest = json.loads((exported.SHIPPED_DIR / "manifest.json").read_text())
+    files = sorted(p.name for p in exported.SHIPPED_DIR.glob("*.bin"))
+    assert files == sorted(manifest["programs"])
+    assert {f.split("-")[0] for f in files} >= {"cycle", "grad_fwd", "response_curves", "band_grid"}
+    if (manifest["jax"], manifest["platform"]) != (jax.__version__, jax.default_backend()):
+        pytest.skip(f"saved for jax {manifest['jax']} on {manifest['platform']}: not used here")
+    assert manifest["sources"] == exported.sources_digest(), (
+        "the programs in jaxdamp/data/exported are older than the sources: run "
+        "`python scripts/export_programs.py`")
+
+
+def test_the_shipped_cycle_gives_the_librarys_numbers(monkeypatch, tmp_path):
+    """The `cycle` command's program in a new cache folder is the shipped one (no export), and its
+    five numbers are those of the library's own Base-Cycle."""
+    import json
+
+    import jaxdamp as jd
+    from jaxdamp.cli.cycle import _program
+    from jaxdamp.params import prepare_inputs
+
+    manifest = json.loads((exported.SHIPPED_DIR / "manifest.json").read_text())
+    if manifest["sources"] != exported.sources_digest() or manifest["jax"] != jax.__version__:
+        pytest.skip("the shipped programs are not for these sources (see the test above)")
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported.jexport, "export", None)  # any export would fail
+    exported.forget_loaded()
+    inputs = prepare_inputs(jd.family_shape("74R"), 0.5, jd.Contacts(), jd.LoadCase())
+    _, shipped, _, _ = exported.call("cycle", _program(), inputs)
+    nums = jd.five_numbers(jd.base_cycle(jd.family_shape("74R"), 0.5))
+    assert_tree_allclose(shipped, nums, rtol=1e-9, atol=1e-9)
+    assert int(nums.status) == 0 and not (tmp_path / "exported").exists()
+
+
 def test_cache_off_is_a_plain_call(monkeypatch, tmp_path):
     monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
     out = exported.call("toy", _program, (jnp.arange(2.0), (jnp.asarray(1.0), jnp.asarray(5.0))))
@@ -56,6 +119,7 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
 
     args = (jd.family_shape("74R"), 0.5, jd.Contacts(), jd.LoadCase())
     monkeypatch.setenv("JAXDAMP_CACHE_DIR", "off")
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")  # the user's folder only
     status_plain, plain = grad_payload(*args)
     monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
     status_saved, saved = grad_payload(*args)

@@ -9,6 +9,12 @@ saves a program once as a serialized `jax.export.Exported` (StableHLO) in the ca
 later processes deserialize it: no tracing, and the XLA compile of the same module is a
 persistent-cache hit. The key holds the jaxdamp sources, the JAX version, the program's name and
 the inputs' structure, shapes and dtypes, so that any change of code or input shapes exports anew.
+
+The package ships the saved programs of the commonest commands (`SHIPPED_DIR`, written by
+`scripts/export_programs.py` with the same key): a first call in a new cache folder then skips
+tracing too, wherever the sources, the JAX version, the platform and the shapes are those they
+were saved for; otherwise it traces and saves as before. They are StableHLO, not machine code:
+XLA still compiles them on the user's machine.
 """
 
 from __future__ import annotations
@@ -26,11 +32,14 @@ from ..paper.files import write_bytes
 from ..runtime import batch_compiler_options
 from . import cache_dir
 
-__all__ = ["call"]
+__all__ = ["call", "SHIPPED_DIR", "sources_digest"]
+
+# Saved programs that come with the package (read-only; scripts/export_programs.py writes them).
+SHIPPED_DIR = Path(__file__).resolve().parents[1] / "data" / "exported"
 
 
 @functools.cache
-def _sources_digest() -> str:
+def sources_digest() -> str:
     """The jaxdamp package's Python sources and the JAX version: a program saved by other code is
     never reused."""
     root = Path(__file__).resolve().parents[1]
@@ -42,8 +51,9 @@ def _sources_digest() -> str:
 
 
 def _key(name: str, variant: str, leaves, in_tree) -> str:
-    h = hashlib.sha256(_sources_digest().encode())
-    h.update(f"{name}|{variant}".encode())
+    h = hashlib.sha256(sources_digest().encode())
+    # The platform the program was lowered for: a CPU export does not run on a GPU.
+    h.update(f"{name}|{variant}|{jax.default_backend()}".encode())
     h.update(str(in_tree).encode())
     h.update(str(bool(jax.config.jax_enable_x64)).encode())
     for x in leaves:
@@ -75,6 +85,13 @@ def _serialized(exp, out_tree) -> bytes:
     return pickle.dumps((dataclasses.replace(exp, _get_vjp=None), out_tree))
 
 
+def _read(path: Path) -> bytes | None:
+    try:
+        return path.read_bytes()
+    except OSError:
+        return None
+
+
 def call(name: str, program, args: tuple, variant: str = ""):
     """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
     off: a plain call). program: a jitted function of array pytrees; its outputs come back in
@@ -85,10 +102,9 @@ def call(name: str, program, args: tuple, variant: str = ""):
         return program(*args)
     leaves, in_tree = jax.tree_util.tree_flatten(args)
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree)}.bin"
-    try:
-        data = path.read_bytes()
-    except OSError:
-        data = None
+    data = _read(path)
+    if data is None:
+        data = _read(SHIPPED_DIR / path.name)  # saved with the package for these sources
     if data is None:
         # The traced function itself: a batch_jit's compiler options belong to the top-level
         # jit (_runner's), not to a nested one.
