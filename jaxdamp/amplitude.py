@@ -31,6 +31,7 @@ Initial states (all forces normalised to F_D, tangential forces along the up-fla
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import jax
@@ -352,10 +353,22 @@ def gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
 _kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))
 
 
+@functools.cache
+def _program(initial: str, max_tracts: int, max_pairs: int):
+    """The kernel with its static options bound, as a function of arrays only (what a `runner`
+    takes: the CLI saves it, `jaxdamp.cli.exported`)."""
+
+    def program(shape, mu, contacts, load, psi_a, N_init, T_init, motion):
+        return amplitude_kernel(shape, mu, contacts, load, psi_a, N_init, T_init, initial=initial,
+                                max_tracts=max_tracts, max_pairs=max_pairs, motion=motion)
+
+    return jax.jit(program)
+
+
 def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip",
                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
-                    motion: Motion | None = None) -> AmplitudeCycle:
+                    motion: Motion | None = None, runner=None) -> AmplitudeCycle:
     """The steady cycle at platform rotation amplitude psi_a_mrad > 0 (mrad), by the direct method.
 
     initial: "gross_slip" (the Base-Cycle's state 0 at the forward extreme), "assembly" (F_D applied
@@ -367,6 +380,9 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     `interblade_motion(180, h_c_mm)` for out-of-phase vibration, `straight_motion` for any
     direction); psi_a_mrad is then the path's amplitude (mrad) and k that of its modal force
     (`jaxdamp.motion`). A pad that opens on the path is reported as liftoff.
+
+    runner: None, or runner(program, args) -> program(*args) for a jitted program of arrays and
+    its arguments (the CLI's runs it through a saved export, `jaxdamp.cli.exported`).
 
     Returns an AmplitudeCycle; its `status` (jaxdamp.status.RESULTS) says whether the numbers are
     valid (ok, shakedown) or not (liftoff, not_converged, singular: numbers zero). Jit-compiled;
@@ -412,6 +428,9 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
         if motion.quadrature is not None:
             raise ValueError("motion must be a straight path for amplitude_cycle (an elliptic one: "
                              "use jaxdamp.elliptic_cycle)")
+    if runner is not None:
+        return runner(_program(mode, max_tracts, max_pairs),
+                      (shape, mu, contacts, load, psi, N_init, T_init, motion))
     return _kernel(shape, mu, contacts, load, psi, N_init, T_init, initial=mode,
                    max_tracts=max_tracts, max_pairs=max_pairs, motion=motion)
 

@@ -30,6 +30,7 @@ ROOT = Path(__file__).resolve().parent.parent
 COMMANDS = [
     "cycle --shape 74R --mu 0.5",
     "cycle --shape 60sym --mu 0.5 --damper wedge",
+    "amplitude --shape 60sym --mu 0.5 --psi-a 0.5,1.2,3",
     "grad --shape 74R --mu 0.5",
     "response --shape 60sym --mu 0.5 --force-n 2,5,20 --band",
 ]

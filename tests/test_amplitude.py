@@ -318,3 +318,19 @@ def test_complex_stiffness_methods():
     assert float(k_im[1]) == pytest.approx(frac * float(n.k_im_bc), rel=1e-12)
     with pytest.raises(ValueError, match="method"):
         jd.complex_stiffness(bc, psi, method="spline")
+
+
+def test_a_runner_runs_the_same_cycle():
+    """amplitude_cycle(runner=): the kernel with its static options bound, handed to the runner
+    once (the CLI saves it, jaxdamp.cli.exported); the same cycle as the plain call."""
+    calls = []
+
+    def runner(program, args):
+        calls.append(len(args))
+        return program(*args)
+
+    shape = jd.family_shape("60sym")
+    through = jd.amplitude_cycle(shape, 0.5, 1.2, runner=runner)
+    plain = jd.amplitude_cycle(shape, 0.5, 1.2)
+    assert calls == [8] and int(plain.status) == 0
+    assert_tree_allclose(through, plain, rtol=1e-12, atol=1e-12)

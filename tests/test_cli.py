@@ -273,11 +273,11 @@ def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
     for mode, argv, fast in cases:
         monkeypatch.setenv(cli.COMPILE_ENV, mode)
         monkeypatch.delenv("XLA_FLAGS", raising=False)
-        assert cli._choose_compilation(argv) is None
+        assert cli.choose_compilation(argv) is None
         assert ("--xla_backend_optimization_level=0" in os.environ.get("XLA_FLAGS", "")) == fast, (
             mode, argv)
     monkeypatch.setenv(cli.COMPILE_ENV, "quick")
-    error = cli._choose_compilation(["cycle"])
+    error = cli.choose_compilation(["cycle"])
     assert "JAXDAMP_COMPILE='quick'" in error and "auto, fast, optimized" in error
     assert "\n" not in error
 

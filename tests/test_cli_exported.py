@@ -88,7 +88,7 @@ def test_the_shipped_cycle_gives_the_librarys_numbers(monkeypatch, tmp_path):
     import json
 
     import jaxdamp as jd
-    from jaxdamp.cli.cycle import _program
+    from jaxdamp.cli.cycle import cycle_program
     from jaxdamp.params import prepare_inputs
 
     manifest = json.loads((exported.SHIPPED_DIR / "manifest.json").read_text())
@@ -98,7 +98,7 @@ def test_the_shipped_cycle_gives_the_librarys_numbers(monkeypatch, tmp_path):
     monkeypatch.setattr(exported.jexport, "export", None)  # any export would fail
     exported.forget_loaded()
     inputs = prepare_inputs(jd.family_shape("74R"), 0.5, jd.Contacts(), jd.LoadCase())
-    _, shipped, _, _ = exported.call("cycle", _program(), inputs)
+    _, shipped, _, _ = exported.call("cycle", cycle_program(), inputs)
     nums = jd.five_numbers(jd.base_cycle(jd.family_shape("74R"), 0.5))
     assert_tree_allclose(shipped, nums, rtol=1e-9, atol=1e-9)
     assert int(nums.status) == 0 and not (tmp_path / "exported").exists()

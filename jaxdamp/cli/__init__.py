@@ -87,7 +87,7 @@ COMPILE_ENV = "JAXDAMP_COMPILE"
 COMPILE_MODES = ("auto", "fast", "optimized")
 
 
-def _choose_compilation(argv) -> str | None:
+def choose_compilation(argv) -> str | None:
     """Apply JAXDAMP_COMPILE (auto: per command, fast for FAST_COMPILE_COMMANDS; fast; optimized)
     before anything compiles; returns an error line for a value it does not know, else None."""
     mode = os.environ.get(COMPILE_ENV, "auto").strip().lower() or "auto"
@@ -182,11 +182,16 @@ def build_parser(extra_commands=(), only: str | None = None):
 
 def main(argv=None, extra_commands=()) -> int:
     """Run one command; returns the exit code (0 result, 2 bad input). extra_commands: register
-    functions added after the built-in and entry-point commands."""
+    functions added after the built-in and entry-point commands. The process's XLA options are
+    chosen first (`choose_compilation`): XLA reads them at the process's first compilation."""
+    argv = sys.argv[1:] if argv is None else list(argv)
+    error = choose_compilation(argv)
+    if error is not None:
+        print(error, file=sys.stderr)
+        return 2
     configure_runtime()
     command = "jaxdamp"
     try:
-        argv = sys.argv[1:] if argv is None else list(argv)
         only = None if extra_commands else _only_command(argv)
         parser = build_parser(tuple(extra_commands), only=only)
         args = parser.parse_args(argv)
@@ -217,12 +222,7 @@ def console() -> None:
     Interpreter teardown with JAX loaded (its client, thread pools and caches) took about a third
     of a second here, a quarter of a second CLI call; nothing of the command's is left to do by then (output is
     flushed, files are closed and the compilation cache is written when a program compiles), so the
-    process ends with os._exit. The process's XLA options are chosen first (`_choose_compilation`):
-    XLA reads them at its first compilation."""
-    error = _choose_compilation(sys.argv[1:])
-    if error is not None:
-        print(error, file=sys.stderr)
-        os._exit(2)
+    process ends with os._exit."""
     code = main()
     for stream in (sys.stdout, sys.stderr):
         try:
@@ -232,7 +232,7 @@ def console() -> None:
     os._exit(code)
 
 
-__all__ = ["COMMANDS", "COMPILE_ENV", "FAST_COMPILE_COMMANDS", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
+__all__ = ["COMMANDS", "COMPILE_ENV", "FAST_COMPILE_COMMANDS", "choose_compilation", "console", "ENTRY_POINT_GROUP", "CliError", "add_contact_args", "add_json_arg",
            "add_load_args", "add_progress_arg", "add_shape_args", "build_parser", "cache_dir",
            "check_output_dir", "check_output_file", "contacts_echo", "contacts_from_args", "document", "save_figure", "write_text", "emit", "float_list",
            "load_echo",

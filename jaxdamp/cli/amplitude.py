@@ -27,6 +27,7 @@ are undefined (no valid cycle) are null.
 from __future__ import annotations
 
 from . import common as C
+from . import exported
 from . import motion_flags as M
 
 
@@ -109,8 +110,11 @@ def run(args) -> int:
             if elliptic:
                 ac = elliptic_cycle(shape, args.mu, psi, motion, contacts, load, initial=args.initial)
             else:
+                # A saved program (exported.call): a later process, or a first one with the
+                # program shipped in the package, neither traces nor lowers it.
                 ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial,
-                                     motion=motion)
+                                     motion=motion, runner=lambda prog, a: exported.call(
+                                         "amplitude", prog, a, str(args.initial)))
         warned.extend(m for m in caught if m not in warned)
         valid = bool(RESULTS.valid(ac.status))
         row = {"psi_a_mrad": psi, "k_re": C.number(ac.k_re) if valid else None,

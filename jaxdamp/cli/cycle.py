@@ -32,7 +32,7 @@ def _cycle_numbers(bc):
 
 
 @functools.cache
-def _program():
+def cycle_program():
     import jax
 
     from ..cycle import base_cycle_kernel
@@ -188,7 +188,7 @@ def run(args) -> int:
                          in_phase_motion(load.q_star) if motion is None else motion)
     # A saved program (exported.call): a repeat call neither traces nor lowers it, which was
     # 2.9 s of a 3.6 s repeat (benchmarks/results/compile_costs.json).
-    results = exported.call("cycle", _program(), prepare_inputs(shape, args.mu, contacts, load))
+    results = exported.call("cycle", cycle_program(), prepare_inputs(shape, args.mu, contacts, load))
     status = C.status_name(results[0])
     p = cycle_payload(*results)
     doc = C.document(status, p, reason=C.status_reason(status, contacts, load),
@@ -224,4 +224,4 @@ def run(args) -> int:
     return 0
 
 
-__all__ = ["NUMBER_KEYS", "register", "cycle_payload", "path_payload", "run"]
+__all__ = ["NUMBER_KEYS", "register", "cycle_program", "cycle_payload", "path_payload", "run"]
