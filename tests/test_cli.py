@@ -268,8 +268,9 @@ def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
 
     monkeypatch.delenv("JAX_PLATFORMS", raising=False)
     cases = [("auto", ["cycle", "--shape", "74R"], True), ("auto", ["design-br", "--mu", "0.5"], True),
-             ("auto", ["study", "--out", "x"], False), ("", ["sweep"], False),
-             ("fast", ["study"], True), ("optimized", ["cycle"], False)]
+             ("auto", ["study", "--out", "x"], True), ("", ["sweep"], False),
+             ("auto", ["fit-loops", "a.csv"], False), ("fast", ["sweep"], True),
+             ("optimized", ["cycle"], False)]
     for mode, argv, fast in cases:
         monkeypatch.setenv(cli.COMPILE_ENV, mode)
         monkeypatch.delenv("XLA_FLAGS", raising=False)

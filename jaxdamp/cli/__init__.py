@@ -76,13 +76,13 @@ def configure_runtime() -> None:
 SYNC_DISPATCH_COMMANDS = frozenset({"statics", "design-br", "cycle", "grad", "section"})
 
 
-# Commands that run each program once, on one design or a few: their first call is mostly XLA
-# compilation, so XLA compiles them fast rather than optimises (runtime.compile_for_latency; a
-# first `cycle` 7.2 -> 4.7 s, `response` 23.9 -> 15.1 s). The commands that run their programs
-# long (sweep, calibrate, fit-loops, study, optimize) keep optimised code: compiled fast, a repeat
-# `study` took 87 -> 97 s and a repeat `fit-loops` 18.5 -> 26.4 s (docs/performance.md).
+# Commands whose first call is mostly XLA compilation: XLA compiles them fast rather than
+# optimises (runtime.compile_for_latency; first calls on the 2-core VM: `cycle` 7.2 -> 4.7 s,
+# `response` 23.9 -> 15.1 s, `study` 157 -> 128 s, whose repeat took 87 -> 97 s). The commands
+# that run their programs long keep optimised code (sweep, calibrate, optimize; fit-loops, whose
+# first call gained 4.6 s and its repeat lost 7.9 s: docs/performance.md).
 FAST_COMPILE_COMMANDS = frozenset({"statics", "design_br", "cycle", "amplitude", "grad", "response",
-                                   "section"})
+                                   "section", "study"})
 COMPILE_ENV = "JAXDAMP_COMPILE"
 COMPILE_MODES = ("auto", "fast", "optimized")
 
