@@ -11,7 +11,8 @@ of reduction order does).
 
 The options are passed per compiled program (`batch_jit`), so importing jaxdamp changes nothing
 and an XLA that does not know them costs nothing: they are probed once and dropped if rejected.
-`compile_for_latency` changes the process's XLA_FLAGS and is called explicitly, by the CLI only.
+`compile_for_latency` changes the process's XLA_FLAGS and is called explicitly: by the CLI and the
+test suite, never by the library.
 """
 
 from __future__ import annotations
@@ -40,7 +41,8 @@ def batch_compiler_options() -> dict:
 
 
 # Measured (issue 32): XLA options that make XLA compile about twice as fast and run slower, for
-# processes that run each program once on one design (a first CLI call is mostly XLA compilation).
+# processes whose first call is mostly XLA compilation (one design, a program run once or a few
+# times).
 # Either one alone saved little (the cycle's program: 3.8 s default, 3.8 s at level 0, 3.4 s
 # without the fusion emitters, 1.5-2.2 s with both); its run took 0.3-0.5 ms either way, the
 # response's 9 -> 50 ms, the band's 0.3 -> 2.6 s (docs/performance.md, "Compiling for a first call").
@@ -56,7 +58,8 @@ def compile_for_latency() -> bool:
     (`LATENCY_OPTIONS` added to the XLA_FLAGS environment variable; a program's own
     compiler_options can ask for them too). XLA reads that variable
     once, at the process's first compilation, so this is for a process's start (the CLI calls it
-    before any computation, for its one-design commands), and it is process-wide. A flag the
+    before any computation, for the commands whose first call is mostly compilation), and it is
+    process-wide. A flag the
     user set in XLA_FLAGS is kept; nothing is changed where JAX_PLATFORMS names another platform
     than the CPU or an accelerator plugin is installed. Returns whether XLA_FLAGS changed."""
     platforms = os.environ.get("JAX_PLATFORMS", "").strip().lower()

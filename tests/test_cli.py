@@ -293,3 +293,19 @@ def test_unknown_compilation_mode_exits_2_before_any_work(tmp_path):
     assert out.returncode == 2 and out.stdout == ""
     assert out.stderr.count("\n") == 1 and "JAXDAMP_COMPILE" in out.stderr
     assert not (tmp_path / "cache").exists()
+
+
+def test_an_interrupt_ends_the_console_at_once_with_130():
+    """Ctrl-C during a command: one line, exit code 130, and no wait for work in other threads
+    (the study's parts and the response's band run in threads)."""
+    import subprocess
+    import sys
+
+    code = ("import threading, time, jaxdamp.cli as cli\n"
+            "def main():\n"
+            "    threading.Thread(target=time.sleep, args=(60,)).start()\n"
+            "    raise KeyboardInterrupt\n"
+            "cli.main = main\n"
+            "cli.console()\n")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=30)
+    assert out.returncode == 130 and out.stderr == "jaxdamp: interrupted\n"

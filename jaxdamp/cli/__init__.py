@@ -222,8 +222,13 @@ def console() -> None:
     Interpreter teardown with JAX loaded (its client, thread pools and caches) took about a third
     of a second here, a quarter of a second CLI call; nothing of the command's is left to do by then (output is
     flushed, files are closed and the compilation cache is written when a program compiles), so the
-    process ends with os._exit."""
-    code = main()
+    process ends with os._exit, which also ends at once any work still running in other threads
+    after an interrupt (Ctrl-C: exit code 130)."""
+    try:
+        code = main()
+    except KeyboardInterrupt:
+        print("jaxdamp: interrupted", file=sys.stderr)
+        code = 130
     for stream in (sys.stdout, sys.stderr):
         try:
             stream.flush()

@@ -16,6 +16,7 @@ neither traces nor compiles them.
 
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import jax
@@ -188,18 +189,29 @@ def compute(args, scene, forces, bar, motion=None) -> Computed:
     options = {"initial": args.initial} if args.stiffness == "exact" else {}
     options_key = tuple(sorted(options.items()))
     variant = repr((args.stiffness, options_key))
-    res = exported.call("response_curves", curves_program(args.stiffness, options_key),
-                        (*scene, _padded(forces)), variant)
-    # Numbers on the host once: indexing device arrays below would compile a small program each.
-    res = jax.device_get(res)
-    bar.update(1)
-    band = None
-    if args.band:
-        bar.set_description("band over histories")
-        highest, lowest, _, _ = peak_band_kernel(
-            scene, jnp.asarray(forces), runner=lambda prog, a: exported.call("band_grid", prog, a))
-        band = (highest, lowest)
+    band_job = None
+    pool = ThreadPoolExecutor(max_workers=1)  # not `with`: an interrupt must not wait for it
+    try:
+        if args.band:
+            # The band is independent of the curves and, on a first call, mostly XLA compiling
+            # its own program: in a second thread XLA compiles both side by side (it releases the
+            # GIL while it compiles): 18.9 -> 12.7 s for the two programs on 2 cores.
+            band_job = pool.submit(peak_band_kernel, scene, jnp.asarray(forces),
+                                   runner=lambda prog, a: exported.call("band_grid", prog, a))
+        res = exported.call("response_curves", curves_program(args.stiffness, options_key),
+                            (*scene, _padded(forces)), variant)
+        # Numbers on the host once: indexing device arrays below would compile a small program
+        # each.
+        res = jax.device_get(res)
         bar.update(1)
+        band = None
+        if band_job is not None:
+            bar.set_description("band over histories")
+            highest, lowest, _, _ = band_job.result()
+            band = (highest, lowest)
+            bar.update(1)
+    finally:
+        pool.shutdown(wait=False, cancel_futures=True)
     dd = None
     if args.diagram and RESULTS.valid(res.status):
         bar.set_description("designer's diagram")
