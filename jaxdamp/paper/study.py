@@ -434,7 +434,10 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
     without figures), the exact k(psi_a) with its band and the interpolation's gap to it
     (`stiffness_band_entry`), and the peak blade response (`peak_response_entry`). Returns
     (summary, cycles, summaries); progress: None or a tqdm-like bar updated three times per case.
-    Inputs are checked before any work (`check_study_inputs`)."""
+    Inputs are checked before any work (`check_study_inputs`). The bands, the peaks and the claim
+    run in three threads: JAX settings made with a context manager (thread-local, such as
+    `jax.enable_x64()` in a `with` block) do not reach them; set float64 with
+    `jax.config.update("jax_enable_x64", True)`."""
     import jax
 
     from ..params import LoadCase
