@@ -436,7 +436,7 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
     (summary, cycles, summaries); progress: None or a tqdm-like bar updated three times per case.
     Inputs are checked before any work (`check_study_inputs`). The bands, the peaks and the claim
     run in three threads: JAX settings made with a context manager (thread-local, such as
-    `jax.enable_x64()` in a `with` block) do not reach them; set float64 with
+    `with jax.enable_x64(True):`) do not reach them; set float64 with
     `jax.config.update("jax_enable_x64", True)`."""
     import jax
 
