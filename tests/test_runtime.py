@@ -142,3 +142,27 @@ def test_fast_compiled_cycle_equals_the_optimised_one():
         fast = jax.jit(numbers, compiler_options=runtime.LATENCY_OPTIONS)(*inputs)
         optimised = jax.jit(numbers)(*inputs)
         assert_tree_allclose(fast, optimised, rtol=1e-10, atol=1e-12)
+
+
+def test_side_by_side_runs_the_calls_at_once_and_returns_them_in_order():
+    """runtime.side_by_side: every call runs at the same time as the others (three calls meet at
+    a barrier, which only concurrent calls can pass), results in the calls' order, and the first
+    exception reaches the caller."""
+    import threading
+
+    meet = threading.Barrier(3, timeout=30)
+
+    def call(value):
+        def run():
+            meet.wait()
+            return value
+        return run
+
+    assert runtime.side_by_side(call("a"), call("b"), call("c")) == ["a", "b", "c"]
+    assert runtime.side_by_side(lambda: 1) == [1]
+
+    def fails():
+        raise ValueError("the second call's error")
+
+    with pytest.raises(ValueError, match="second call"):
+        runtime.side_by_side(lambda: 1, fails)

@@ -16,7 +16,6 @@ neither traces nor compiles them.
 
 from __future__ import annotations
 
-from concurrent.futures import ThreadPoolExecutor
 from typing import NamedTuple
 
 import jax
@@ -24,6 +23,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..params import check_param
+from ..runtime import side_by_side
 from ..response import (BladeMode, curves_program, designer_diagram, path_curves_program,
                         peak_band_kernel, prepare_scene)
 from ..status import RESULTS
@@ -189,29 +189,25 @@ def compute(args, scene, forces, bar, motion=None) -> Computed:
     options = {"initial": args.initial} if args.stiffness == "exact" else {}
     options_key = tuple(sorted(options.items()))
     variant = repr((args.stiffness, options_key))
-    band_job = None
-    pool = ThreadPoolExecutor(max_workers=1)  # not `with`: an interrupt must not wait for it
-    try:
-        if args.band:
-            # The band is independent of the curves and, on a first call, mostly XLA compiling
-            # its own program: in a second thread XLA compiles both side by side (it releases the
-            # GIL while it compiles): 18.9 -> 12.7 s for the two programs on 2 cores.
-            band_job = pool.submit(peak_band_kernel, scene, jnp.asarray(forces),
-                                   runner=lambda prog, a: exported.call("band_grid", prog, a))
+
+    def curves():
         res = exported.call("response_curves", curves_program(args.stiffness, options_key),
                             (*scene, _padded(forces)), variant)
         # Numbers on the host once: indexing device arrays below would compile a small program
         # each.
-        res = jax.device_get(res)
-        bar.update(1)
-        band = None
-        if band_job is not None:
-            bar.set_description("band over histories")
-            highest, lowest, _, _ = band_job.result()
-            band = (highest, lowest)
-            bar.update(1)
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+        return jax.device_get(res)
+
+    def peak_band():
+        highest, lowest, _, _ = peak_band_kernel(
+            scene, jnp.asarray(forces), runner=lambda prog, a: exported.call("band_grid", prog, a))
+        return highest, lowest
+
+    # The band is independent of the curves and, on a first call, mostly XLA compiling its own
+    # program: side by side, XLA compiles both on separate cores.
+    if args.band:
+        bar.set_description("peaks, FRFs and the band over histories")
+    res, band = side_by_side(curves, peak_band) if args.band else (curves(), None)
+    bar.update(2 if args.band else 1)
     dd = None
     if args.diagram and RESULTS.valid(res.status):
         bar.set_description("designer's diagram")

@@ -21,12 +21,12 @@ import csv
 import json
 import math
 import time
-from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 
 from .. import __version__
+from ..runtime import side_by_side
 from ..status import RESULTS
 from .claim import platform_claim
 from .files import atomic_file, write_text
@@ -468,19 +468,13 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
         return fn(*args), time.perf_counter() - start
 
     # The bands, the peaks and the claim (curved-flat against wedge, claim.py) are independent and,
-    # on a first run, mostly XLA compiling programs of their own: in threads, XLA compiles them
-    # side by side (it releases the GIL while it compiles; two programs compiled in two threads
-    # took 12.7 s instead of 18.9 s on 2 cores). Each part's time below is its own, overlapping.
-    # Not `with`: an interrupt (Ctrl-C) must not wait for the other parts to finish.
-    pool = ThreadPoolExecutor(max_workers=3)
-    try:
-        jobs = [pool.submit(timed, stiffness_bands, cycles, contacts, load, band_amplitudes,
-                            band_samples, progress),
-                pool.submit(timed, all_peaks),
-                pool.submit(timed, platform_claim, mus, contacts, load, progress)]
-        (stiffness_band, t_band), (peaks, t_peaks), (claim, t_claim) = (j.result() for j in jobs)
-    finally:
-        pool.shutdown(wait=False, cancel_futures=True)
+    # on a first run, mostly XLA compiling programs of their own: side by side, XLA compiles them
+    # on separate cores. Each part's time below is its own, overlapping.
+    (stiffness_band, t_band), (peaks, t_peaks), (claim, t_claim) = side_by_side(
+        lambda: timed(stiffness_bands, cycles, contacts, load, band_amplitudes, band_samples,
+                      progress),
+        lambda: timed(all_peaks),
+        lambda: timed(platform_claim, mus, contacts, load, progress))
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
