@@ -5,6 +5,8 @@ Base-Cycle above psi_BC, then the other (design, amplitude) pairs in two stages)
 
 from __future__ import annotations
 
+import functools
+
 from typing import NamedTuple
 
 import jax
@@ -82,12 +84,23 @@ def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, p
 _curves_jit = batch_jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
 
 
-@batch_jit(static_argnames=("initial", "max_tracts", "max_pairs"))
 def flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
-    run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
-                                                  max_tracts=max_tracts, max_pairs=max_pairs)
-    ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
-    return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
+    """The exact steady cycle of each (design, amplitude) pair (every leaf with one leading pair
+    axis): StiffnessCurves of 1-D arrays; one compiled program per option set."""
+    return _flat_program(initial, max_tracts, max_pairs)(shapes, mu, contacts, load, psi)
+
+
+@functools.cache
+def _flat_program(initial: str, max_tracts: int, max_pairs: int):
+    """`flat_cycles`' program with its static options bound: a program of arrays only, which a
+    runner can save (the options are its closure's constants)."""
+    def program(shapes, mu, contacts, load, psi):
+        run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
+                                                      max_tracts=max_tracts, max_pairs=max_pairs)
+        ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
+        return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
+
+    return batch_jit(program)
 
 
 # Above psi_BC (by this relative margin) the steady cycle from a gross-slip history is the
@@ -144,7 +157,8 @@ def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stack
 
 def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                      load: LoadCase = LoadCase(), *, initial="gross_slip",
-                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS) -> StiffnessCurves:
+                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
+                     runner=None) -> StiffnessCurves:
     """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
     batched call. shapes / mu / contacts / load: every leaf with a leading design axis or a scalar
     shared by all (as `cycle.base_cycles`; a per-contact (3,) stiffness of a batch of 3 designs is
@@ -156,7 +170,8 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     the same numbers as the cycle to ~1e-11, tests/test_amplitude.py); the other (design,
     amplitude) pairs run in two stages: one pair of halves each, then the full iteration only where
     the cycle did not close in one pair. Traced inputs (inside jit / grad) run `curves_kernel`,
-    every cycle by the direct method.
+    every cycle by the direct method. runner(program, args) -> outputs runs each stage's program
+    instead of a plain call (the CLI passes its saved-program cache).
     """
 
     leaves = jax.tree_util.tree_leaves((shapes, mu, contacts, load, psi_a_mrad))
@@ -164,11 +179,12 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
         return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
                              max_tracts=max_tracts, max_pairs=max_pairs)
     designs, psi = prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
+    run = (lambda program, args: program(*args)) if runner is None else runner  # noqa: E731
     size, n_amp = psi.shape
     flat_psi = psi.reshape(-1)
     if initial == "gross_slip":
-        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in stretched_curves(
-            *designs, jnp.asarray(psi)))
+        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in run(
+            stretched_curves, (*designs, jnp.asarray(psi))))
     else:
         k_re, k_im, pairs = (np.zeros(flat_psi.size) for _ in range(3))
         use = np.zeros(flat_psi.size, bool)
@@ -183,14 +199,14 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
         design_of = idx // n_amp
         flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
         sub_psi = flat_psi[idx]
-        first = flat_cycles(*flat, sub_psi, initial, max_tracts, 1)
+        first = run(_flat_program(initial, max_tracts, 1), (*flat, sub_psi))
         cyc = {f: np.array(getattr(first, f))[: todo.size] for f in ("k_re", "k_im", "status",
                                                                       "cycles")}
         again = np.nonzero(cyc["status"] == RESULTS.not_converged)[0]
         if max_pairs > 1 and again.size:
             j = padded_index(again)
             sub = jax.tree_util.tree_map(lambda x: x[j], flat)
-            rerun = flat_cycles(*sub, sub_psi[j], initial, max_tracts, max_pairs)
+            rerun = run(_flat_program(initial, max_tracts, max_pairs), (*sub, sub_psi[j]))
             for f, v in cyc.items():
                 v[again] = np.asarray(getattr(rerun, f))[: again.size]
         for f, v in cyc.items():

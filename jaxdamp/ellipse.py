@@ -31,6 +31,8 @@ dissipated at the pads, sum of int T d(slip) (both computed in closed form, test
 
 from __future__ import annotations
 
+import functools
+
 from typing import NamedTuple
 
 import jax
@@ -59,7 +61,7 @@ MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
 CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 INITIAL_STATES = ("assembly", "gross_slip")
 
-__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep",
+__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "sweep_program",
            "elliptic_transitions_chart", "path_pads", "period_fourier",
            "gross_slip_amplitude_kernel", "along_line",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
@@ -363,24 +365,30 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
 
 
 
-def _at_each_motion(shape, mu, contacts, load, amplitude, motion, *, initial):
-    return jax.vmap(lambda m: elliptic_kernel(shape, mu, contacts, load, amplitude, m,
-                                              initial=initial))(motion)
+@functools.cache
+def sweep_program(initial: str):
+    """The jitted steady cycle at each motion of a batch, f(shape, mu, contacts, load, amplitude,
+    motion) -> EllipticCycle with a leading motion axis (one program per initial state; a runner
+    can save it: its option is its closure's constant)."""
+    def program(shape, mu, contacts, load, amplitude, motion):
+        return jax.vmap(lambda m: elliptic_kernel(shape, mu, contacts, load, amplitude, m,
+                                                  initial=initial))(motion)
 
-
-_sweep_kernel = jax.jit(_at_each_motion, static_argnames="initial")
+    return jax.jit(program)
 
 
 def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h_l_mm,
                      contacts: Contacts = Contacts(), load: LoadCase = LoadCase(), *,
-                     initial="assembly") -> EllipticCycle:
+                     initial="assembly", runner=None) -> EllipticCycle:
     """The steady cycle at every interblade phase angle of phis_deg (deg, each in [-360, 360]) on
     the paper's Fig. 4 kinematics (`interblade_motion`: rotation centres h_c_mm below D, damper
     size h_l_mm), at amplitude_mrad of the left-hand blade's platform rotation: one vmapped
     program, an EllipticCycle whose leaves have a leading phase-angle axis. Any pad set (the
     curved-flat damper or a wedge); straight paths (0, 180 deg) run as ellipses of zero width,
     which give the straight-path solver's numbers (tests/test_engine.py). initial: "assembly" or
-    "gross_slip". Inputs are checked here (ValueError naming the parameter and its range)."""
+    "gross_slip". Inputs are checked here (ValueError naming the parameter and its range).
+    runner(program, args) -> outputs runs `sweep_program` instead of a plain call (the CLI passes
+    its saved-program cache)."""
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
     check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     phis = np.atleast_1d(np.asarray(phis_deg, float))
@@ -394,8 +402,9 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     warn_small_rotation(amplitude_mrad, "psi_a", stacklevel=3)
     x = np.array([interblade_direction(p, float(h_c_mm), float(load.q_star)) for p in phis])
     motion = Motion(jnp.asarray(x.real), jnp.full(phis.size, float(h_l_mm)), jnp.asarray(x.imag))
-    return _sweep_kernel(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion,
-                         initial=initial)
+    args = (shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion)
+    program = sweep_program(initial)
+    return program(*args) if runner is None else runner(program, args)
 
 
 def elliptic_transitions_chart(ec: EllipticCycle) -> list[dict]:

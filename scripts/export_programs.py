@@ -33,6 +33,7 @@ COMMANDS = [
     "amplitude --shape 60sym --mu 0.5 --psi-a 0.5,1.2,3",
     "grad --shape 74R --mu 0.5",
     "response --shape 60sym --mu 0.5 --force-n 2,5,20 --band",
+    "study --no-figures --no-progress --out {tmp}/study",  # the README's main job
 ]
 
 
@@ -50,7 +51,7 @@ def main() -> int:
         for command in COMMANDS:
             t0 = time.perf_counter()
             before = set(Path(tmp, "exported").glob("*.bin"))
-            subprocess.run([sys.executable, "-m", "jaxdamp.cli", *command.split()], env=env,
+            subprocess.run([sys.executable, "-m", "jaxdamp.cli", *command.format(tmp=tmp).split()], env=env,
                            check=True, stdout=subprocess.DEVNULL)
             new = sorted(set(Path(tmp, "exported").glob("*.bin")) - before)
             programs.update({p.name: command for p in new})

@@ -41,6 +41,38 @@ def test_saved_export_is_reused_without_tracing(monkeypatch, tmp_path):
     assert len(list((tmp_path / "exported").iterdir())) == 3
 
 
+def _scaled_program(factor):
+    """One program per factor: its closure's constant, as `bands_program`'s options are."""
+    return jax.jit(lambda x: x * factor)
+
+
+def test_one_name_for_programs_of_other_options_keeps_them_apart(monkeypatch, tmp_path):
+    """The study saves all its programs under one name: a program's function and the constants of
+    its closure (its static options) are part of the key, so that programs of the same inputs'
+    shapes but other options never share a file."""
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")
+    x = jnp.arange(3.0)
+    np.testing.assert_array_equal(exported.call("same", _scaled_program(2.0), (x,)), 2.0 * x)
+    np.testing.assert_array_equal(exported.call("same", _scaled_program(3.0), (x,)), 3.0 * x)
+    exported.forget_loaded()  # as in a new process: only the files are left
+    np.testing.assert_array_equal(exported.call("same", _scaled_program(3.0), (x,)), 3.0 * x)
+    np.testing.assert_array_equal(exported.call("same", _scaled_program(2.0), (x,)), 2.0 * x)
+    assert len(list((tmp_path / "exported").iterdir())) == 2
+
+
+def test_a_program_closing_over_an_array_is_not_saved(monkeypatch, tmp_path):
+    """An array in a closure would be baked into the saved program, unseen by the key: such a
+    program runs as a plain call and nothing is written."""
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    offset = jnp.asarray([1.0, 2.0])
+    program = jax.jit(lambda x: x + offset)
+    assert exported.program_identity(program) is None
+    assert exported.program_identity(_scaled_program(2.0)) is not None
+    np.testing.assert_array_equal(exported.call("toy", program, (jnp.zeros(2),)), [1.0, 2.0])
+    assert not (tmp_path / "exported").exists()
+
+
 def test_a_shipped_program_serves_an_empty_cache_folder_without_tracing(monkeypatch, tmp_path):
     """A program saved with the package (exported.SHIPPED_DIR) is what a new cache folder runs:
     no trace, no export; the user's folder stays empty of exports."""

@@ -214,6 +214,11 @@ def test_figures_exist_and_are_real_pngs(with_figures):
         for shape in ("60sym", "74L"):
             assert f"figures/{kind}_{shape}.png" in files
     assert {"figures/energy.png", "figures/family.png", "figures/key_figure.png"} <= set(files)
+    # The cycles' figures are drawn beside the bands' computing (another thread), the rest after:
+    # the report's order is still each shape's five cycle figures, then the others.
+    kinds = ("section", "tracks", "moment", "stretched", "stiffness")
+    assert files[:10] == [f"figures/{k}_{shape}.png" for shape in ("60sym", "74L") for k in kinds]
+    assert len(files) == len(set(files))
     for f in files:
         nbytes, w, h = _png_size(out / f)
         assert nbytes > 30_000 and w >= 700 and h >= 450, (f, nbytes, w, h)
@@ -462,3 +467,17 @@ def test_the_claim_section_counts_what_its_table_shows():
     assert "- 60sym: no pad opens at any phase angle, amplitude or μ." in text
     assert ("- wedge: a pad opens in 1 of 2 valid cycles, for up to 25.00 % of the period "
             "(μ = 0.5, a = 10 mrad, φ = 90°); 1 without a valid cycle.") in text
+
+
+def test_cycle_figures_are_drawn_beside_only_off_screen(monkeypatch):
+    """run_study draws the cycles' figures in a thread of their own only with a backend that draws
+    off screen (the CLI's Agg): a GUI backend's windows belong to the main thread, so there they
+    are drawn after the computing, on the calling thread."""
+    import matplotlib
+
+    from jaxdamp.plotting.study import draws_off_screen
+
+    for backend, off in (("agg", True), ("Agg", True), ("svg", True), ("TkAgg", False),
+                         ("QtAgg", False), ("module://matplotlib_inline.backend_inline", False)):
+        monkeypatch.setattr(matplotlib, "get_backend", lambda b=backend: b)
+        assert draws_off_screen() is off, backend

@@ -7,8 +7,9 @@ diagram, while loading the compiled code took 0.4 s): the exact damper curve is 
 while-loop cycle with a custom JVP rule, traced inside the root search's custom_root. `call`
 saves a program once as a serialized `jax.export.Exported` (StableHLO) in the cache folder and
 later processes deserialize it: no tracing, and the XLA compile of the same module is a
-persistent-cache hit. The key holds the jaxdamp sources, the JAX version, the program's name and
-the inputs' structure, shapes and dtypes, so that any change of code or input shapes exports anew.
+persistent-cache hit. The key holds the jaxdamp sources, the JAX version, the program's name, its
+function and static options (`program_identity`) and the inputs' structure, shapes and dtypes, so
+that any change of code, options or input shapes exports anew.
 
 The package ships the saved programs of the commonest commands (`SHIPPED_DIR`, written by
 `scripts/export_programs.py` with the same key): a first call in a new cache folder then skips
@@ -32,7 +33,7 @@ from ..paper.files import write_bytes
 from ..runtime import batch_compiler_options
 from . import cache_dir
 
-__all__ = ["call", "SHIPPED_DIR", "sources_digest"]
+__all__ = ["call", "SHIPPED_DIR", "sources_digest", "program_identity"]
 
 # Saved programs that come with the package (read-only; scripts/export_programs.py writes them).
 SHIPPED_DIR = Path(__file__).resolve().parents[1] / "data" / "exported"
@@ -50,8 +51,41 @@ def sources_digest() -> str:
     return h.hexdigest()
 
 
-def _key(name: str, variant: str, leaves, in_tree) -> str:
+# Closure constants that name a program's static options (bands_program's sample count, a peak
+# program's method): part of its identity. Anything else in a closure (an array, an object) could
+# be baked into the program unseen by the key, and such a program is not saved.
+_OPTION_TYPES = (str, int, float, bool, type(None))
+
+
+def program_identity(program) -> str | None:
+    """The traced function's module, qualified name and closure constants (its static options),
+    or None where the closure holds something else: two programs with the same name and inputs
+    but other code or options never share a saved export."""
+    fun = getattr(program, "__wrapped__", program)
+
+    def constant(v):
+        if isinstance(v, _OPTION_TYPES):
+            return True
+        return isinstance(v, tuple) and all(constant(x) for x in v)
+
+    parts = [f"{getattr(fun, '__module__', '?')}.{getattr(fun, '__qualname__', '?')}"]
+    for cell in getattr(fun, "__closure__", None) or ():
+        v = cell.cell_contents
+        if callable(v) and not constant(v):
+            sub = program_identity(v)
+            if sub is None:
+                return None
+            parts.append(sub)
+        elif constant(v):
+            parts.append(repr(v))
+        else:
+            return None
+    return "|".join(parts)
+
+
+def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
     h = hashlib.sha256(sources_digest().encode())
+    h.update(identity.encode())
     # The platform the program was lowered for: a CPU export does not run on a GPU.
     h.update(f"{name}|{variant}|{jax.default_backend()}".encode())
     h.update(str(in_tree).encode())
@@ -98,10 +132,11 @@ def call(name: str, program, args: tuple, variant: str = ""):
     their own structure, saved with the program, so that a later process neither traces nor
     lowers it. variant: what else selects the program (its static options), part of the key."""
     folder = cache_dir()
-    if folder is None:
+    identity = program_identity(program)
+    if folder is None or identity is None:
         return program(*args)
     leaves, in_tree = jax.tree_util.tree_flatten(args)
-    path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree)}.bin"
+    path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree, identity)}.bin"
     data = _read(path)
     if data is None:
         data = _read(SHIPPED_DIR / path.name)  # saved with the package for these sources

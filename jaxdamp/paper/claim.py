@@ -22,13 +22,13 @@ CLAIM_H_C_MM, CLAIM_H_L_MM = 20.0, 10.0  # blades' rotation centre below D; the 
 CLAIM_WEDGE_BR2 = 0.8  # the wedge's right pad spacing 2b/h_R, as 60sym's left flank's 2b_L/h_L
 
 
-def platform_claim(mus, contacts, load, progress=None) -> dict:
+def platform_claim(mus, contacts, load, progress=None, runner=None) -> dict:
     """The paper's claim (its ref [16], Appendix 2: under a non-zero interblade phase angle a wedge
     suffers edge contacts and liftoff, the curved-flat damper stays seated), computed: 60sym and
     the wedge of the same base angles (R1, R2 | L1, L2, 2b/h = 0.8 on both flanks) on the paper's
     Fig. 4 kinematics at CLAIM_PHIS_DEG, both amplitudes and every mu, from assembly (one
     `interblade_sweep` program per damper). Rows carry the status, k_Im, k_Im / k_Im(phi = 0) and
-    the open and slip fraction per pad."""
+    the open and slip fraction per pad. runner: as `interblade_sweep`'s."""
     curved = family_shape("60sym")
     dampers = {"60sym": curved,
                "wedge": curved._replace(br_over_hr=0.0, br2_over_hr=CLAIM_WEDGE_BR2)}
@@ -37,7 +37,7 @@ def platform_claim(mus, contacts, load, progress=None) -> dict:
         for mu in mus:
             for a in CLAIM_AMPLITUDES_MRAD:
                 r = interblade_sweep(shape, float(mu), a, CLAIM_PHIS_DEG, CLAIM_H_C_MM,
-                                     CLAIM_H_L_MM, contacts, load)
+                                     CLAIM_H_L_MM, contacts, load, runner=runner)
                 status = [RESULTS.name_of(v) for v in np.asarray(r.status)]
                 k_im = np.asarray(r.k_im)
                 ref = k_im[0] if status[0] == "ok" and k_im[0] > 0.0 else None

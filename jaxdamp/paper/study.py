@@ -262,10 +262,12 @@ def amplitude_grids(bc, n_amplitudes=BAND_AMPLITUDES):
     return psi_fs, psi_bc, psi, psi[::CURVE_PER_BAND]
 
 
-def exact_curves(shapes, mus, psi, contacts, load) -> dict:
+def exact_curves(shapes, mus, psi, contacts, load, runner=None) -> dict:
     """{initial: (k_re, k_im, status)} with (designs, amplitudes) arrays: the exact steady cycles
     of every design from both named initial states, in one batched call per state (one compiled
-    kernel for the whole study); psi in mrad, k in N mm/mrad, NaN where the status is not valid."""
+    kernel for the whole study); psi in mrad, k in N mm/mrad, NaN where the status is not valid.
+    runner(program, args) -> outputs runs each compiled program instead of a plain call (the CLI
+    passes its saved-program cache); so in every function below."""
     import jax
 
     from ..curves import amplitude_curves
@@ -274,7 +276,7 @@ def exact_curves(shapes, mus, psi, contacts, load) -> dict:
     out = {}
     for initial in NAMED_STATES:
         cv = amplitude_curves(stacked, np.asarray(mus, float), np.asarray(psi), contacts, load,
-                              initial=initial)
+                              initial=initial, runner=runner)
         st = np.asarray(cv.status)
         ok = np.asarray(RESULTS.valid(st))
         out[initial] = (np.where(ok, np.asarray(cv.k_re), np.nan),
@@ -283,7 +285,7 @@ def exact_curves(shapes, mus, psi, contacts, load) -> dict:
 
 
 def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitudes=BAND_AMPLITUDES,
-                         n_samples=BAND_SAMPLES) -> dict:
+                         n_samples=BAND_SAMPLES, runner=None) -> dict:
     """For one design: the exact k_Re, k_Im (N mm/mrad) from both named initial states on the
     `amplitude_grids` grid (`curves`: this design's row of `exact_curves`, computed here if None),
     the paper's interpolation on it, the band over the admissible initial states at every
@@ -300,11 +302,12 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
     psi_fs, psi_bc, psi, grid = amplitude_grids(bc, n_amplitudes)
     if curves is None:
         curves = {k: tuple(x[0] for x in v)
-                  for k, v in exact_curves([shape], [mu], psi[None], contacts, load).items()}
+                  for k, v in exact_curves([shape], [mu], psi[None], contacts, load,
+                                           runner).items()}
     at_band = slice(None, None, CURVE_PER_BAND)
     k_re_i, k_im_i = (np.asarray(x) for x in complex_stiffness(bc, psi, method="interpolated"))
     bounds, n_valid, status = [], [], []
-    for b in amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples):
+    for b in amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples, runner=runner):
         bounds.append(b.bounds)
         n_valid.append(b.n_valid)
         status.append(RESULTS(b.status).name)
@@ -340,7 +343,7 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
 
 
 def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samples=BAND_SAMPLES,
-                    progress=None) -> dict:
+                    progress=None, runner=None) -> dict:
     """`stiffness_band_entry` of every design of the study ({shape: {mu key: entry}}), the exact
     curves of all designs that do not lift off computed in one batch."""
     from ..geometry import family_shape
@@ -350,7 +353,7 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
     if live:
         psi = np.stack([amplitude_grids(cycles[s][m], n_amplitudes)[2] for s, m in live])
         batch = exact_curves([family_shape(s) for s, _ in live], [float(m) for _, m in live], psi,
-                             contacts, load)
+                             contacts, load, runner)
         curves = {key: {k: tuple(x[i] for x in v) for k, v in batch.items()}
                   for i, key in enumerate(live)}
     out = {}
@@ -358,7 +361,7 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
         for m, bc in per.items():
             out.setdefault(s, {})[m] = stiffness_band_entry(
                 family_shape(s), float(m), contacts, load, bc, curves.get((s, m)), n_amplitudes,
-                n_samples)
+                n_samples, runner)
             if progress is not None:
                 progress.update(1)
     return out
@@ -368,7 +371,7 @@ def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samp
 PEAK_FORCES_N = (5.0, 20.0)  # modal excitation forces of the shape comparison on peak response
 
 
-def peak_response_entry(shape, mu, contacts, load, status, forces=PEAK_FORCES_N) -> dict:
+def peak_response_entry(shape, mu, contacts, load, status, forces=PEAK_FORCES_N, runner=None) -> dict:
     """Peak tip amplitude A* (mm), its frequency (Hz) and psi_a = r A* (mrad) of the default
     BladeMode with this damper at each force (N), from the exact k(psi_a) (gross-slip history) and,
     for comparison, the paper's interpolation. One compiled kernel per method, shared by all
@@ -386,7 +389,9 @@ def peak_response_entry(shape, mu, contacts, load, status, forces=PEAK_FORCES_N)
     entry = {"status": "ok", "liftoff": False, "forces_n": [float(f) for f in forces]}
     for method in ("exact", "interpolated"):
         # The forces share one amplitude grid; one compiled program per method for all designs.
-        p = peak_program(method)(shape, mu, contacts, load, mode, jnp.asarray(forces, float))
+        program = peak_program(method)
+        args = (shape, mu, contacts, load, mode, jnp.asarray(forces, float))
+        p = program(*args) if runner is None else runner(program, args)
         st = [RESULTS(int(s)).name for s in np.asarray(p.status)]
         ok = np.array([s == "ok" for s in st])
         entry[method] = {
@@ -429,7 +434,8 @@ def check_study_inputs(shapes, mus, kn=None, kt=None):
 
 
 def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=None,
-                  band_amplitudes=BAND_AMPLITUDES, band_samples=BAND_SAMPLES, peak_forces=PEAK_FORCES_N):
+                  band_amplitudes=BAND_AMPLITUDES, band_samples=BAND_SAMPLES, peak_forces=PEAK_FORCES_N,
+                  runner=None, beside=None):
     """Every shape x mu Base-Cycle of the study and its summary dict (the content of study.json,
     without figures), the exact k(psi_a) with its band and the interpolation's gap to it
     (`stiffness_band_entry`), and the peak blade response (`peak_response_entry`). Returns
@@ -437,7 +443,10 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
     Inputs are checked before any work (`check_study_inputs`). The bands, the peaks and the claim
     run in three threads: JAX settings made with a context manager (thread-local, such as
     `with jax.enable_x64(True):`) do not reach them; set float64 with
-    `jax.config.update("jax_enable_x64", True)`."""
+    `jax.config.update("jax_enable_x64", True)`. runner(program, args) -> outputs runs each
+    compiled program instead of a plain call (the CLI passes its saved-program cache). beside:
+    None or a function (cycles, summaries, load) called once the Base-Cycles are computed, in a
+    fourth thread beside the three (the study's figures of the cycles are drawn there)."""
     import jax
 
     from ..params import LoadCase
@@ -458,7 +467,7 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
         for name, per in cycles.items():
             for m, bc in per.items():
                 peaks.setdefault(name, {})[m] = peak_response_entry(
-                    family_shape(name), float(m), contacts, load, bc.status, peak_forces)
+                    family_shape(name), float(m), contacts, load, bc.status, peak_forces, runner)
                 if progress is not None:
                     progress.update(1)
         return peaks
@@ -469,12 +478,15 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
 
     # The bands, the peaks and the claim (curved-flat against wedge, claim.py) are independent and,
     # on a first run, mostly XLA compiling programs of their own: side by side, XLA compiles them
-    # on separate cores. Each part's time below is its own, overlapping.
-    (stiffness_band, t_band), (peaks, t_peaks), (claim, t_claim) = side_by_side(
-        lambda: timed(stiffness_bands, cycles, contacts, load, band_amplitudes, band_samples,
-                      progress),
-        lambda: timed(all_peaks),
-        lambda: timed(platform_claim, mus, contacts, load, progress))
+    # on separate cores. Each part's time below is its own, overlapping. `beside` (the figures of
+    # the cycles) is mostly Python drawing: it runs while XLA compiles and runs the others.
+    parts = [lambda: timed(stiffness_bands, cycles, contacts, load, band_amplitudes, band_samples,
+                           progress, runner),
+             lambda: timed(all_peaks),
+             lambda: timed(platform_claim, mus, contacts, load, progress, runner)]
+    if beside is not None:
+        parts.append(lambda: timed(beside, cycles, summaries, load))
+    (stiffness_band, t_band), (peaks, t_peaks), (claim, t_claim), *rest = side_by_side(*parts)
     results = {s: {m: result_entry(cs) for m, cs in per.items()} for s, per in summaries.items()}
     energies = {s: {m: cs.energy_Nmm for m, cs in per.items()} for s, per in summaries.items()}
     scores = score_table(results)
@@ -502,7 +514,8 @@ def compute_study(shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progr
         "meta": {"shapes": list(shapes), "mus": [mu_key(m) for m in mus], "version": _version(),
                  "jax": jax.__version__, "runtime_s": time.perf_counter() - t0,
                  "runtime_parts_s": {"base_cycles": t_cases, "stiffness_band": t_band,
-                                     "peak_response": t_peaks, "platform_claim": t_claim}},
+                                     "peak_response": t_peaks, "platform_claim": t_claim,
+                                     **({"beside": rest[0][1]} if rest else {})}},
     }
     return summary, cycles, summaries
 

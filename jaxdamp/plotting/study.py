@@ -14,30 +14,41 @@ from ..paper.study import (DEFAULT_MU, DEFAULT_SHAPES, check_study_inputs, compu
                            paper_values, write_study)
 
 
+PSI_C_NOTE = ("ψ_c is the centre of the rotation cycle: ψ_P oscillates between ψ_c − ψ_a and "
+              "ψ_c + ψ_a, so the axis shows the rotation about the centre.")
+
+
 def study_figures(cycles, summaries, summary):
     """Every figure of the study, one at a time: yields (Figure, file name, caption, section).
 
     A curve that lies on another one in any panel is brought to the front with distinct markers and
     a note (`mark_coincident_lines`). The caller saves and closes each figure (`make_figures`) or
     inspects it (the layout test)."""
+    yield from _marked(cycle_figures(cycles, summaries, summary["meta"]["mus"],
+                                     summary["load"]["q_star"]))
+    yield from _marked(_summary_figures(cycles, summaries, summary))
+
+
+def _marked(figures):
     from .labels import mark_coincident_lines
 
-    for fig, name, caption, section in _study_figures(cycles, summaries, summary):
+    for fig, name, caption, section in figures:
         for ax in fig.axes:
             mark_coincident_lines(ax)
         yield fig, name, caption, section
 
 
-def _study_figures(cycles, summaries, summary):
+def cycle_figures(cycles, summaries, mus, q_star):
+    """The study's figures of each shape's Base-Cycles (section, tracks, moment, stretched cycles,
+    complex stiffness), which need nothing but the cycles: `study_figures`' first ones. mus: the
+    study's mu keys; q_star in mm."""
     import matplotlib.pyplot as plt
 
     from .. import plotting as P
     from ..geometry import family_shape
 
-    mus = summary["meta"]["mus"]
     mu_max = max(mus, key=float)
-    psi_c = ("ψ_c is the centre of the rotation cycle: ψ_P oscillates between ψ_c − ψ_a and "
-             "ψ_c + ψ_a, so the axis shows the rotation about the centre.")
+    psi_c = PSI_C_NOTE
     for s, per in cycles.items():
         bcs = list(per.values())
         yield (P.plot_section(family_shape(s), float(mu_max)), f"section_{s}.png",
@@ -48,7 +59,7 @@ def _study_figures(cycles, summaries, summary):
                f"{s}: equilibrium tracks (force Base-Cycles, F_D = 1) with secondary loops (cf. Fig. 10b).",
                "Equilibrium tracks (Fig. 10b)")
         yield (P.plot_moment_cycles(bcs), f"moment_{s}.png",
-               f"{s}: moment Base-Cycles for q* = {summary['load']['q_star']:g} mm (cf. Fig. 13). " + psi_c,
+               f"{s}: moment Base-Cycles for q* = {q_star:g} mm (cf. Fig. 13). " + psi_c,
                "Moment Base-Cycles (Fig. 13)")
         fig, axes = plt.subplots(1, len(bcs), figsize=(7.0 * len(bcs), 7.4), squeeze=False,
                                  layout="constrained")
@@ -63,6 +74,14 @@ def _study_figures(cycles, summaries, summary):
                "interpolation in the microslip range between them (cf. Fig. 15, Appendix B). Right: "
                "the same curves zoomed on the microslip range.",
                "Complex stiffness (Fig. 15, Appendix B)")
+
+
+def _summary_figures(cycles, summaries, summary):
+    """The study's figures that need its summary (bands, energies, the family, the claim) and the
+    key figure."""
+    from .. import plotting as P
+
+    psi_c = PSI_C_NOTE
     for s, per in summary.get("stiffness_band", {}).items():
         fig = amplitude_stiffness_figure(s, per)
         if fig is not None:
@@ -155,11 +174,17 @@ def amplitude_stiffness_figure(shape, per):
 
 def make_figures(out: Path, cycles, summaries, summary, progress=None) -> list[dict]:
     """Every figure of the study as PNG; returns [{file, caption, section}] (paths relative to out/..)."""
+    return save_figures(out, cycles, study_figures(cycles, summaries, summary), progress)
+
+
+def save_figures(out: Path, cycles, figures, progress=None) -> list[dict]:
+    """Save and close each (Figure, name, caption, section) of `figures` as PNG in out; returns
+    [{file, caption, section, shape}] (paths relative to out/..)."""
     import matplotlib.pyplot as plt
 
     out.mkdir(parents=True, exist_ok=True)
     figs = []
-    for fig, name, caption, section in study_figures(cycles, summaries, summary):
+    for fig, name, caption, section in figures:
         save_figure(fig, out / name, dpi=110)
         plt.close(fig)
         shape = name[:-4].rsplit("_", 1)[-1] if name[:-4].rsplit("_", 1)[-1] in cycles else None
@@ -192,11 +217,27 @@ def key_figure(bc, summary):
     return fig
 
 
+# Matplotlib's backends that draw off screen: pyplot may make figures in another thread only with
+# these (a GUI backend's windows belong to the main thread).
+OFF_SCREEN_BACKENDS = frozenset({"agg", "cairo", "pdf", "pgf", "ps", "svg", "template"})
+
+
+def draws_off_screen() -> bool:
+    """Whether matplotlib's backend draws off screen (OFF_SCREEN_BACKENDS)."""
+    import matplotlib
+
+    return matplotlib.get_backend().lower() in OFF_SCREEN_BACKENDS
+
+
 def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None, progress=True,
-              figures=True) -> dict:
+              figures=True, runner=None) -> dict:
     """Compute every shape x mu Base-Cycle; write study.json, tables, figures and the report into out.
 
     Returns the summary dict (the content of study.json). Inputs are checked before any work.
+    The figures of the Base-Cycles are drawn while the bands, peaks and claim are computed (beside
+    them, `compute_study`'s `beside`: the computing is mostly XLA, which leaves Python free) where
+    matplotlib draws off screen (Agg, the CLI's backend; OFF_SCREEN_BACKENDS), else after them.
+    runner: as `compute_study`'s.
     """
     from tqdm import tqdm
 
@@ -205,15 +246,30 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
     out = Path(out)
     n_fig = (6 * len(shapes) + 3 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
     bar = tqdm(total=3 * len(shapes) * len(mus) + 2 + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
-    summary, cycles, summaries = compute_study(shapes, mus, kn, kt, bar)
+    first = []
+
+    def draw_cycles(cycles, summaries, q_star):
+        first.extend(save_figures(out / "figures", cycles, _marked(cycle_figures(
+            cycles, summaries, [mu_key(m) for m in mus], float(q_star))), bar))
+
+    def draw_beside(cycles, summaries, load):
+        draw_cycles(cycles, summaries, load.q_star)
+
+    early = figures and draws_off_screen()
+    summary, cycles, summaries = compute_study(shapes, mus, kn, kt, bar, runner=runner,
+                                               beside=draw_beside if early else None)
     if figures:
         bar.set_description("Figures")
-        summary["figures"] = make_figures(out / "figures", cycles, summaries, summary, bar)
+        if not early:
+            draw_cycles(cycles, summaries, summary["load"]["q_star"])
+        summary["figures"] = first + save_figures(
+            out / "figures", cycles, _marked(_summary_figures(cycles, summaries, summary)), bar)
     bar.close()
     summary["meta"]["runtime_s"] = time.perf_counter() - t0
     write_study(out, summary)
     return summary
 
 
-__all__ = ["study_figures", "amplitude_data", "amplitude_stiffness_figure", "make_figures",
-           "key_figure", "run_study"]
+__all__ = ["study_figures", "cycle_figures", "amplitude_data", "amplitude_stiffness_figure",
+           "make_figures", "save_figures", "key_figure", "run_study", "PSI_C_NOTE",
+           "OFF_SCREEN_BACKENDS", "draws_off_screen"]
