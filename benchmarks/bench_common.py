@@ -67,7 +67,9 @@ def machine(note: str | None = None) -> dict:
         pass
     info = {"cpu": cpu, "cores": os.cpu_count(), "platform": platform.platform(),
             "python": platform.python_version(), "jax": jax.__version__,
-            "devices": [str(d) for d in jax.devices()], "float64": bool(jax.config.jax_enable_x64),
+            "devices": [str(d) for d in jax.devices()],
+            "device_kinds": sorted({d.device_kind for d in jax.devices()}),
+            "float64": bool(jax.config.jax_enable_x64),
             "load_average_1min_at_start": loadavg()[0], "xla_flags": os.environ.get("XLA_FLAGS", "")}
     if note:
         info["note"] = note

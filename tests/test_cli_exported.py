@@ -73,6 +73,32 @@ def test_a_program_closing_over_an_array_is_not_saved(monkeypatch, tmp_path):
     assert not (tmp_path / "exported").exists()
 
 
+def test_the_clis_programs_have_an_identity_and_are_saved():
+    """Every program factory whose programs the CLI saves gives programs with an identity (else
+    they would run unsaved), and two option sets give two identities."""
+    from jaxdamp.band import bands_program
+    from jaxdamp.cli.cycle import cycle_program
+    from jaxdamp.ellipse import sweep_program
+    from jaxdamp.response import peak_program
+    from jaxdamp.response.diagram import diagram_program
+    from jaxdamp.response.peaks import curves_program, path_curves_program
+    from jaxdamp.response.row import row_program
+    from jaxdamp.response.row_band import row_band_program
+
+    pairs = [(bands_program(64, 6, 2), bands_program(32, 6, 2)),
+             (peak_program("exact"), peak_program("interpolated")),
+             (diagram_program("exact"), diagram_program("interpolated")),
+             (curves_program("exact"), curves_program("interpolated")),
+             (path_curves_program("assembly"), path_curves_program("gross_slip")),
+             (row_program("assembly"), row_program("gross_slip")),
+             (row_band_program(64), row_band_program(32)),
+             (sweep_program("assembly"), sweep_program("gross_slip"))]
+    for a, b in pairs:
+        ids = exported.program_identity(a), exported.program_identity(b)
+        assert None not in ids and ids[0] != ids[1], ids
+    assert exported.program_identity(cycle_program()) is not None
+
+
 def test_a_shipped_program_serves_an_empty_cache_folder_without_tracing(monkeypatch, tmp_path):
     """A program saved with the package (exported.SHIPPED_DIR) is what a new cache folder runs:
     no trace, no export; the user's folder stays empty of exports."""

@@ -24,6 +24,7 @@ import dataclasses
 import functools
 import hashlib
 import pickle
+import types
 from pathlib import Path
 
 import jax
@@ -58,9 +59,10 @@ _OPTION_TYPES = (str, int, float, bool, type(None))
 
 
 def program_identity(program) -> str | None:
-    """The traced function's module, qualified name and closure constants (its static options),
-    or None where the closure holds something else: two programs with the same name and inputs
-    but other code or options never share a saved export."""
+    """The traced function's module, qualified name, default arguments and closure constants (its
+    static options), or None where it is not a plain function (a functools.partial, a callable
+    object) or its closure or defaults hold something else: two programs with the same name and
+    inputs but other code or options never share a saved export."""
     fun = getattr(program, "__wrapped__", program)
 
     def constant(v):
@@ -68,16 +70,25 @@ def program_identity(program) -> str | None:
             return True
         return isinstance(v, tuple) and all(constant(x) for x in v)
 
-    parts = [f"{getattr(fun, '__module__', '?')}.{getattr(fun, '__qualname__', '?')}"]
-    for cell in getattr(fun, "__closure__", None) or ():
+    if isinstance(fun, type):
+        return f"{fun.__module__}.{fun.__qualname__}"
+    if not isinstance(fun, types.FunctionType):
+        return None
+    defaults = (fun.__defaults__ or ()) + tuple((fun.__kwdefaults__ or {}).items())
+    if not constant(defaults):
+        return None
+    parts = [f"{fun.__module__}.{fun.__qualname__}", repr(defaults)]
+    for cell in fun.__closure__ or ():
         v = cell.cell_contents
-        if callable(v) and not constant(v):
+        if constant(v):
+            parts.append(repr(v))
+        elif type(v) is object:  # a sentinel (jax.vmap keeps one): no state, no options
+            parts.append("<sentinel>")
+        elif callable(v):
             sub = program_identity(v)
             if sub is None:
                 return None
             parts.append(sub)
-        elif constant(v):
-            parts.append(repr(v))
         else:
             return None
     return "|".join(parts)
