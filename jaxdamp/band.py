@@ -481,5 +481,5 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
 
 
 __all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_kernel",
-           "band_kernel", "bands_program",
+           "band_kernel", "bands_program", "CONFIRM_TOL",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

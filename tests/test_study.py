@@ -481,3 +481,29 @@ def test_cycle_figures_are_drawn_beside_only_off_screen(monkeypatch):
                          ("QtAgg", False), ("module://matplotlib_inline.backend_inline", False)):
         monkeypatch.setattr(matplotlib, "get_backend", lambda b=backend: b)
         assert draws_off_screen() is off, backend
+
+
+def test_named_states_widen_the_band_only_beyond_its_rounding():
+    """A named state's k outside the sampled band widens it and is counted; one that equals a bound
+    to the band's rounding (a k_Im of 0 +- 1e-10 against a bound of 0 +- 1e-10) is the same number
+    and is not; a bound with no valid sample (NaN) takes the named value."""
+    import numpy as np
+
+    from jaxdamp.band import CONFIRM_TOL
+    from jaxdamp.paper.study import widen_band_to_named_states
+
+    nan = float("nan")
+    # two amplitudes: k_re_min, k_re_max, k_im_min, k_im_max (N mm/mrad); scale 10000
+    bounds = np.array([[9000.0, 10000.0, -1e-10, 1e-10],
+                       [8000.0, 9500.0, nan, nan]])
+    near_zero = 1e-10 + 0.5 * CONFIRM_TOL * 1e4  # beyond the bound by half the tolerance
+    named = [(np.array([9500.0, 7990.0]), np.array([near_zero, 300.0]))]
+    widened, missed = widen_band_to_named_states(bounds, named)
+    expected = np.array([[9000.0, 10000.0, -1e-10, 1e-10],
+                         [7990.0, 9500.0, 300.0, 300.0]])
+    np.testing.assert_array_equal(widened, expected)
+    assert missed == 3  # k_re below the second minimum, and k_im against both NaN bounds
+    # beyond the tolerance it counts and widens
+    far = 1e-10 + 2.0 * CONFIRM_TOL * 1e4
+    widened, missed = widen_band_to_named_states(bounds[:1], [(np.array([9500.0]), np.array([far]))])
+    assert missed == 1 and widened[0, 3] == far

@@ -284,6 +284,33 @@ def exact_curves(shapes, mus, psi, contacts, load, runner=None) -> dict:
     return out
 
 
+def widen_band_to_named_states(bounds, named):
+    """(bounds widened to hold the named states' k, how many bounds that moved): bounds (amplitudes,
+    4) k_re_min, k_re_max, k_im_min, k_im_max (N mm/mrad, NaN where no sample was valid); named: per
+    named state (k_re, k_im) on the same amplitudes (NaN where its cycle is not valid). A named
+    value counts as outside only beyond the band's own rounding, `band.CONFIRM_TOL` of the k scale
+    (the largest |k| here): a k_Im of 0 +- 1e-10 against a bound of 0 +- 1e-10 is the same number,
+    whatever the compile options."""
+    from ..band import CONFIRM_TOL
+
+    bounds = np.array(bounds, float)
+    values = [np.abs(bounds)] + [np.abs(np.asarray(k, float)) for pair in named for k in pair]
+    finite = np.concatenate([v[np.isfinite(v)] for v in values])
+    tol = CONFIRM_TOL * (finite.max() if finite.size else 0.0)
+    missed = 0
+    for pair in named:
+        for j, k in enumerate(pair):
+            k = np.asarray(k, float)
+            have = np.isfinite(k)
+            lo_b, hi_b = bounds[:, 2 * j], bounds[:, 2 * j + 1]
+            out_lo = have & ~(k >= lo_b - tol)  # NaN bound (no valid sample) counts as outside
+            out_hi = have & ~(k <= hi_b + tol)
+            missed += int(out_lo.sum() + out_hi.sum())
+            bounds[:, 2 * j] = np.where(out_lo, np.fmin(lo_b, k), lo_b)
+            bounds[:, 2 * j + 1] = np.where(out_hi, np.fmax(hi_b, k), hi_b)
+    return bounds, missed
+
+
 def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitudes=BAND_AMPLITUDES,
                          n_samples=BAND_SAMPLES, runner=None) -> dict:
     """For one design: the exact k_Re, k_Im (N mm/mrad) from both named initial states on the
@@ -311,18 +338,9 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
         bounds.append(b.bounds)
         n_valid.append(b.n_valid)
         status.append(RESULTS(b.status).name)
-    bounds = np.array(bounds)  # (amplitudes, 4): k_re_min, k_re_max, k_im_min, k_im_max
-    missed = 0
-    for initial in NAMED_STATES:
-        kr, ki, _ = curves[initial]
-        for j, k in enumerate((kr[at_band], ki[at_band])):
-            have = np.isfinite(k)
-            lo_b, hi_b = bounds[:, 2 * j], bounds[:, 2 * j + 1]
-            out_lo = have & ~(k >= lo_b)  # NaN bound (no valid sample) counts as outside
-            out_hi = have & ~(k <= hi_b)
-            missed += int(out_lo.sum() + out_hi.sum())
-            bounds[:, 2 * j] = np.where(out_lo, np.fmin(lo_b, k), lo_b)
-            bounds[:, 2 * j + 1] = np.where(out_hi, np.fmax(hi_b, k), hi_b)
+    bounds, missed = widen_band_to_named_states(
+        np.array(bounds), [(kr[at_band], ki[at_band]) for kr, ki, _ in
+                           (curves[initial] for initial in NAMED_STATES)])
     gap = {name: interpolation_gap(grid, k[at_band], bounds[:, 2 * j], bounds[:, 2 * j + 1])
            for j, (name, k) in enumerate((("k_re", k_re_i), ("k_im", k_im_i)))}
     band_ok = any(s in ("ok", "shakedown") for s in status)
@@ -543,5 +561,6 @@ __all__ = ["SCHEMA_VERSION", "DEFAULT_SHAPES", "DEFAULT_MU", "CONTRACT_KEYS", "P
            "result_entry", "CSV_NAMES", "write_tables", "BAND_AMPLITUDES", "BAND_SAMPLES",
            "BAND_LO_FS", "BAND_HI_BC", "CURVE_PER_BAND", "NAMED_STATES", "GAP_ROUNDING",
            "interpolation_gap", "amplitude_grids", "exact_curves", "stiffness_band_entry",
+           "widen_band_to_named_states",
            "stiffness_bands", "PEAK_FORCES_N", "peak_response_entry", "blade_mode_dict",
            "check_study_inputs", "compute_study", "write_study"]
