@@ -410,7 +410,11 @@ def test_report_gap_and_band_lines_say_what_they_mean(full):
     drawn = [e["band"] for per in s["stiffness_band"].values() for e in per.values() if "band" in e]
     missed = sum(b["named_outside_samples"] for b in drawn)
     assert f"Of the {sum(4 * len(b['psi_a_mrad']) for b in drawn)} band bounds" in md
-    assert f"), {missed} lay outside every sampled initial state" in md
+    if missed:
+        assert f"), {missed} lay outside every sampled initial state" in md
+    else:  # the study's case since the count ignores rounding: no widening to claim
+        assert "), none lay outside the sampled initial states: the samples held both" in md
+        assert "the band was widened" not in md
 
 
 @pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s

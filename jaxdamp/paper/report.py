@@ -336,9 +336,14 @@ def _interpolation_gaps(doc, summary, shapes):
     drawn = [e["band"] for per in bands.values() for e in per.values() if "band" in e]
     missed = sum(b["named_outside_samples"] for b in drawn)
     bounds = sum(4 * len(b["psi_a_mrad"]) for b in drawn)  # min and max of k_Re and k_Im per amplitude
-    doc.p(f"Of the {bounds} band bounds (the minimum and maximum of k_Re and of k_Im at each "
-          f"amplitude), {missed} lay outside every sampled initial state and were set by a named "
-          "state (gross slip or assembly): the band was widened to hold them.")
+    head = (f"Of the {bounds} band bounds (the minimum and maximum of k_Re and of k_Im at each "
+            "amplitude), ")
+    if missed:
+        doc.p(head + f"{missed} lay outside every sampled initial state and were set by a named "
+              "state (gross slip or assembly): the band was widened to hold them.")
+    else:
+        doc.p(head + "none lay outside the sampled initial states: the samples held both named "
+              "states (gross slip and assembly) at every amplitude, to the band's rounding.")
 
 
 def _peak_response(doc, summary, shapes):
