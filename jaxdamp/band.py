@@ -40,7 +40,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic, row_subsets
 from .residual import through_residual
-from .runtime import padded_size
+from .runtime import padded_size, run_program
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
 from .tract import NO_EVENT
@@ -455,7 +455,7 @@ def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: Loa
     padded = np.concatenate([psi, np.full(padded_size(n, 1, 8) - n, psi[-1])])
     program = bands_program(n_samples, steps if refine else 0, starts)
     args = (shape, mu, contacts, load, jnp.asarray(padded), jax.random.PRNGKey(seed))
-    out = jax.device_get(program(*args) if runner is None else runner(program, args))
+    out = jax.device_get(run_program(program, args, runner))
     return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
                  int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
 

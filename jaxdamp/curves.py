@@ -19,7 +19,7 @@ from .conventions import warn_small_rotation
 from .cycle import base_cycle_kernel
 from .geometry import DamperShape, validate_shape
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .runtime import batch_jit, padded_size
+from .runtime import batch_jit, padded_size, run_program
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
@@ -179,12 +179,11 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
         return curves_kernel(shapes, mu, contacts, load, psi_a_mrad, initial=initial,
                              max_tracts=max_tracts, max_pairs=max_pairs)
     designs, psi = prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial)
-    run = (lambda program, args: program(*args)) if runner is None else runner  # noqa: E731
     size, n_amp = psi.shape
     flat_psi = psi.reshape(-1)
     if initial == "gross_slip":
-        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in run(
-            stretched_curves, (*designs, jnp.asarray(psi))))
+        k_re, k_im, use, pairs = (np.array(x).reshape(-1) for x in run_program(
+            stretched_curves, (*designs, jnp.asarray(psi)), runner))
     else:
         k_re, k_im, pairs = (np.zeros(flat_psi.size) for _ in range(3))
         use = np.zeros(flat_psi.size, bool)
@@ -199,14 +198,15 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
         design_of = idx // n_amp
         flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
         sub_psi = flat_psi[idx]
-        first = run(_flat_program(initial, max_tracts, 1), (*flat, sub_psi))
+        first = run_program(_flat_program(initial, max_tracts, 1), (*flat, sub_psi), runner)
         cyc = {f: np.array(getattr(first, f))[: todo.size] for f in ("k_re", "k_im", "status",
                                                                       "cycles")}
         again = np.nonzero(cyc["status"] == RESULTS.not_converged)[0]
         if max_pairs > 1 and again.size:
             j = padded_index(again)
             sub = jax.tree_util.tree_map(lambda x: x[j], flat)
-            rerun = run(_flat_program(initial, max_tracts, max_pairs), (*sub, sub_psi[j]))
+            rerun = run_program(_flat_program(initial, max_tracts, max_pairs), (*sub, sub_psi[j]),
+                                runner)
             for f, v in cyc.items():
                 v[again] = np.asarray(getattr(rerun, f))[: again.size]
         for f, v in cyc.items():

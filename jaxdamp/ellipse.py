@@ -52,6 +52,7 @@ from .paths import Ellipse, Line, sinusoid
 from .motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
+from .runtime import run_program
 from .statics import contact_columns
 from .status import RESULTS, number_repr, status_repr
 from .tract import OPEN, SLIP, STATE_NAMES
@@ -404,7 +405,7 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     motion = Motion(jnp.asarray(x.real), jnp.full(phis.size, float(h_l_mm)), jnp.asarray(x.imag))
     args = (shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion)
     program = sweep_program(initial)
-    return program(*args) if runner is None else runner(program, args)
+    return run_program(program, args, runner)
 
 
 def elliptic_transitions_chart(ec: EllipticCycle) -> list[dict]:

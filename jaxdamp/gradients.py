@@ -36,6 +36,7 @@ from .geometry import DamperShape
 from .harmonics import UNITS as FIVE_NUMBER_UNITS
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
 from .params import Contacts, LoadCase
+from .runtime import run_program
 from .status import number_repr, status_repr
 
 # The design variables that a derivative reports, with the Design field each one lives in.
@@ -169,7 +170,7 @@ def _jac(shape, mu, contacts, load, psi_a, mode, runner=None):
     design = given.prepared()
     validate_psi_a(psi_a)
     program, args = _jacobian[mode], (design, jnp.asarray(psi_a, float))
-    jac, (values, status) = program(*args) if runner is None else runner(program, args)
+    jac, (values, status) = run_program(program, args, runner)
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
     return values, Outputs(*(_collapse(d, *shared) for d in jac)), status
 

@@ -94,6 +94,13 @@ def side_by_side(*calls) -> list:
         pool.shutdown(wait=False, cancel_futures=True)
 
 
+def run_program(program, args: tuple, runner=None):
+    """program(*args), or runner(program, args) where a runner is given: the one protocol of the
+    library's `runner=` arguments (the CLI passes its saved-program cache, `jaxdamp.cli.exported`),
+    for a jitted program of arrays."""
+    return program(*args) if runner is None else runner(program, args)
+
+
 def padded_size(n: int, min_step: int, steps_per_octave: int = 1) -> int:
     """The one padding rule of every batched call: n rounded up to a multiple of
     max(min_step, 2^floor(log2 n) / steps_per_octave). With steps_per_octave = 1 that is the next
@@ -139,4 +146,4 @@ def batch_jit(fun=None, **kwargs):
 
 
 __all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LATENCY_OPTIONS", "batch_compiler_options",
-           "batch_jit", "compile_for_latency", "side_by_side"]
+           "batch_jit", "compile_for_latency", "side_by_side", "run_program"]

@@ -166,3 +166,22 @@ def test_side_by_side_runs_the_calls_at_once_and_returns_them_in_order():
 
     with pytest.raises(ValueError, match="second call"):
         runtime.side_by_side(lambda: 1, fails)
+
+
+def test_run_program_calls_the_program_or_hands_it_to_the_runner():
+    """The one `runner=` protocol: without a runner the program's own call, with one the runner
+    gets the program and its arguments and its result is returned."""
+    from jaxdamp.runtime import run_program
+
+    def program(a, b):
+        return a + b
+
+    seen = []
+
+    def runner(prog, args):
+        seen.append((prog, args))
+        return "from the runner"
+
+    assert run_program(program, (2, 3)) == 5 and not seen
+    assert run_program(program, (2, 3), runner) == "from the runner"
+    assert seen == [(program, (2, 3))]

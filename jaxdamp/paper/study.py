@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..runtime import side_by_side
+from ..runtime import run_program, side_by_side
 from ..status import RESULTS
 from .claim import platform_claim
 from .files import atomic_file, write_text
@@ -409,7 +409,7 @@ def peak_response_entry(shape, mu, contacts, load, status, forces=PEAK_FORCES_N,
         # The forces share one amplitude grid; one compiled program per method for all designs.
         program = peak_program(method)
         args = (shape, mu, contacts, load, mode, jnp.asarray(forces, float))
-        p = program(*args) if runner is None else runner(program, args)
+        p = run_program(program, args, runner)
         st = [RESULTS(int(s)).name for s in np.asarray(p.status)]
         ok = np.array([s == "ok" for s in st])
         entry[method] = {

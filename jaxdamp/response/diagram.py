@@ -11,7 +11,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..params import validate_mu
-from ..runtime import batch_jit
+from ..runtime import batch_jit, run_program
 from ..status import number_repr, status_repr
 from .peaks import peak_frequency_hz, peak_response
 from .scene import BladeMode, Scene, prepare_scene
@@ -85,7 +85,7 @@ def designer_diagram(shape, mode: BladeMode | None = None, contacts=None, load=N
     program = diagram_program(method, tuple(sorted(options.items())))
     args = (shape, jnp.asarray(mus), contacts, load, mode, jnp.asarray(force), jnp.asarray(fds),
             jnp.asarray(fd0), jnp.asarray(f_fd))
-    outs = program(*args) if runner is None else runner(program, args)
+    outs = run_program(program, args, runner)
     by_force, by_fd, stuck_f, status = (np.asarray(v) for v in outs)
     free_f = force / (float(mode.eta) * float(mode.k_b))
     free_d = np.full(fds.shape, f_fd / (float(mode.eta) * float(mode.k_b)))

@@ -15,7 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..params import check_param
-from ..runtime import batch_jit, padded_size
+from ..runtime import batch_jit, padded_size, run_program
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
 from .peaks import Peaks, path_peaks
@@ -122,7 +122,6 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     program without them (`flexible_row`).
     runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
     its batch's host outputs (force axes still padded), in scenes' order."""
-    runner = runner or (lambda prog, args: prog(*args))
     n_f = padded_size(tip.shape[1], buckets[1], buckets[2])
     tip = tip[:, np.minimum(np.arange(n_f), tip.shape[1] - 1)]
     elliptic = np.array([not s.straight for s in scenes])
@@ -138,8 +137,9 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
         modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
                               for f in BladeMode._fields))
         residuals = () if residual is None else (jnp.asarray(residual[take]),)
-        got = jax.device_get(runner(program, (*design, modes_k, _stack([s.motion for s in part]),
-                                              jnp.asarray(tip[take]), *extra, *residuals)))
+        args = (*design, modes_k, _stack([s.motion for s in part]), jnp.asarray(tip[take]), *extra,
+                *residuals)
+        got = jax.device_get(run_program(program, args, runner))
         for j, i in enumerate(idx):
             rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j], got)
     return rows
