@@ -79,16 +79,15 @@ print("\n" + json.dumps({"code": code, "in_process_s": time.perf_counter() - t0,
 
 
 def _loops(tmp: Path) -> None:
-    """Three moment loops of 720 samples as CSV files (the issue's fit-loops case)."""
-    code = ("import jax, numpy as np; jax.config.update('jax_enable_x64', True)\n"
-            "import jaxdamp as jd\n"
-            "for name, a in zip('abc', (0.8, 1.5, 3.0)):\n"
-            "    t = np.linspace(0.0, 2.0, 720)\n"
-            "    psi, m = jd.sample_loop(jd.family_shape('60sym'), 0.4, a, t=t)\n"
-            f"    np.savetxt('{tmp}/' + name + '.csv', np.c_[psi, m], delimiter=',',"
-            "               header='psi_mrad,moment_nmm', comments='')\n")
-    subprocess.run([sys.executable, "-c", code], check=True, env=dict(os.environ,
-                   JAXDAMP_CACHE_DIR="off"))
+    """Three moment loops of 720 samples as CSV files (the issue's fit-loops case; the loops whose
+    programs the package ships, scripts/export_programs.py)."""
+    code = ("import sys, jax; jax.config.update('jax_enable_x64', True)\n"
+            f"sys.path.insert(0, {str(ROOT / 'scripts')!r})\n"
+            "from export_programs import write_sample_loops\n"
+            f"write_sample_loops({str(tmp)!r})\n")
+    subprocess.run([sys.executable, "-c", code], check=True, env=dict(
+        os.environ, JAXDAMP_CACHE_DIR="off",
+        PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}"))
 
 
 def run_once(kind, what, cache: Path, tmp: Path) -> dict:

@@ -34,7 +34,23 @@ COMMANDS = [
     "grad --shape 74R --mu 0.5",
     "response --shape 60sym --mu 0.5 --force-n 2,5,20 --band",
     "study --no-figures --no-progress --out {tmp}/study",  # the README's main job
+    # issue 32's fit: three moment loops of 720 samples (`write_sample_loops`); another count of
+    # loops, or over 1024 samples in a loop, is another program
+    "fit-loops {tmp}/a.csv {tmp}/b.csv {tmp}/c.csv --shape 60sym --no-progress --out {tmp}/fit.json",
 ]
+
+
+def write_sample_loops(folder) -> None:
+    """Three exact moment loops of 720 samples (60sym, mu = 0.4, psi_a 0.8, 1.5, 3 mrad) as the
+    CSV files a.csv, b.csv, c.csv that `jaxdamp fit-loops` reads."""
+    import numpy as np
+
+    import jaxdamp as jd
+
+    for name, a in zip("abc", (0.8, 1.5, 3.0)):
+        psi, m = jd.sample_loop(jd.family_shape("60sym"), 0.4, a, t=np.linspace(0.0, 2.0, 720))
+        np.savetxt(Path(folder, f"{name}.csv"), np.c_[psi, m], delimiter=",",
+                   header="psi_mrad,moment_nmm", comments="")
 
 
 def main() -> int:
@@ -44,7 +60,9 @@ def main() -> int:
     from jaxdamp.cli.exported import SHIPPED_DIR, sources_digest
 
     out = SHIPPED_DIR
+    jax.config.update("jax_enable_x64", True)  # for write_sample_loops
     with tempfile.TemporaryDirectory() as tmp:
+        write_sample_loops(tmp)
         env = dict(os.environ, JAXDAMP_CACHE_DIR=tmp, JAXDAMP_COMPILE="fast",
                    PYTHONPATH=f"{ROOT}{os.pathsep}{os.environ.get('PYTHONPATH', '')}")
         programs = {}

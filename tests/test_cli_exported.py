@@ -132,7 +132,8 @@ def test_shipped_programs_match_the_sources():
     manifest = json.loads((exported.SHIPPED_DIR / "manifest.json").read_text())
     files = sorted(p.name for p in exported.SHIPPED_DIR.glob("*.bin"))
     assert files == sorted(manifest["programs"])
-    assert {f.split("-")[0] for f in files} >= {"cycle", "grad_fwd", "response_curves", "band_grid"}
+    assert {f.split("-")[0] for f in files} >= {"cycle", "grad_fwd", "response_curves", "band_grid",
+                                              "fit_loops"}
     if (manifest["jax"], manifest["platform"]) != (jax.__version__, jax.default_backend()):
         pytest.skip(f"saved for jax {manifest['jax']} on {manifest['platform']}: not used here")
     assert manifest["sources"] == exported.sources_digest(), (

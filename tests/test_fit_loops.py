@@ -14,7 +14,7 @@ from hypothesis import given, settings, strategies as st
 
 import jaxdamp as jd
 from jaxdamp.baselines.timemarch import march_amplitude
-from jaxdamp.fit import LoopError, analyse_loop, identify, sample_loop
+from jaxdamp.fit import K_REF, LoopError, analyse_loop, identify, sample_loop
 
 from helpers import assert_tree_allclose, one_error_line, run_cli, strict_json
 
@@ -66,6 +66,34 @@ def test_synthetic_loops_recovered_inside_intervals(noisy_fit):
     assert_tree_allclose(c, c.T, rtol=1e-5, atol=1e-8)
     assert_tree_allclose(np.diag(c), np.ones(len(c)), rtol=1e-5, atol=1e-8)
     assert fit.sigma == pytest.approx(np.mean([0.005 * np.ptp(m) for _, m in _noisy_loops()]), rel=0.3)
+
+
+def test_standard_errors_are_those_of_a_finite_difference_jacobian():
+    """The solver's Jacobian of the residuals (forward mode through the kernel, once per point it
+    visits) gives the fit's standard errors; the same formula on central differences of
+    `fit_problem`'s residuals at the optimum gives the same numbers."""
+    loops = _noisy_loops(seed=3)
+    fit = jd.fit_loops(loops, SHAPE, robust=False)
+    prob = jd.fit_problem(loops, SHAPE)
+    n_phys = prob.n_phys
+    assert all(fit.identifiable) and n_phys == 3
+    theta = np.concatenate([np.log(fit.value[:1]), np.log(fit.value[1:3] / K_REF),
+                            fit.value[3:] / prob.scale])
+
+    def res(th):
+        return np.asarray(prob.residuals(th, 0.0))
+
+    h = 1e-6
+    jac = np.stack([(res(theta + h * e) - res(theta - h * e)) / (2 * h) for e in np.eye(theta.size)],
+                   axis=1)
+    mask = np.asarray(prob.data.mask).reshape(-1) > 0
+    r, jac = res(theta)[mask], jac[mask]
+    sigma2 = float(np.sum(r ** 2) / (r.size - theta.size))
+    ok, _, cov = identify(jac, sigma2, prob.names, n_phys)
+    se_t = np.sqrt(np.diag(cov))
+    se = np.concatenate([fit.value[:n_phys] * se_t[:n_phys], se_t[n_phys:] * prob.scale])
+    assert all(ok)
+    assert_tree_allclose(fit.se, se, rtol=1e-4, atol=0.0)
 
 
 @pytest.mark.slow  # 271 worker-s, fixture included (loaded run, 2026-11-26): a second fit program

@@ -79,10 +79,12 @@ SYNC_DISPATCH_COMMANDS = frozenset({"statics", "design-br", "cycle", "grad", "se
 # Commands whose first call is mostly XLA compilation: XLA compiles them fast rather than
 # optimises (runtime.compile_for_latency; first calls on the 2-core VM: `cycle` 7.2 -> 4.7 s,
 # `response` 23.9 -> 15.1 s, `study` 157 -> 128 s, whose repeat took 87 -> 97 s). The commands
-# that run their programs long keep optimised code (sweep, calibrate, optimize; fit-loops, whose
-# first call gained 4.6 s and its repeat lost 7.9 s: docs/performance.md).
+# that run their programs long keep optimised code (sweep, calibrate, optimize). fit-loops compiles
+# fast since its step's Jacobian is one forward-mode matrix (2026-11-27: the step compiles in 5.5 s
+# instead of 12.1 s, and a repeat ran 4.1-5.3 s fast against 5.1-5.8 s optimised; before, with
+# the kernel's linearised scan in the step, fast compiling cost its repeat 7.9 s).
 FAST_COMPILE_COMMANDS = frozenset({"statics", "design_br", "cycle", "amplitude", "grad", "response",
-                                   "section", "study"})
+                                   "section", "study", "fit_loops"})
 COMPILE_ENV = "JAXDAMP_COMPILE"
 COMPILE_MODES = ("auto", "fast", "optimized")
 

@@ -24,6 +24,7 @@ import dataclasses
 import functools
 import hashlib
 import pickle
+import threading
 import types
 from pathlib import Path
 
@@ -94,6 +95,12 @@ def program_identity(program) -> str | None:
     return "|".join(parts)
 
 
+# Custom calls that JAX does not promise to keep stable across versions (jax.export refuses them
+# unless told): the key holds the JAX version and the platform, so a saved program is only ever
+# read back by the jaxlib that wrote it. The loop fit's QR solve (lineax) applies Q^T by ormqr.
+ALLOWED_CUSTOM_CALLS = ("lapack_dormqr_ffi",)
+
+
 def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
     h = hashlib.sha256(sources_digest().encode())
     h.update(identity.encode())
@@ -107,18 +114,27 @@ def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
 
 
 @functools.cache
-def _runner(exported_bytes: bytes):
-    """(the deserialized program jitted once per process with the batch compiler options, its
-    output structure)."""
+def _loaded(exported_bytes: bytes):
     exp, out_tree = pickle.loads(exported_bytes)
     options = batch_compiler_options()
     return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
 
 
+_LOADING = threading.Lock()
+
+
+def _runner(exported_bytes: bytes):
+    """(the deserialized program jitted once per process with the batch compiler options, its
+    output structure). One jitted function per program also where threads call it together (the
+    library runs programs side by side): a jitted function compiles once for both."""
+    with _LOADING:
+        return _loaded(exported_bytes)
+
+
 def forget_loaded() -> None:
     """Forget the programs this process has loaded from saved exports, so that the next call
     reads its file again, as a new process would."""
-    _runner.cache_clear()
+    _loaded.cache_clear()
 
 
 def _serialized(exp, out_tree) -> bytes:
@@ -163,7 +179,8 @@ def call(name: str, program, args: tuple, variant: str = ""):
             out_trees.append(out_tree)
             return out_leaves
 
-        exp = jexport.export(jax.jit(flat))(*leaves)
+        exp = jexport.export(jax.jit(flat), disabled_checks=[
+            jexport.DisabledSafetyCheck.custom_call(t) for t in ALLOWED_CUSTOM_CALLS])(*leaves)
         data = _serialized(exp, out_trees[-1])
         try:
             path.parent.mkdir(parents=True, exist_ok=True)

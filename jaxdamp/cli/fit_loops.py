@@ -268,6 +268,7 @@ def read_loops(args) -> list:
 def _fit(args, loops, shape, load, start, groups):
     """fit_loops on the loops, its progress lines on stderr unless --no-progress."""
     from ..fit import fit_loops
+    from . import exported
 
     progress = not args.no_progress
 
@@ -279,7 +280,8 @@ def _fit(args, loops, shape, load, start, groups):
 
     return fit_loops(loops, shape, load=load, initial=args.history, start=start,
                      robust=not args.no_robust, max_steps=args.max_steps, callback=tick,
-                     names=[repr(str(f)) for f in args.files], **groups)
+                     names=[repr(str(f)) for f in args.files],
+                     runner=lambda p, a: exported.call("fit_loops", p, a), **groups)
 
 
 def _document(args, fit, shape, load, start, groups):

@@ -20,7 +20,7 @@ from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
 from ..params import VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_param, validate_load
 from ..response.scene import Scene
 from ..status import RESULTS, number_repr, status_repr
-from ..runtime import padded_size
+from ..runtime import padded_size, run_program, side_by_side
 from .loops import COMPONENTS, ContactLoop, MomentLoop, analyse_loop
 from .model import contact_loop_force, loop_model_moment
 
@@ -88,7 +88,7 @@ class _Data(NamedTuple):
     x: jnp.ndarray  # (L, n) contact loops: displacement from the measured centre, mm
 
 
-def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
+def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str, loop: str = "auto"):
     """(model moment or contact force (L, n) in units of each loop's scale, offsets, cycle statuses
     (L,), per loop: False for a tangential contact loop whose model displacement is not monotone
     along a half (then its force is not a function of the displacement there))."""
@@ -96,7 +96,7 @@ def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
     contacts = Contacts(kn, kt)
 
     def one(psi_a, fwd, u, kind, contact, x):
-        ac = amplitude_kernel(shape, mu, contacts, load, psi_a, initial=history)
+        ac = amplitude_kernel(shape, mu, contacts, load, psi_a, initial=history, loop=loop)
         m = loop_model_moment(ac, fwd, u)
         # contact loops: `forward` holds "the measured displacement decreases on this half"
         f, mono = contact_loop_force(ac, contact, kind == 2, fwd, x)
@@ -106,7 +106,15 @@ def _model(theta, shape, load, data: _Data, spec: FitSpec, history: str):
     return m / data.scale[:, None], off, status, mono
 
 
-_model_jit = jax.jit(_model, static_argnames=("spec", "history"))
+@functools.cache
+def _model_program(spec: FitSpec, history: str):
+    """`_model` as a jitted function of arrays (theta, shape, load, data), its options constants of
+    its closure (a runner can save it)."""
+    @jax.jit
+    def model(theta, shape, load, data):
+        return _model(theta, shape, load, data, spec, history)
+
+    return model
 
 
 def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
@@ -115,9 +123,10 @@ def fit_residuals(theta, shape, load, data: _Data, spec: FitSpec, history: str, 
     return _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)[0]
 
 
-def _residuals_and_status(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta):
+def _residuals_and_status(theta, shape, load, data: _Data, spec: FitSpec, history: str, inv_delta,
+                          loop: str = "auto"):
     """(`fit_residuals`, the cycles' statuses (L,))."""
-    m, off, status, _ = _model(theta, shape, load, data, spec, history)
+    m, off, status, _ = _model(theta, shape, load, data, spec, history, loop)
     r = (data.moment - m - off[:, None]) * data.mask
     z = r * inv_delta
     return (r * jnp.sqrt(2.0 / (1.0 + jnp.sqrt(1.0 + z * z)))).reshape(-1), status
@@ -127,64 +136,123 @@ _residuals_jit = jax.jit(fit_residuals, static_argnums=(4, 5))
 
 def _lm_residuals(theta, args):
     """The solver's function: (residuals, the cycles' statuses) at theta, args = (shape, load,
-    data, inv_delta, spec, history); spec and history are static."""
+    data, inv_delta, spec, history); spec and history are static. Its derivative in theta is the
+    Jacobian matrix, computed once per point by forward mode through the kernel's while loops:
+    the solver's products with J and J^T are then products with that matrix, not copies of the
+    kernel's linearised scan program and its transpose (which made the step's program large)."""
     shape, load, data, inv_delta, spec, history = args
-    return _residuals_and_status(theta, shape, load, data, spec, history, inv_delta)
+
+    def values(th):
+        return _residuals_and_status(th, shape, load, data, spec, history, inv_delta, "while")
+
+    @jax.custom_jvp
+    def f(th):
+        return values(th)
+
+    @f.defjvp
+    def f_jvp(primals, tangents):
+        (th,), (t,) = primals, tangents
+
+        def twice(x):
+            r, status = values(x)
+            return r, (r, status)
+
+        jac, (r, status) = jax.jacfwd(twice, has_aux=True)(th)
+        return (r, status), (jac @ t, np.zeros(status.shape, jax.dtypes.float0))
+
+    return f(theta)
+
+
+def _lm_solver(rtol):
+    # Imported here, not with the module: optimistix (with equinox) adds 1-2 s to every
+    # `import jaxdamp` (measured 2026-11-25), and only the loop fit uses it.
+    import optimistix as optx
+
+    return optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3)
+
+
+def _lm_init(theta, args, rtol):
+    f_struct, aux_struct = jax.eval_shape(lambda: _lm_residuals(theta, args))
+    return _lm_solver(rtol).init(_lm_residuals, theta, args, {}, f_struct, aux_struct, frozenset())
+
+
+def _state_arrays(state) -> list:
+    """The solver state's arrays (its other leaves, a jaxpr, are the same at every step)."""
+    import equinox as eqx
+
+    return [x for x in jax.tree_util.tree_leaves(state) if eqx.is_array(x)]
+
+
+def _state_of(arrays, theta, args, rtol):
+    """The solver state from its arrays (`_state_arrays`); the rest of it comes from tracing the
+    solver's init again (shapes only, no computation)."""
+    import equinox as eqx
+
+    leaves, tree = jax.tree_util.tree_flatten(eqx.filter_eval_shape(_lm_init, theta, args, rtol))
+    dynamic = [i for i, x in enumerate(leaves) if isinstance(x, jax.ShapeDtypeStruct)]
+    if len(dynamic) != len(arrays):
+        raise ValueError(f"the solver state has {len(dynamic)} arrays; got {len(arrays)}")
+    for i, x in zip(dynamic, arrays):
+        leaves[i] = x
+    return jax.tree_util.tree_unflatten(tree, leaves)
 
 
 @functools.cache
-def _lm_programs():
-    """(start, step, at_solution): optimistix's Levenberg-Marquardt run one step per call from
-    Python, each part jitted once per process (equinox's filter_jit: the solver state holds
-    non-array parts, which it keeps static).
+def _fit_programs(spec: FitSpec, history: str, rtol: float):
+    """(start, step, at_solution): the fit's programs, jitted functions of arrays only (the
+    options are constants of their closures), so that a runner can save them (the CLI does,
+    `jaxdamp.cli.exported`: a later process neither traces nor lowers them). optimistix's
+    Levenberg-Marquardt runs one step per call from Python, its state passed between the calls as
+    its list of arrays.
 
     Why not one `optx.least_squares` program: its progress came out through a host callback, and
     JAX cannot store a program with a host callback in the persistent compilation cache (the
     callback's address is part of the program), so every process compiled the fit again (a repeat
     `jaxdamp fit-loops` took as long as the first, 58 s). Stepping from Python reports each step
     itself and every program is cached. The residuals, their Jacobian and the statuses at the
-    solution come from the solver's own linearisation at its last accepted point (no second
-    forward-mode copy of the model)."""
-    # Imported here, not with the module: optimistix (with equinox) adds 1-2 s to every
-    # `import jaxdamp` (measured 2026-11-25), and only the loop fit uses it.
-    import equinox as eqx
-    import optimistix as optx
+    solution come from the solver's own linearisation at its last accepted point."""
 
-    def solver(rtol):
-        return optx.LevenbergMarquardt(rtol=rtol, atol=rtol * 1e-3)
+    def args_of(shape, load, data, inv_delta):
+        return shape, load, data, inv_delta, spec, history
 
-    @eqx.filter_jit
-    def start(theta, args, rtol):
-        f_struct, aux_struct = jax.eval_shape(lambda: _lm_residuals(theta, args))
-        return solver(rtol).init(_lm_residuals, theta, args, {}, f_struct, aux_struct, frozenset())
+    @jax.jit
+    def start(theta, shape, load, data, inv_delta):
+        return _state_arrays(_lm_init(theta, args_of(shape, load, data, inv_delta), rtol))
 
-    @eqx.filter_jit
-    def step(theta, state, args, rtol):
-        lm = solver(rtol)
+    @jax.jit
+    def step(theta, arrays, shape, load, data, inv_delta):
+        import optimistix as optx
+
+        args = args_of(shape, load, data, inv_delta)
+        state, lm = _state_of(arrays, theta, args, rtol), _lm_solver(rtol)
         theta, state, _ = lm.step(_lm_residuals, theta, args, {}, state, frozenset())
         done, result = lm.terminate(_lm_residuals, theta, args, {}, state, frozenset())
         r = state.f_info.residual
-        return theta, state, done, result == optx.RESULTS.successful, 0.5 * jnp.sum(r * r)
+        return (theta, _state_arrays(state), done, result == optx.RESULTS.successful,
+                0.5 * jnp.sum(r * r))
 
-    @eqx.filter_jit
-    def at_solution(state):
+    @jax.jit
+    def at_solution(theta, arrays, shape, load, data, inv_delta):
+        state = _state_of(arrays, theta, args_of(shape, load, data, inv_delta), rtol)
         return state.f_info.residual, state.f_info.jac.as_matrix(), state.aux
 
     return start, step, at_solution
 
 
-def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol, report):
+def _solve(theta0, shape, load, data, inv_delta, *, spec, history, max_steps, rtol, report,
+           runner=None):
     """Levenberg-Marquardt from theta0 (at most max_steps steps; report(step, loss) after each):
     (theta, residuals, Jacobian, statuses at theta, converged, steps)."""
-    start, step, at_solution = _lm_programs()
-    args = (shape, load, data, inv_delta, spec, history)
-    theta, state = theta0, start(theta0, args, rtol)
+    start, step, at_solution = _fit_programs(spec, history, rtol)
+    data_args = (shape, load, data, inv_delta)
+    theta = theta0
+    arrays = run_program(start, (theta,) + data_args, runner)
     done, ok, n = False, True, 0
     while not done and n < max_steps:
-        theta, state, done, ok, loss = step(theta, state, args, rtol)
+        theta, arrays, done, ok, loss = run_program(step, (theta, arrays) + data_args, runner)
         done, ok, n = bool(done), bool(ok), n + 1
         report(n, float(loss))
-    r, jac, status = at_solution(state)
+    r, jac, status = run_program(at_solution, (theta, arrays) + data_args, runner)
     return theta, r, jac, status, done and ok, n
 
 
@@ -357,8 +425,13 @@ class FitProblem(NamedTuple):
 
 def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
                 mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
-                names=None) -> FitProblem:
+                names=None, runner=None) -> FitProblem:
     """The checked, analysed and stacked problem that `fit_loops` solves (same arguments)."""
+    return _with_offsets(_stacked(loops, shape, load, initial, mu, kn, kt, start, names), runner)
+
+
+def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProblem:
+    """`fit_problem` before the model has run: the offsets in theta0 zero, no residuals, no loss0."""
     require_x64()
     if isinstance(shape, Scene):  # checked already (`prepare_scene`): its shape and load
         shape, load = shape.shape, shape.load
@@ -399,23 +472,43 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     load_j = LoadCase(*(jnp.asarray(v, float) for v in load))
     theta = np.concatenate([np.full(n_mu, np.log(st["mu"])), np.full(n_kn, np.log(st["kn"] / K_REF)),
                             np.full(n_kt, np.log(st["kt"] / K_REF)), np.zeros(len(loops))])
-    # start offsets: the mean gap between the measured loop and the model at the start
-    m0, _, _, _ = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
-    gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
-    theta[n_phys:] = gap
-    r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
-    loss0 = float(0.5 * jnp.sum(r0 * r0))
     pnames = spec.names() + [f"offset_{i}" for i in range(len(loops))]
+    return FitProblem(None, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial,
+                      float("nan"))
+
+
+def _with_offsets(prob: FitProblem, runner) -> FitProblem:
+    """The start's offsets (the mean gap between each measured loop and the model at the start),
+    the loss there and the residual function."""
+    spec, data, shape_j, load_j, initial = prob.spec, prob.data, prob.shape, prob.load, prob.initial
+    theta = np.array(prob.theta0)
+    m0, _, _, _ = run_program(_model_program(spec, initial), (jnp.asarray(theta), shape_j, load_j, data),
+                              runner)
+    gap = np.asarray(jnp.sum((data.moment - m0) * data.mask, axis=1) / jnp.sum(data.mask, axis=1))
+    theta[prob.n_phys:] = gap
+    r0 = (data.moment - m0 - jnp.asarray(gap)[:, None]) * data.mask
+
     def res(th, inv_delta):  # the module-level program; the data are its arguments, not constants
         return _residuals_jit(th, shape_j, load_j, data, spec, initial, inv_delta)
-    return FitProblem(res, theta, pnames, scale, loops, spec, n_phys, data, shape_j, load_j, initial,
-                      loss0)
+
+    return prob._replace(residuals=res, theta0=theta, loss0=float(0.5 * jnp.sum(r0 * r0)))
+
+
+def _first_step(prob: FitProblem, rtol: float, runner) -> None:
+    """One solver step from the start without offsets, its result dropped: run beside the model's
+    first call (`_with_offsets`), it compiles the step's program, the fit's largest, on the other
+    core while the model's compiles (a jitted program compiles once when two threads call it)."""
+    start, step, _ = _fit_programs(prob.spec, prob.initial, rtol)
+    data_args = (prob.shape, prob.load, prob.data, jnp.asarray(0.0))
+    theta = jnp.asarray(prob.theta0)
+    arrays = run_program(start, (theta,) + data_args, runner)
+    run_program(step, (theta, arrays) + data_args, runner)
 
 
 def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
               mu: str = "shared", kn: str = "shared", kt: str = "shared", start: dict | None = None,
               robust: bool = True, max_steps: int = 100, rtol: float = 1e-6,
-              callback: Callable | None = None, names=None) -> LoopFit:
+              callback: Callable | None = None, names=None, runner=None) -> LoopFit:
     """Fit mu, kn, kt (and one moment offset per loop) to measured moment loops.
 
     loops: a list of (psi_mrad, moment_nmm) pairs of 1-D arrays (each several periods, any
@@ -426,7 +519,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     (R1 | L1 = L2) or "contact". start: {"mu", "kn", "kt"} (numbers; default DEFAULT_START, a
     generic guess). robust: a second, pseudo-Huber stage.
     callback(stage, step, loss): called after every solver step (loss: 0.5 sum r^2 at the last
-    accepted step), and once with step 0 at the generic start.
+    accepted step), and once with step 0 at the generic start. runner: how the fit's programs are
+    called (`jaxdamp.runtime.run_program`; the CLI passes its saved-program cache).
 
     Returns a LoopFit: values, standard errors, CONFIDENCE intervals, correlations, and which
     parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
@@ -434,8 +528,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     """
     if not isinstance(max_steps, int) or max_steps < 1:
         raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
-    prob = fit_problem(loops, shape, load=load, initial=initial, mu=mu, kn=kn, kt=kt, start=start,
-                       names=names)
+    prob = _stacked(loops, shape, load, initial, mu, kn, kt, start, names)
+    prob = side_by_side(lambda: _with_offsets(prob, runner), lambda: _first_step(prob, rtol, runner))[0]
     spec, n_phys, data, scale, theta = prob.spec, prob.n_phys, prob.data, prob.scale, prob.theta0
     shape_j, load_j, loops = prob.shape, prob.load, prob.loops
     n_mu = spec.sizes()[0]
@@ -447,7 +541,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
         if callback is not None:
             callback(stage_box[0], step, loss)
 
-    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol, report=report)
+    kw = dict(spec=spec, history=initial, max_steps=max_steps, rtol=rtol, report=report,
+              runner=runner)
     report(0, prob.loss0)  # the generic start
     theta, r, jac, status, converged, nsteps = _solve(jnp.asarray(theta), shape_j, load_j, data,
                                                       jnp.asarray(0.0), **kw)
@@ -478,7 +573,8 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     for a in (value, se, lo, hi):
         a[~ident] = np.nan
     mu_v, kn_v, kt_v, _ = (np.asarray(v) for v in _expand(jnp.asarray(theta), spec))
-    m_fit, off, cyc_status, mono = _model_jit(jnp.asarray(theta), shape_j, load_j, data, spec, initial)
+    m_fit, off, cyc_status, mono = run_program(_model_program(spec, initial),
+                                               (jnp.asarray(theta), shape_j, load_j, data), runner)
     fitted = np.asarray((m_fit + off[:, None]) * scale[:, None])
     fitted_list = [fitted[i, :lp.x.size] for i, lp in enumerate(loops)]
     rms = np.array([float(np.sqrt(np.mean((lp.y - f) ** 2))) for lp, f in zip(loops, fitted_list)])
