@@ -11,6 +11,7 @@ from jaxdamp.response import (BladeMode, DamperStiffness, damper_stiffness, desi
                               designer_diagram, frf, linear_frf, no_damper, peak_response,
                               response_amplitude_linear, response_curves, scaled_stiffness,
                               stuck_damper)
+from jaxdamp.band import CONFIRM_TOL
 from jaxdamp.status import RESULTS
 
 MODE = BladeMode()
@@ -204,7 +205,9 @@ def test_peak_band_brackets_every_named_history():
     from jaxdamp.response import peak_band
 
     highest, lowest, grid, k = peak_band(SHAPE, 0.5, force_n=[2.0, 5.0])
-    assert np.all(k[:, 2] <= k[:, 3])
+    # Where every pad sticks k_Im is zero and its two bounds are rounding (+-2e-10 N mm/mrad, in
+    # either order): ordered to the band's own accuracy, CONFIRM_TOL of the k scale.
+    assert np.all(k[:, 2] <= k[:, 3] + CONFIRM_TOL * np.max(np.abs(k)))
     for initial in ("gross_slip", "assembly"):
         p = design_peaks(SHAPE, 0.5, force_n=jnp.asarray([2.0, 5.0]), initial=initial)
         a = np.asarray(p.peak_amplitude_mm)

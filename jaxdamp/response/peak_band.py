@@ -9,7 +9,7 @@ import numpy as np
 
 from ..band import amplitude_bands_kernel
 from ..params import check_param
-from ..runtime import batch_jit
+from ..runtime import batch_jit, run_program
 from ..status import RESULTS
 from .peaks import peak_response
 from .scene import BladeMode, Scene, prepare_scene
@@ -40,9 +40,9 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
     """`peak_band` of a Scene (`prepare_scene`) at forces checked already: neither is checked
     here (the amplitude grid and the counts are)."""
     shape, mu, contacts, load, mode = scene
-    base = interpolated_damper(shape, mu, contacts, load)
+    status, k_re_stuck, psi_ref = run_program(_base_scale, (shape, mu, contacts, load), runner)
     if psi_grid_mrad is None:
-        psi_ref = float(base.psi_ref_mrad)
+        psi_ref = float(psi_ref)
         psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
     grid = np.asarray(psi_grid_mrad, float)
     # every amplitude's band in one batched program (sampling plus the trust-region refinement)
@@ -53,23 +53,29 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
     k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
     force = jnp.asarray(force_n, float)
-    forces = force.reshape(-1)
+    highest, lowest = run_program(_band_peaks, (
+        jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k[:, 2]), jnp.asarray(k[:, 3]), status,
+        k_re_stuck, psi_ref, mode, force.reshape(-1)), runner)
     pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
-
-    def solve(k_im, envelope):
-        peaks = _tabulated_peaks(jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k_im),
-                                 base.status, base.k_re_stuck, base.psi_ref_mrad, mode, forces,
-                                 envelope=envelope)
-        return jax.tree_util.tree_map(pick, peaks)
-
-    return solve(k[:, 2], "lower"), solve(k[:, 3], "upper"), grid, k
+    return jax.tree_util.tree_map(pick, highest), jax.tree_util.tree_map(pick, lowest), grid, k
 
 
-@batch_jit(static_argnames=("envelope",))
-def _tabulated_peaks(grid, k_re, k_im, status, k_re_stuck, psi_ref, mode, forces, envelope):
-    """Peaks at each force of the curve tabulated on grid (`tabulated_stiffness`): one module-level
-    program whose curve is an argument, so that every band's peaks reuse it."""
+@jax.jit
+def _base_scale(shape, mu, contacts, load):
+    """(status, stuck k_Re, psi_BC) of the Base-Cycle: the curve's limits and amplitude scale."""
+    base = interpolated_damper(shape, mu, contacts, load)
+    return base.status, base.k_re_stuck, base.psi_ref_mrad
+
+
+@batch_jit
+def _band_peaks(grid, k_re, k_im_low, k_im_high, status, k_re_stuck, psi_ref, mode, forces):
+    """Peaks at each force of the band's lowest k_Im curve (its lower envelope: the highest peaks)
+    and of its highest (upper envelope: the lowest peaks), tabulated on grid
+    (`tabulated_stiffness`): one module-level program, the curves its arguments."""
     base = DamperStiffness(None, status, k_re_stuck, psi_ref)
-    damper = tabulated_stiffness(grid, k_re, k_im, base, envelope=envelope)
-    return jax.vmap(lambda f: peak_response(damper, mode, f))(forces)
 
+    def peaks(k_im, envelope):
+        damper = tabulated_stiffness(grid, k_re, k_im, base, envelope=envelope)
+        return jax.vmap(lambda f: peak_response(damper, mode, f))(forces)
+
+    return peaks(k_im_low, "lower"), peaks(k_im_high, "upper")
