@@ -269,7 +269,8 @@ def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
     monkeypatch.delenv("JAX_PLATFORMS", raising=False)
     cases = [("auto", ["cycle", "--shape", "74R"], True), ("auto", ["design-br", "--mu", "0.5"], True),
              ("auto", ["study", "--out", "x"], True), ("", ["sweep"], False),
-             ("auto", ["fit-loops", "a.csv"], False), ("fast", ["sweep"], True),
+             ("auto", ["fit-loops", "a.csv"], True), ("auto", ["calibrate"], False),
+             ("fast", ["sweep"], True),
              ("optimized", ["cycle"], False)]
     for mode, argv, fast in cases:
         monkeypatch.setenv(cli.COMPILE_ENV, mode)

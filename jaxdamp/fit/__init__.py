@@ -26,8 +26,8 @@ Parameters theta (the solver's unknowns): log mu (one shared, or one per contact
 and log(kt / K_REF) (shared, per side: R1 | L1 = L2, or per contact), and one moment offset per loop
 in units of the data's moment scale. Logs keep mu, kn and kt positive and the problem well scaled.
 
-The solve is optimistix's Levenberg-Marquardt (its QR linear solve; Jacobian columns by forward mode
-through the exact cycle's custom JVP). Two stages: plain least squares from a generic start, then a
+The solve is optimistix's Levenberg-Marquardt (its QR linear solve; the Jacobian one matrix per
+point, by forward mode through the exact cycle's while loops: a custom JVP of the residuals). Two stages: plain least squares from a generic start, then a
 robust pseudo-Huber loss (residuals rescaled, r * sqrt(2 / (1 + sqrt(1 + (r/delta)^2))), so that
 sum of squares = 2 delta^2 sum (sqrt(1 + (r/delta)^2) - 1)) with delta = ROBUST_DELTA times the
 residuals' robust standard deviation (1.4826 MAD) after stage one. Outliers then weigh like
@@ -40,8 +40,8 @@ is reported as NOT IDENTIFIABLE (value null) when the Jacobian has a (near) null
 part in, or when its interval would span more than a factor MAX_SPAN; the intervals of the others
 come from the pseudo-inverse of J^T J without the null directions (nothing held fixed).
 
-The package: `loops` (measured loops, numpy), `model` (the model's loops, JAX), `solve` (the fit,
-its uncertainty and identifiability), `synthetic` (model loops to test with).
+The package: `loops` (measured loops, numpy), `model` (the model's loops, JAX), `solve` (the fit),
+`result` (its result, uncertainty and identifiability), `synthetic` (model loops to test with).
 """
 
 
@@ -60,15 +60,15 @@ from .model import loop_model_moment as loop_model_moment
 from .solve import DEFAULT_START as DEFAULT_START
 from .solve import GROUPINGS as GROUPINGS
 from .solve import K_REF as K_REF
-from .solve import MAX_SPAN as MAX_SPAN
 from .solve import ROBUST_DELTA as ROBUST_DELTA
 from .solve import FitProblem as FitProblem
 from .solve import FitSpec as FitSpec
-from .solve import LoopFit as LoopFit
 from .solve import fit_loops as fit_loops
 from .solve import fit_problem as fit_problem
 from .solve import fit_residuals as fit_residuals
-from .solve import identify as identify
+from .result import MAX_SPAN as MAX_SPAN
+from .result import LoopFit as LoopFit
+from .result import identify as identify
 from .synthetic import sample_contact_loop as sample_contact_loop
 from .synthetic import sample_loop as sample_loop
 
