@@ -374,13 +374,12 @@ def _with_offsets(prob: FitProblem, runner) -> FitProblem:
 
 def _first_step(prob: FitProblem, rtol: float, runner) -> None:
     """One solver step from the start without offsets, its result dropped: run beside the model's
-    first call (`_with_offsets`), it compiles the step's program, the fit's largest, on the other
-    core while the model's compiles (a jitted program compiles once when two threads call it)."""
-    start, step, _ = _fit_programs(prob.spec, prob.initial, rtol)
-    data_args = (prob.shape, prob.load, prob.data, jnp.asarray(0.0))
-    theta = jnp.asarray(prob.theta0)
-    arrays = run_program(start, (theta,) + data_args, runner)
-    run_program(step, (theta, arrays) + data_args, runner)
+    first call (`_with_offsets`), it compiles the solver's programs (the step, the fit's largest)
+    on the other core while the model's compiles (a jitted program compiles once when two threads
+    call it)."""
+    _solve(jnp.asarray(prob.theta0), prob.shape, prob.load, prob.data, jnp.asarray(0.0),
+           spec=prob.spec, history=prob.initial, max_steps=1, rtol=rtol,
+           report=lambda step, loss: None, runner=runner)
 
 
 def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial: str = "gross_slip",
