@@ -42,6 +42,8 @@ def test_cli_study_json_and_liftoff_case(tmp_path, capsys):
     (["--mu", "0.5,abc"], "--mu must be"),
     (["--mu", "-0.5"], "mu must be in"),
     (["--kn", "inf"], "kn must be"),
+    (["--figure-processes", "-1"], "--figure-processes must be an integer in [0, inf)"),
+    (["--figure-processes", "two"], "--figure-processes"),
 ])
 def test_cli_study_errors(tmp_path, capsys, argv, message):
     code, _, err = run_cli(capsys, "study", "--out", tmp_path / "o", "--no-progress", "--no-figures", *argv)

@@ -24,9 +24,10 @@ def full(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def with_figures(tmp_path_factory):
-    """A reduced study with figures: 60sym and 74L (which lifts off at mu = 0.7)."""
+    """A reduced study with figures: 60sym and 74L (which lifts off at mu = 0.7), drawn in two worker
+    processes (the CLI's way)."""
     out = tmp_path_factory.mktemp("study_figs")
-    run_study(out, shapes=("60sym", "74L"), mus=(0.7, 0.3), progress=False)
+    run_study(out, shapes=("60sym", "74L"), mus=(0.7, 0.3), progress=False, figure_processes=2)
     return out, json.loads((out / "study.json").read_text())
 
 
@@ -214,7 +215,7 @@ def test_figures_exist_and_are_real_pngs(with_figures):
         for shape in ("60sym", "74L"):
             assert f"figures/{kind}_{shape}.png" in files
     assert {"figures/energy.png", "figures/family.png", "figures/key_figure.png"} <= set(files)
-    # The cycles' figures are drawn beside the bands' computing (another thread), the rest after:
+    # The cycles' figures are drawn while the bands compute (in worker processes), the rest after:
     # the report's order is still each shape's five cycle figures, then the others.
     kinds = ("section", "tracks", "moment", "stretched", "stiffness")
     assert files[:10] == [f"figures/{k}_{shape}.png" for shape in ("60sym", "74L") for k in kinds]
@@ -511,3 +512,10 @@ def test_named_states_widen_the_band_only_beyond_its_rounding():
     far = 1e-10 + 2.0 * CONFIRM_TOL * 1e4
     widened, missed = widen_band_to_named_states(bounds[:1], [(np.array([9500.0]), np.array([far]))])
     assert missed == 1 and widened[0, 3] == far
+
+
+@pytest.mark.parametrize("bad", [-1, True, 1.5])
+def test_run_study_checks_figure_processes_before_any_work(tmp_path, bad):
+    with pytest.raises(ValueError, match=r"figure_processes must be None or an integer >= 0"):
+        run_study(tmp_path / "o", progress=False, figure_processes=bad)
+    assert not (tmp_path / "o").exists()

@@ -9,6 +9,7 @@ from . import exported
 
 def register(sub) -> None:
     from ..paper.study import DEFAULT_SHAPES
+    from ..plotting.drawing import MAX_FIGURE_PROCESSES
 
     p = sub.add_parser("study", help="the paper's 60sym-family study: figures, tables, report")
     p.add_argument("--out", default="study_out", help="output directory (default study_out)")
@@ -19,6 +20,9 @@ def register(sub) -> None:
     p.add_argument("--kt", type=float, default=None, help="tangential stiffness, N/mm (default: reference pair)")
     C.add_progress_arg(p)
     p.add_argument("--no-figures", action="store_true", help="skip the figures (numbers, tables, report only)")
+    p.add_argument("--figure-processes", type=int, default=None, metavar="N",
+                   help="worker processes drawing the figures while the study computes (default: one "
+                        f"per core, at most {MAX_FIGURE_PROCESSES}; 0: draw in this process)")
     C.add_json_arg(p)
     p.set_defaults(func=run)
 
@@ -31,11 +35,13 @@ def run(args) -> int:
     shapes = tuple(C.shape_name(s, "--shapes") for s in args.shapes.split(",") if s.strip())
     mus = C.float_list(args.mu, "--mu")
     kn, kt = check_study_inputs(shapes, mus, args.kn, args.kt)  # before the output path and any work
+    if args.figure_processes is not None and args.figure_processes < 0:
+        raise C.CliError(f"--figure-processes must be an integer in [0, inf); got {args.figure_processes}")
     out = C.check_output_dir("--out", args.out)
     # Every program through the saved-program cache: a repeat study neither traces nor lowers them
     # (tracing was ~29 s of a ~90 s repeat), and those shipped with the package serve a first one.
     summary = run_study(out, shapes, mus, kn, kt, progress=C.show_progress(args),
-                        figures=not args.no_figures,
+                        figures=not args.no_figures, figure_processes=args.figure_processes,
                         runner=lambda program, a: exported.call("study", program, a))
     crit = summary["paper_comparison"]["criterion"]
     lift = [f"{s} mu={m}" for s, per in summary["results"].items() for m, e in per.items() if e["liftoff"]]
