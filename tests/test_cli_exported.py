@@ -195,3 +195,43 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
                 assert_tree_allclose(got[key][var], value, rtol=1e-12, atol=1e-12 * scale,
                                      err_msg=(key, var))
     assert abs(plain["k_im_bc"]["theta_l"]) > 0  # a derivative that is not trivially zero
+
+
+_LAPACK_SCRIPT = """
+import sys
+import jax
+import jax.numpy as jnp
+import numpy as np
+jax.config.update("jax_enable_x64", True)
+from jaxdamp.cli import exported
+
+plain = jax.jit(lambda x: jnp.sin(x) * 2.0)
+svd = jax.jit(lambda a: jnp.linalg.svd(a, compute_uv=False))
+x = jnp.linspace(0.0, 1.0, 5)
+a = jnp.asarray([[2.0, 1.0, 0.0], [1.0, 3.0, 1.0], [0.0, 1.0, 4.0]])
+def close(a, b):  # helpers.py is not on this process's path
+    a, b = np.asarray(a), np.asarray(b)
+    assert a.shape == b.shape and np.max(np.abs(a - b)) <= 1e-12 * np.max(np.abs(b)), (a, b)
+close(exported.call("plain", plain, (x,)), 2.0 * np.sin(np.asarray(x)))
+print("after plain:", "scipy.linalg" in sys.modules)
+close(exported.call("svd", svd, (a,)), np.linalg.svd(np.asarray(a), compute_uv=False))
+print("after svd:", "scipy.linalg" in sys.modules)
+"""
+
+
+def test_a_saved_program_initialises_lapack_only_where_it_calls_it(tmp_path):
+    """Loading a saved program without custom calls does not initialise LAPACK (jax.export's call
+    would import scipy.linalg for it: 0.3-0.5 s of a CLI call); one that calls LAPACK (an SVD)
+    still does, in the same process after the other, and gives NumPy's singular values. The first
+    process saves both programs, the second only loads them."""
+    import os
+    import subprocess
+    import sys
+
+    env = {**os.environ, "JAXDAMP_CACHE_DIR": str(tmp_path)}
+    runs = [subprocess.run([sys.executable, "-c", _LAPACK_SCRIPT], env=env, capture_output=True,
+                           text=True, timeout=300) for _ in range(2)]
+    for r in runs:
+        assert r.returncode == 0, r.stderr[-2000:]
+    assert len(list((tmp_path / "exported").iterdir())) == 2
+    assert runs[1].stdout.split("\n")[:2] == ["after plain: False", "after svd: True"]
