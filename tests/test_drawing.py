@@ -1,13 +1,15 @@
 """Figures drawn as jobs (`jaxdamp.plotting.drawing`): a worker process saves the same PNG as the
-calling process, in the order submitted, and a job's error reaches the caller."""
+calling process, in the order submitted, at a lower priority, and a job's error reaches the
+caller."""
 
 import functools
+import os
 
 import pytest
 
 import jaxdamp as jd
 from jaxdamp import plotting as P
-from jaxdamp.plotting.drawing import FigureJob, FigureSaver, default_processes
+from jaxdamp.plotting.drawing import FIGURE_NICENESS, FigureJob, FigureSaver, default_processes
 
 
 class _Count:
@@ -41,6 +43,9 @@ def test_a_worker_process_saves_the_same_pngs_as_this_process(tmp_path):
     with FigureSaver(tmp_path / "there", 1, there) as saver:
         saver.submit(jobs)
         paths_there = saver.results()
+        if hasattr(os, "getpriority"):  # the worker draws below the caller's priority
+            theirs = saver._pool.submit(os.getpriority, os.PRIO_PROCESS, 0).result()
+            assert theirs == min(os.getpriority(os.PRIO_PROCESS, 0) + FIGURE_NICENESS, 19)
     assert [p.name for p in paths_here] == [p.name for p in paths_there] == [j.name for j in jobs]
     for a, b in zip(paths_here, paths_there):
         assert a.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
