@@ -113,55 +113,11 @@ def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
     return h.hexdigest()[:32]
 
 
-# jax.export lowers a saved program's call only after initialising LAPACK for the CPU, which
-# imports scipy.linalg: 0.3-0.5 s of a 2.3 s repeat `cycle` on the 2-core VM, whether or not the
-# program calls LAPACK (2026-11-27: repeat `cycle` 2.26-2.31 s, 1.70-1.94 s without it). A program
-# whose StableHLO holds no custom call at all lowers without it: the flag is per thread (a program
-# lowers on the thread that first calls it), so another thread's program that does call LAPACK
-# still initialises it. JAX's own jit lowering initialises LAPACK where a traced program uses it
-# (jaxlib.lapack.prepare_lapack_call), so nothing else relies on this one. Where a JAX version
-# has no such hook, nothing changes but the time.
-_WITHOUT_LAPACK = threading.local()
-
-
-def _initialise_lapack_only_where_used() -> None:
-    from jax._src.export import _export
-
-    ensure = getattr(_export, "_ensure_backends_initialized", None)
-    if ensure is None or getattr(ensure, "jaxdamp_wrapped", False):
-        return
-
-    def ensure_unless_unused(platforms):
-        if not getattr(_WITHOUT_LAPACK, "on", False):
-            ensure(platforms)
-
-    ensure_unless_unused.jaxdamp_wrapped = True
-    _export._ensure_backends_initialized = ensure_unless_unused
-
-
-def _needs_no_custom_call(exp) -> bool:
-    """Whether the saved program's StableHLO (MLIR bytecode, whose strings are plain) holds no
-    custom call: then it calls no LAPACK kernel."""
-    return b"custom_call" not in exp.mlir_module_serialized
-
-
 @functools.cache
 def _loaded(exported_bytes: bytes):
     exp, out_tree = pickle.loads(exported_bytes)
     options = batch_compiler_options()
-    run = jax.jit(exp.call, **({"compiler_options": options} if options else {}))
-    if not _needs_no_custom_call(exp):
-        return run, out_tree
-    _initialise_lapack_only_where_used()
-
-    def run_without_lapack(*leaves):
-        _WITHOUT_LAPACK.on = True
-        try:
-            return run(*leaves)
-        finally:
-            _WITHOUT_LAPACK.on = False
-
-    return run_without_lapack, out_tree
+    return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
 
 
 _LOADING = threading.Lock()
