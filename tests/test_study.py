@@ -516,6 +516,6 @@ def test_named_states_widen_the_band_only_beyond_its_rounding():
 
 @pytest.mark.parametrize("bad", [-1, True, 1.5])
 def test_run_study_checks_figure_processes_before_any_work(tmp_path, bad):
-    with pytest.raises(ValueError, match=r"figure_processes must be None or an integer >= 0"):
+    with pytest.raises(ValueError, match=r"figure_processes must be an integer in \[0, inf\)"):
         run_study(tmp_path / "o", progress=False, figure_processes=bad)
     assert not (tmp_path / "o").exists()

@@ -11,6 +11,7 @@ from pathlib import Path
 
 from ..paper.claim import PLATFORM_CLAIM_SECTION
 from ..paper.report import KEY_FIGURE_SECTION
+from .._validate import check_int
 from .drawing import FigureJob, FigureSaver, default_processes, draw_job
 from ..paper.study import (DEFAULT_MU, DEFAULT_SHAPES, check_study_inputs, compute_study, mu_key,
                            paper_values, write_study)
@@ -272,10 +273,8 @@ def run_study(out: Path, shapes=DEFAULT_SHAPES, mus=DEFAULT_MU, kn=None, kt=None
 
     t0 = time.perf_counter()
     check_study_inputs(shapes, mus, kn, kt)
-    if figure_processes is not None and (isinstance(figure_processes, bool)
-                                         or not isinstance(figure_processes, int)
-                                         or figure_processes < 0):
-        raise ValueError(f"figure_processes must be None or an integer >= 0; got {figure_processes!r}")
+    if figure_processes is not None:
+        check_int("figure_processes", figure_processes, 0)
     out = Path(out)
     n_fig = (6 * len(shapes) + 3 + ("60sym" in shapes and 0.7 in [float(m) for m in mus])) if figures else 0
     bar = tqdm(total=3 * len(shapes) * len(mus) + 2 + n_fig, desc="Base-Cycles", disable=not progress, unit="step")
