@@ -94,6 +94,26 @@ def side_by_side(*calls) -> list:
         pool.shutdown(wait=False, cancel_futures=True)
 
 
+def cpu_cores() -> int:
+    """The CPU cores this process may run on (its affinity where the system tells it)."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
+
+
+def thread_map(fn, items, threads: int) -> list:
+    """[fn(x) for x in items] on up to `threads` threads, in order; the first exception is raised.
+    For calls of one compiled program on parts of a batch: XLA releases Python's lock while a
+    program runs, so on the CPU the parts run on separate cores."""
+    items = list(items)
+    threads = min(int(threads), len(items))
+    if threads <= 1:
+        return [fn(x) for x in items]
+    with ThreadPoolExecutor(max_workers=threads) as pool:
+        return list(pool.map(fn, items))
+
+
 def run_program(program, args: tuple, runner=None):
     """program(*args), or runner(program, args) where a runner is given: the one protocol of the
     library's `runner=` arguments (the CLI passes its saved-program cache, `jaxdamp.cli.exported`),

@@ -168,6 +168,41 @@ def test_side_by_side_runs_the_calls_at_once_and_returns_them_in_order():
         runtime.side_by_side(lambda: 1, fails)
 
 
+def test_thread_map_runs_up_to_its_threads_at_once_in_order():
+    """runtime.thread_map: `threads` items at the same time (two meet at a barrier that only
+    concurrent calls pass; a third thread is never asked for), the results in the items' order,
+    one thread or one item on the calling thread, and an item's exception reaches the caller."""
+    import threading
+
+    meet = threading.Barrier(2, timeout=30)
+    running, most = [0], [0]
+    lock = threading.Lock()
+
+    def work(x):
+        with lock:
+            running[0] += 1
+            most[0] = max(most[0], running[0])
+        meet.wait()
+        with lock:
+            running[0] -= 1
+        return 10 * x
+
+    assert runtime.thread_map(work, range(6), 2) == [0, 10, 20, 30, 40, 50]
+    assert most[0] == 2
+    caller = threading.get_ident()
+    assert runtime.thread_map(lambda x: threading.get_ident(), [1, 2], 1) == [caller, caller]
+    assert runtime.thread_map(lambda x: threading.get_ident(), [1], 4) == [caller]
+    assert runtime.thread_map(work, [], 2) == []
+
+    def fails(x):
+        if x == 3:
+            raise ValueError("item 3's error")
+        return x
+
+    with pytest.raises(ValueError, match="item 3"):
+        runtime.thread_map(fails, range(5), 2)
+    assert runtime.cpu_cores() >= 1
+
 def test_run_program_calls_the_program_or_hands_it_to_the_runner():
     """The one `runner=` protocol: without a runner the program's own call, with one the runner
     gets the program and its arguments and its result is returned."""

@@ -15,6 +15,7 @@ from pathlib import Path
 from typing import NamedTuple
 
 from ..paper.files import save_figure
+from ..runtime import cpu_cores
 
 FIGURE_DPI = 110  # the study's PNGs
 MAX_FIGURE_PROCESSES = 8  # beyond this, starting processes (about 2 s each) outweighs drawing
@@ -61,11 +62,7 @@ def save_job(job: FigureJob, folder) -> Path:
 
 def default_processes() -> int:
     """One drawing process per core the calling process may use, at most MAX_FIGURE_PROCESSES."""
-    try:
-        cores = len(os.sched_getaffinity(0))
-    except AttributeError:  # not on Linux
-        cores = os.cpu_count() or 1
-    return max(1, min(cores, MAX_FIGURE_PROCESSES))
+    return max(1, min(cpu_cores(), MAX_FIGURE_PROCESSES))
 
 
 def _start_drawing_process(x64: bool, cache_dir, cache_min_compile_s) -> None:
