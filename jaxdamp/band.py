@@ -19,8 +19,9 @@ a quadratic of T there. Trust-region steps take the exact minimum of the second-
 quadratic program solved by enumerating its active sets) and run the exact cycle at the step; inside
 one sequence the step is that sequence's own optimum, across sequences the exact cycle decides.
 Every bound's state is re-run as a plain cycle (`Band.confirmed`). The band is the min / max over
-the valid cycles (status ok or shakedown). `amplitude_bands` runs a grid of amplitudes in one
-batched program (the response's band, `peak_band`).
+the valid cycles (status ok or shakedown). `amplitude_bands` runs a grid of amplitudes through one
+program (the response's band, `peak_band`): on the CPU in chunks of a few amplitudes on the
+cores' threads (`CPU_CHUNK`), on an accelerator in one batch.
 """
 
 from __future__ import annotations
@@ -40,7 +41,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic, row_subsets
 from .residual import through_residual
-from .runtime import padded_size, run_program
+from .runtime import cpu_cores, padded_size, run_program, thread_map
 from .sequence import corner_rows, loop_stiffness
 from .statics import contact_columns
 from .tract import NO_EVENT
@@ -416,6 +417,12 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
                       band_status.astype(jnp.int32))
 
 
+# Amplitudes per band program call on the CPU: a vmapped while loop waits for its slowest lane, so
+# chunks on the cores' threads waste less than one batch (24 amplitudes: 2.8 -> 0.9 s on 2 cores,
+# docs/performance.md) and one chunk size is one program for every grid.
+CPU_CHUNK = 3
+
+
 @functools.cache
 def bands_program(n_samples: int, steps: int, starts: int):
     """The jitted band of a grid of amplitudes, f(shape, mu, contacts, load, psi (n,), key) ->
@@ -429,9 +436,9 @@ def bands_program(n_samples: int, steps: int, starts: int):
 def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, n_samples: int = 64, refine: bool = True,
                     steps: int = 6, starts: int = 2, seed: int = 0, runner=None) -> list:
-    """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) in one batched program
-    (`bands_program`); runner(program, args) -> outputs runs it instead of a plain call (the CLI
-    passes its saved-program cache)."""
+    """`amplitude_band` at every amplitude of psi_a_mrad (mrad, 1-D) through one program
+    (`bands_program`; on the CPU in chunks of CPU_CHUNK run on the cores' threads). runner(program,
+    args) -> outputs runs it instead of a plain call (the CLI's saved programs; from threads)."""
     design = prepare_inputs(shape, mu, contacts, load)
     return amplitude_bands_kernel(*design, psi_a_mrad, n_samples=n_samples, refine=refine,
                                   steps=steps, starts=starts, seed=seed, runner=runner)
@@ -452,10 +459,18 @@ def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: Loa
     if starts > n_samples:
         raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
     n = psi.size
-    padded = np.concatenate([psi, np.full(padded_size(n, 1, 8) - n, psi[-1])])
+    size = CPU_CHUNK if jax.default_backend() == "cpu" else padded_size(n, 1, 8)
+    chunks = -(-n // size)
+    padded = np.concatenate([psi, np.full(chunks * size - n, psi[-1])]).reshape(chunks, size)
     program = bands_program(n_samples, steps if refine else 0, starts)
-    args = (shape, mu, contacts, load, jnp.asarray(padded), jax.random.PRNGKey(seed))
-    out = jax.device_get(run_program(program, args, runner))
+    key = jax.random.PRNGKey(seed)
+
+    def run(part):
+        return jax.device_get(run_program(program, (shape, mu, contacts, load, jnp.asarray(part),
+                                                    key), runner))
+
+    parts = thread_map(run, padded, cpu_cores())
+    out = jax.tree_util.tree_map(lambda *x: np.concatenate(x), *parts)
     return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
                  int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
 

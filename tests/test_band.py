@@ -137,11 +137,15 @@ def test_band_is_never_narrower_than_ten_thousand_random_states(name, mu, psi, e
 
 @pytest.mark.slow  # 70 worker-s (run of 2026-11-25)
 def test_band_grid_is_the_bands_one_by_one():
-    """One program for a grid gives each amplitude's band. To 1e-9 (the band's stated precision,
-    band.CONFIRM_TOL), not to rounding: k_Re is not quadratic within a sequence, so the six
-    trust-region steps end within ~1e-10 of its optimum, by paths that batching's different
-    rounding can move."""
-    shape, mu, grid = jd.family_shape("60sym"), 0.5, [0.8, 1.2, 1.6]
+    """One program for a grid gives each amplitude's band, also where the grid spans two of the
+    CPU's chunks (band.CPU_CHUNK amplitudes each, the last one padded). To 1e-9 (the band's stated
+    precision, band.CONFIRM_TOL), not to rounding: k_Re is not quadratic within a sequence, so
+    the six trust-region steps end within ~1e-10 of its optimum, by paths that batching's
+    different rounding can move."""
+    from jaxdamp.band import CPU_CHUNK
+
+    shape, mu, grid = jd.family_shape("60sym"), 0.5, [0.8, 1.2, 1.6, 2.0]
+    assert CPU_CHUNK < len(grid) < 2 * CPU_CHUNK
     bands = jd.amplitude_bands(shape, mu, grid, CONTACTS)
     for psi, b in zip(grid, bands):
         one = amplitude_band(shape, mu, psi, CONTACTS)

@@ -146,6 +146,17 @@ def _serialized(exp, out_tree) -> bytes:
     return pickle.dumps((dataclasses.replace(exp, _get_vjp=None), out_tree))
 
 
+_PATH_LOCKS_LOCK = threading.Lock()
+_PATH_LOCKS: dict = {}
+
+
+def _path_lock(path: Path) -> threading.Lock:
+    """One lock per saved program's file: threads running parts of one batch through the same
+    program (`band.amplitude_bands`' chunks) export it once, the others read it."""
+    with _PATH_LOCKS_LOCK:
+        return _PATH_LOCKS.setdefault(str(path), threading.Lock())
+
+
 def _read(path: Path) -> bytes | None:
     try:
         return path.read_bytes()
@@ -164,6 +175,15 @@ def call(name: str, program, args: tuple, variant: str = ""):
         return program(*args)
     leaves, in_tree = jax.tree_util.tree_flatten(args)
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree, identity)}.bin"
+    with _path_lock(path):
+        data = _saved_or_export(path, program, leaves, in_tree)
+    run, out_tree = _runner(data)
+    return jax.tree_util.tree_unflatten(out_tree, run(*leaves))
+
+
+def _saved_or_export(path: Path, program, leaves, in_tree) -> bytes:
+    """The saved program's bytes: from the cache folder, else from the package, else exported now
+    and saved in the cache folder."""
     data = _read(path)
     if data is None:
         data = _read(SHIPPED_DIR / path.name)  # saved with the package for these sources
@@ -187,5 +207,4 @@ def call(name: str, program, args: tuple, variant: str = ""):
             write_bytes(path, data)
         except OSError:
             pass  # an unusable cache folder only costs time
-    run, out_tree = _runner(data)
-    return jax.tree_util.tree_unflatten(out_tree, run(*leaves))
+    return data

@@ -26,7 +26,7 @@ def peak_band(shape, mu=None, contacts=None, load=None, mode: BladeMode | None =
     (`jaxdamp.band.amplitude_band`), and the peak equation A (eta k_b + 1e-3 r^2 k_Im(r A)) = F
     gives a smaller A for a larger k_Im: the peaks of the band's lower and upper k_Im curves bracket
     the peak of every history. The band is tabulated on psi_grid_mrad (default: 24 amplitudes from
-    0.05 psi_BC to 3 psi_BC, one batched program: `band.amplitude_bands`; runner as there) and
+    0.05 psi_BC to 3 psi_BC, through one program: `band.amplitude_bands`; runner as there) and
     interpolated linearly between them. Returns (Peaks with the band's
     lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
     bound curves). shape may be a Scene (`prepare_scene`), checked already."""
@@ -45,7 +45,7 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
         psi_ref = float(psi_ref)
         psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
     grid = np.asarray(psi_grid_mrad, float)
-    # every amplitude's band in one batched program (sampling plus the trust-region refinement)
+    # every amplitude's band through one program (sampling plus the trust-region refinement)
     bands = amplitude_bands_kernel(shape, mu, contacts, load, grid, n_samples=n_samples,
                                    steps=steps, runner=runner)
     # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
