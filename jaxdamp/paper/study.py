@@ -311,17 +311,25 @@ def widen_band_to_named_states(bounds, named):
     return bounds, missed
 
 
+def design_bands(shape, mu, contacts, load, bc, n_amplitudes=BAND_AMPLITUDES,
+                 n_samples=BAND_SAMPLES, runner=None) -> list:
+    """`band.amplitude_bands` of one design on the band grid of its `amplitude_grids` (n_samples
+    states plus the vertices at each amplitude, refined sequence by sequence)."""
+    from ..band import amplitude_bands
+
+    return amplitude_bands(shape, mu, amplitude_grids(bc, n_amplitudes)[3], contacts, load,
+                           n_samples=n_samples, runner=runner)
+
+
 def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitudes=BAND_AMPLITUDES,
-                         n_samples=BAND_SAMPLES, runner=None) -> dict:
+                         n_samples=BAND_SAMPLES, runner=None, bands=None) -> dict:
     """For one design: the exact k_Re, k_Im (N mm/mrad) from both named initial states on the
     `amplitude_grids` grid (`curves`: this design's row of `exact_curves`, computed here if None),
     the paper's interpolation on it, the band over the admissible initial states at every
-    CURVE_PER_BAND-th amplitude, and the interpolation's largest gap to the band. The band is
-    `amplitude_bands` over the grid in one program (n_samples states plus the vertices, refined
-    sequence by sequence) and then widened to hold the two named states' values (they are
-    admissible states); `named_outside_samples` counts the bounds that needed it. Figures and
-    report read this entry."""
-    from ..band import amplitude_bands
+    CURVE_PER_BAND-th amplitude (`bands`: this design's `design_bands`, computed here if None),
+    and the interpolation's largest gap to the band. The band is widened to hold the two named
+    states' values (they are admissible states); `named_outside_samples` counts the bounds that
+    needed it. Figures and report read this entry."""
     from ..harmonics import complex_stiffness
 
     if RESULTS.stopped(bc.status):
@@ -331,10 +339,12 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
         curves = {k: tuple(x[0] for x in v)
                   for k, v in exact_curves([shape], [mu], psi[None], contacts, load,
                                            runner).items()}
+    if bands is None:
+        bands = design_bands(shape, mu, contacts, load, bc, n_amplitudes, n_samples, runner)
     at_band = slice(None, None, CURVE_PER_BAND)
     k_re_i, k_im_i = (np.asarray(x) for x in complex_stiffness(bc, psi, method="interpolated"))
     bounds, n_valid, status = [], [], []
-    for b in amplitude_bands(shape, mu, grid, contacts, load, n_samples=n_samples, runner=runner):
+    for b in bands:
         bounds.append(b.bounds)
         n_valid.append(b.n_valid)
         status.append(RESULTS(b.status).name)
@@ -363,23 +373,34 @@ def stiffness_band_entry(shape, mu, contacts, load, bc, curves=None, n_amplitude
 def stiffness_bands(cycles, contacts, load, n_amplitudes=BAND_AMPLITUDES, n_samples=BAND_SAMPLES,
                     progress=None, runner=None) -> dict:
     """`stiffness_band_entry` of every design of the study ({shape: {mu key: entry}}), the exact
-    curves of all designs that do not lift off computed in one batch."""
+    curves of all designs that do not lift off computed in one batch. The curves and the bands
+    are independent (the grids come from the Base-Cycles) and mostly XLA compiling on a first
+    run: they run side by side (`side_by_side`), the band program compiling while the curves'
+    programs do."""
     from ..geometry import family_shape
 
     live = [(s, m) for s, per in cycles.items() for m, bc in per.items() if not RESULTS.stopped(bc.status)]
-    curves = {}
-    if live:
+
+    def all_curves():
+        if not live:
+            return {}
         psi = np.stack([amplitude_grids(cycles[s][m], n_amplitudes)[2] for s, m in live])
         batch = exact_curves([family_shape(s) for s, _ in live], [float(m) for _, m in live], psi,
                              contacts, load, runner)
-        curves = {key: {k: tuple(x[i] for x in v) for k, v in batch.items()}
-                  for i, key in enumerate(live)}
+        return {key: {k: tuple(x[i] for x in v) for k, v in batch.items()}
+                for i, key in enumerate(live)}
+
+    def all_bands():
+        return {(s, m): design_bands(family_shape(s), float(m), contacts, load, cycles[s][m],
+                                     n_amplitudes, n_samples, runner) for s, m in live}
+
+    curves, bands = side_by_side(all_curves, all_bands)
     out = {}
     for s, per in cycles.items():
         for m, bc in per.items():
             out.setdefault(s, {})[m] = stiffness_band_entry(
                 family_shape(s), float(m), contacts, load, bc, curves.get((s, m)), n_amplitudes,
-                n_samples, runner)
+                n_samples, runner, bands.get((s, m)))
             if progress is not None:
                 progress.update(1)
     return out
@@ -560,7 +581,7 @@ __all__ = ["SCHEMA_VERSION", "DEFAULT_SHAPES", "DEFAULT_MU", "CONTRACT_KEYS", "P
            "paper_transitions", "paper_comparison", "paper_values", "compute_cases",
            "result_entry", "CSV_NAMES", "write_tables", "BAND_AMPLITUDES", "BAND_SAMPLES",
            "BAND_LO_FS", "BAND_HI_BC", "CURVE_PER_BAND", "NAMED_STATES", "GAP_ROUNDING",
-           "interpolation_gap", "amplitude_grids", "exact_curves", "stiffness_band_entry",
+           "interpolation_gap", "amplitude_grids", "exact_curves", "design_bands", "stiffness_band_entry",
            "widen_band_to_named_states",
            "stiffness_bands", "PEAK_FORCES_N", "peak_response_entry", "blade_mode_dict",
            "check_study_inputs", "compute_study", "write_study"]
