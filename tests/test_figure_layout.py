@@ -227,6 +227,23 @@ def test_no_study_figure_hides_a_curve(study_inputs):
     assert noted  # some of the study's curves do lie on others (90R's): they were found and marked
 
 
+def test_lies_on_needs_every_point_within_the_tolerance():
+    import numpy as np
+
+    from jaxdamp.plotting.labels import COINCIDENT_TOL, lies_on
+
+    polyline = np.array([[0.0, 0.0], [0.5, 0.5], [1.0, 0.0]])
+    on = np.array([[0.1, 0.1], [0.25, 0.25], [0.5, 0.5], [0.75, 0.25], [0.9, 0.1]] * 4)
+    assert lies_on(on, polyline)
+    assert lies_on(on + [0.0, 0.9 * COINCIDENT_TOL], polyline)
+    assert not lies_on(on + [0.0, 2.0 * COINCIDENT_TOL], polyline)
+    # one point off the curve but inside its box, where a spread subset of the points misses it
+    off = on.copy()
+    off[7] = [0.5, 0.2]
+    assert not lies_on(off, polyline)
+    assert not lies_on(on[:1] + [2.0, 0.0], polyline)  # outside the polyline's box
+    assert not lies_on(on[:0], polyline) and not lies_on(on, polyline[:1])
+
 def test_hidden_line_checker_and_the_90R_moment_cycles():
     import matplotlib.pyplot as plt
 

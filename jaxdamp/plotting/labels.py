@@ -30,12 +30,21 @@ def lies_on(points, polyline, tol=COINCIDENT_TOL) -> bool:
     """Every point within tol of the polyline (a curve drawn on another one, in axes fractions)."""
     if len(points) == 0 or len(polyline) < 2:
         return False
+    # Most pairs of curves are apart: outside the polyline's box, or a few spread points off it,
+    # decides before the all-points-to-all-segments distances (a study's figures test ~800 pairs).
+    lo, hi = polyline.min(axis=0) - tol, polyline.max(axis=0) + tol
+    if np.any(points < lo) or np.any(points > hi):
+        return False
     a, b = polyline[:-1], polyline[1:]
     d = b - a
-    t = np.clip(np.einsum("psk,sk->ps", points[:, None, :] - a[None], d)
-                / np.maximum(np.einsum("sk,sk->s", d, d), 1e-300), 0.0, 1.0)
-    nearest = a[None] + t[..., None] * d[None]
-    return bool(np.all(np.min(np.linalg.norm(points[:, None, :] - nearest, axis=-1), axis=1) <= tol))
+    dd = np.maximum(np.einsum("sk,sk->s", d, d), 1e-300)
+
+    def within(p):
+        t = np.clip(np.einsum("psk,sk->ps", p[:, None, :] - a[None], d) / dd, 0.0, 1.0)
+        nearest = a[None] + t[..., None] * d[None]
+        return bool(np.all(np.min(np.linalg.norm(p[:, None, :] - nearest, axis=-1), axis=1) <= tol))
+
+    return within(points[:: max(len(points) // 8, 1)]) and within(points)
 
 
 def hidden_lines(ax):
