@@ -117,8 +117,8 @@ from .curves import curves_kernel as curves_kernel
 from .band import Band as Band
 from .band import amplitude_band as amplitude_band
 from .band import amplitude_bands as amplitude_bands
-from .band import admissible_polytope as admissible_polytope
-from .band import polytope_vertices as polytope_vertices
+from .admissible import admissible_polytope as admissible_polytope
+from .admissible import polytope_vertices as polytope_vertices
 from .sequence import StiffnessCurve as StiffnessCurve
 from .sequence import curve_at as curve_at
 from .sequence import sequence_curves as sequence_curves

@@ -214,3 +214,22 @@ def test_a_self_locking_wedge_has_an_unbounded_admissible_set_whose_far_states_s
     band = amplitude_band(shape, mu, psi, CONTACTS)
     assert band.bounds[1] == pytest.approx(float(fn.k_re_fs), rel=1e-9)
     assert abs(band.bounds[2]) <= 1e-9 * float(fn.k_re_fs)
+
+
+def test_sparse_weights_are_convex_exchangeable_and_as_sparse_as_dirichlet():
+    """The samples' combination weights: non-negative, summing to 1 over the masked slots and 0
+    elsewhere (all zeros with no slot), each slot 1/m on average (exchangeable), and at the
+    alphas the band uses as concentrated as Dirichlet(alpha) (numpy's sampler, the reference):
+    the mean largest of 10 weights within 0.04 of Dirichlet's (0.59 at alpha 0.15, 0.38 at 0.5)."""
+    from jaxdamp.admissible import sparse_weights
+
+    mask = jnp.asarray([True] * 10 + [False] * 3)
+    key = jax.random.PRNGKey(7)
+    for alpha in (0.15, 0.5):
+        w = np.asarray(sparse_weights(key, alpha, mask, 4000))
+        assert np.all(w >= 0.0) and np.all(w[:, 10:] == 0.0)
+        assert np.allclose(w.sum(axis=1), 1.0, rtol=0.0, atol=1e-12)
+        assert np.allclose(w[:, :10].mean(axis=0), 0.1, rtol=0.0, atol=0.02)
+        ref = np.random.default_rng(1).dirichlet(np.full(10, alpha), 40000)
+        assert abs(w.max(axis=1).mean() - ref.max(axis=1).mean()) < 0.04
+    assert np.all(np.asarray(sparse_weights(key, 0.15, jnp.zeros(4, bool), 3)) == 0.0)
