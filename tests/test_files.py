@@ -55,29 +55,66 @@ def test_interrupted_figure(tmp_path, monkeypatch):
     ax.plot([0, 1], [0, 1])
     save_figure(fig, tmp_path / "complete.png", dpi=50)
     assert (tmp_path / "complete.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    real = fig.savefig
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-    def half(f, **kw):  # writes part of the image, then the run is stopped
+    def half(self, f, **kw):  # writes part of the image, then the run is stopped
         f.write(b"\x89PNG\r\n")
         raise Interrupted
 
-    monkeypatch.setattr(fig, "savefig", half)
-    with pytest.raises(Interrupted):
-        save_figure(fig, tmp_path / "half.png")
-    monkeypatch.setattr(fig, "savefig", real)
+    # the PNG writer both ways of saving end in (save_figure's one draw, and savefig)
+    monkeypatch.setattr(FigureCanvasAgg, "print_png", half)
+    for kw in ({}, {"dpi": 40}, {"metadata": {"Title": "x"}}):
+        with pytest.raises(Interrupted):
+            save_figure(fig, tmp_path / "half.png", **kw)
+    monkeypatch.undo()
     plt.close(fig)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["complete.png"]
 
 
+def test_a_png_is_drawn_once_as_savefig_would_save_it(tmp_path, monkeypatch):
+    """save_figure's PNG (one draw by the Agg canvas) is savefig's, pixel for pixel, for a
+    constrained layout with a title, a legend, a colour bar and a second x axis on top, at the
+    figure's dpi and another; the figure keeps its own dpi."""
+    import matplotlib.pyplot as plt
+
+    def build():
+        fig, (a, b) = plt.subplots(1, 2, figsize=(6, 3), dpi=80, layout="constrained")
+        a.plot([0, 1, 2], [1, 0, 2], label="a line")
+        a.legend()
+        a.set_title("a title")
+        a.secondary_xaxis("top").set_xlabel("on top")
+        fig.colorbar(b.imshow(np.arange(12.0).reshape(3, 4)), ax=b, label="colour")
+        fig.suptitle("both")
+        return fig
+
+    draws = []
+    real_draw = matplotlib.figure.Figure.draw
+    monkeypatch.setattr(matplotlib.figure.Figure, "draw",
+                        lambda self, r: draws.append(1) or real_draw(self, r))
+    for kw in ({}, {"dpi": 110}):
+        fig = build()
+        save_figure(fig, tmp_path / "once.png", **kw)
+        assert fig.get_dpi() == 80
+        n_once, draws[:] = len(draws), []
+        fig2 = build()
+        fig2.savefig(tmp_path / "savefig.png", **kw)
+        assert (n_once, len(draws)) == (1, 2)
+        draws[:] = []
+        once, ref = plt.imread(tmp_path / "once.png"), plt.imread(tmp_path / "savefig.png")
+        assert once.shape == ref.shape and np.array_equal(once, ref)
+        plt.close(fig)
+        plt.close(fig2)
+
+
 def test_interrupted_cli_figure(tmp_path, capsys, monkeypatch):
     """`jaxdamp section` stopped while its PNG is written leaves no file."""
-    from matplotlib.figure import Figure
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
 
     def half(self, f, **kw):
         f.write(b"\x89PNG")
         raise Interrupted
 
-    monkeypatch.setattr(Figure, "savefig", half)
+    monkeypatch.setattr(FigureCanvasAgg, "print_png", half)
     with pytest.raises(Interrupted):
         run_cli(capsys, "section", "--shape", "60sym", "--mu", "0.5", "--out", tmp_path / "s.png")
     assert list(tmp_path.iterdir()) == []

@@ -58,9 +58,37 @@ def write_bytes(path, data: bytes) -> Path:
 
 
 def save_figure(fig, path, **savefig_kwargs) -> Path:
-    """fig.savefig(path, ...), atomically; the format is the path's suffix (png, pdf, svg)."""
+    """fig.savefig(path, ...), atomically; the format is the path's suffix (png, pdf, svg).
+
+    A PNG with no other option than dpi is drawn once, by the Agg canvas itself: savefig draws a
+    figure with a layout engine (constrained) twice, once without rendering to lay it out and
+    once to render it, where one draw lays out and renders alike. The study's 34 figures came out
+    pixel for pixel the same, in 29.2 s of saving instead of 33.9 s (2-core VM,
+    docs/performance.md)."""
     path = Path(path)
     savefig_kwargs.setdefault("format", path.suffix.lstrip(".").lower() or None)
     with atomic_file(path, "wb") as f:
-        fig.savefig(f, **savefig_kwargs)
+        if savefig_kwargs["format"] == "png" and set(savefig_kwargs) <= {"format", "dpi"} \
+                and _savefig_rc_is_default():
+            from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+            dpi = fig.get_dpi()
+            fig.set_dpi(savefig_kwargs.get("dpi") or dpi)
+            try:
+                FigureCanvasAgg(fig).print_png(f)
+            finally:
+                fig.set_dpi(dpi)
+        else:
+            fig.savefig(f, **savefig_kwargs)
     return path
+
+
+def _savefig_rc_is_default() -> bool:
+    """Whether savefig would save the figure as it is drawn (no crop, colours or dpi of its own
+    from the user's matplotlibrc)."""
+    import matplotlib as mpl
+
+    rc = mpl.rcParams
+    return (rc["savefig.bbox"] in (None, "standard") and rc["savefig.facecolor"] == "auto"
+            and rc["savefig.edgecolor"] == "auto" and not rc["savefig.transparent"]
+            and rc["savefig.dpi"] == "figure")
