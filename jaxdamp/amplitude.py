@@ -225,7 +225,8 @@ def history_halves(initial: str, max_pairs: int = MAX_PAIRS) -> int:
 
 def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None, *,
                      initial="gross_slip", max_tracts: int = MAX_TRACTS,
-                     max_pairs: int = MAX_PAIRS, loop: str = "auto", motion=None) -> AmplitudeCycle:
+                     max_pairs: int = MAX_PAIRS, loop: str = "auto", motion=None,
+                     pair_budget=None) -> AmplitudeCycle:
     """The steady cycle at psi_a (mrad): pure JAX (jit / vmap / grad), no validation.
 
     initial: "gross_slip", "assembly" or "explicit" (then N_init, T_init at the forward extreme,
@@ -242,17 +243,22 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     vmap: when the last lane is done, usually after 1-2 pairs); values and forward mode only.
     "auto" (default) computes values with "while" and derivatives (jvp, jacfwd, grad, vjp) with
     "scan", through a custom JVP rule.
+
+    pair_budget: at most this many pairs of halves run (an int <= max_pairs, may be traced: one
+    compiled program serves every budget, as `curves.amplitude_curves`' two stages share one);
+    None: max_pairs. A cycle that has not closed by then is not_converged, as at max_pairs.
     """
     def impl(*design_and_loop):
         *design, loop = design_and_loop
         return _amplitude_impl(*design, initial=initial, max_tracts=max_tracts,
                                max_pairs=max_pairs, loop=loop)
 
-    return run_by_loop(impl, (shape, mu, contacts, load, psi_a, N_init, T_init, motion), loop)
+    return run_by_loop(impl, (shape, mu, contacts, load, psi_a, N_init, T_init, motion,
+                              pair_budget), loop)
 
 
-def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *, initial,
-                    max_tracts, max_pairs, loop) -> AmplitudeCycle:
+def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pair_budget, *,
+                    initial, max_tracts, max_pairs, loop) -> AmplitudeCycle:
     mech = mechanics(shape, mu, contacts, load, motion)
     psi_ok = psi_a > 0.0
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
@@ -313,7 +319,11 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, *,
                 stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
                 pairs=jnp.array(0, jnp.int32), hist=jnp.zeros((n_halves, max_tracts)),
                 slack=jnp.zeros((n_halves, max_tracts)))
-    end = repeat_until(next_half, init, n_halves, loop, lambda c: c["stop"])
+    if pair_budget is None:
+        stopped = lambda c: c["stop"]  # noqa: E731
+    else:
+        stopped = lambda c: c["stop"] | (c["pairs"] >= pair_budget)  # noqa: E731
+    end = repeat_until(next_half, init, n_halves, loop, stopped)
     fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
                                             end["pairs"], end["top"])
     pre_lift, pre_fail = end["liftoff"], end["failed"]

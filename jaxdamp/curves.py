@@ -19,13 +19,13 @@ from .conventions import warn_small_rotation
 from .cycle import base_cycle_kernel
 from .geometry import DamperShape, validate_shape
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .runtime import batch_jit, padded_size, run_program
+from .runtime import batch_jit, cpu_cores, padded_size, run_program, thread_map
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
 __all__ = ["StiffnessCurves", "amplitude_curves", "curves_kernel", "prepare_curves_inputs",
            "batch_size", "broadcast_designs", "flat_cycles", "stretched_curves", "padded_index",
-           "STRETCH_MARGIN"]
+           "STRETCH_MARGIN", "FLAT_CPU_CHUNK"]
 
 
 class StiffnessCurves(NamedTuple):
@@ -84,23 +84,60 @@ def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, p
 _curves_jit = batch_jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
 
 
-def flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
+def flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs, pair_budget=None):
     """The exact steady cycle of each (design, amplitude) pair (every leaf with one leading pair
-    axis): StiffnessCurves of 1-D arrays; one compiled program per option set."""
-    return _flat_program(initial, max_tracts, max_pairs)(shapes, mu, contacts, load, psi)
+    axis): StiffnessCurves of 1-D arrays; one compiled program per option set. pair_budget: the
+    pairs of halves run at most (`amplitude_kernel`; None: max_pairs), not part of the program."""
+    return _flat_program(initial, max_tracts, max_pairs)(
+        shapes, mu, contacts, load, psi, _budget(max_pairs, pair_budget))
+
+
+def _budget(max_pairs: int, pair_budget=None) -> np.ndarray:
+    return np.int32(max_pairs if pair_budget is None else pair_budget)
 
 
 @functools.cache
 def _flat_program(initial: str, max_tracts: int, max_pairs: int):
     """`flat_cycles`' program with its static options bound: a program of arrays only, which a
-    runner can save (the options are its closure's constants)."""
-    def program(shapes, mu, contacts, load, psi):
-        run = lambda s, m, c, ld, a: amplitude_kernel(s, m, c, ld, a, initial=initial,  # noqa: E731
-                                                      max_tracts=max_tracts, max_pairs=max_pairs)
+    runner can save (the options are its closure's constants). Its pair budget is an input: the
+    two stages of `amplitude_curves` (one pair, then up to max_pairs) are one compiled program
+    (two before: the study compiled each of its curves' cycle programs twice, ~5 s each)."""
+    def program(shapes, mu, contacts, load, psi, pair_budget):
+        run = lambda s, m, c, ld, a: amplitude_kernel(  # noqa: E731
+            s, m, c, ld, a, initial=initial, max_tracts=max_tracts, max_pairs=max_pairs,
+            pair_budget=pair_budget)
         ac = jax.vmap(run)(shapes, mu, contacts, load, psi)
         return StiffnessCurves(psi, ac.k_re, ac.k_im, ac.status, ac.cycles)
 
     return batch_jit(program)
+
+
+# Pairs per call of a flat-cycle program on the CPU (as the band's CPU_CHUNK): one compiled
+# program serves every batch and both of `amplitude_curves`' stages (the study compiled two per
+# initial state, ~5 s each), and chunks on the cores' threads wait less on a vmapped while loop's
+# slowest lane (4096 cycles from assembly, 2-core VM: 0.08-0.09 s in one batch, 0.04-0.06 s in
+# chunks of 256 on two threads). An accelerator runs the pairs in one padded batch.
+FLAT_CPU_CHUNK = 256
+_CYCLE_FIELDS = ("k_re", "k_im", "status", "cycles")
+
+
+def _cycles_at(program, designs, n_amp: int, flat_psi, index, pair_budget, runner) -> dict:
+    """{field: numpy array} of program (a `_flat_program`) at the pairs `index` of the flattened
+    (design, amplitude) grid. Gathers and merges in numpy: as eager JAX operations they cost a
+    dispatch each, more than half of a 128-design x 64-amplitude curve job."""
+    on_cpu = jax.default_backend() == "cpu"
+    step = FLAT_CPU_CHUNK if on_cpu else max(index.size, 1)
+    parts = [index[k:k + step] for k in range(0, index.size, step)]
+
+    def run(part):
+        idx = (np.concatenate([part, np.full(FLAT_CPU_CHUNK - part.size, part[0])]) if on_cpu
+               else padded_index(part))
+        sub = jax.tree_util.tree_map(lambda x: x[idx // n_amp], designs)
+        out = run_program(program, (*sub, flat_psi[idx], pair_budget), runner)
+        return {f: np.array(getattr(out, f))[: part.size] for f in _CYCLE_FIELDS}
+
+    done = thread_map(run, parts, cpu_cores())
+    return {f: np.concatenate([d[f] for d in done]) for f in _CYCLE_FIELDS}
 
 
 # Above psi_BC (by this relative margin) the steady cycle from a gross-slip history is the
@@ -192,23 +229,16 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     todo = np.nonzero(~use)[0]
     if todo.size:
         # The remaining (design, amplitude) pairs, flattened, so that the second stage re-runs
-        # only the pairs that need it. Gathers and merges in numpy: as eager JAX operations they
-        # cost a dispatch each, more than half of a 128-design x 64-amplitude curve job.
-        idx = padded_index(todo)
-        design_of = idx // n_amp
-        flat = jax.tree_util.tree_map(lambda x: x[design_of], designs)
-        sub_psi = flat_psi[idx]
-        first = run_program(_flat_program(initial, max_tracts, 1), (*flat, sub_psi), runner)
-        cyc = {f: np.array(getattr(first, f))[: todo.size] for f in ("k_re", "k_im", "status",
-                                                                      "cycles")}
+        # only the pairs that need it; both stages through one program (its pair budget is an
+        # input), which on the CPU also has one shape (`FLAT_CPU_CHUNK`).
+        program = _flat_program(initial, max_tracts, max_pairs)
+        cyc = _cycles_at(program, designs, n_amp, flat_psi, todo, _budget(max_pairs, 1), runner)
         again = np.nonzero(cyc["status"] == RESULTS.not_converged)[0]
         if max_pairs > 1 and again.size:
-            j = padded_index(again)
-            sub = jax.tree_util.tree_map(lambda x: x[j], flat)
-            rerun = run_program(_flat_program(initial, max_tracts, max_pairs), (*sub, sub_psi[j]),
-                                runner)
+            rerun = _cycles_at(program, designs, n_amp, flat_psi, todo[again], _budget(max_pairs),
+                               runner)
             for f, v in cyc.items():
-                v[again] = np.asarray(getattr(rerun, f))[: again.size]
+                v[again] = rerun[f]
         for f, v in cyc.items():
             getattr(out, f)[todo] = v
     return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)

@@ -228,8 +228,8 @@ def test_sparse_weights_are_convex_exchangeable_and_as_sparse_as_dirichlet():
     for alpha in (0.15, 0.5):
         w = np.asarray(sparse_weights(key, alpha, mask, 4000))
         assert np.all(w >= 0.0) and np.all(w[:, 10:] == 0.0)
-        assert np.allclose(w.sum(axis=1), 1.0, rtol=0.0, atol=1e-12)
-        assert np.allclose(w[:, :10].mean(axis=0), 0.1, rtol=0.0, atol=0.02)
+        assert_tree_allclose(w.sum(axis=1), np.ones(4000), rtol=0.0, atol=1e-12)
+        assert_tree_allclose(w[:, :10].mean(axis=0), np.full(10, 0.1), rtol=0.0, atol=0.02)
         ref = np.random.default_rng(1).dirichlet(np.full(10, alpha), 40000)
         assert abs(w.max(axis=1).mean() - ref.max(axis=1).mean()) < 0.04
     assert np.all(np.asarray(sparse_weights(key, 0.15, jnp.zeros(4, bool), 3)) == 0.0)
