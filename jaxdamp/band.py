@@ -100,46 +100,6 @@ def _k_of_state(shape, mu, contacts, load, psi, T, P, n0, motion=None, residual=
     return cycle(psi) if residual is None else through_residual(cycle, psi, residual)[:3]
 
 
-def _extent(X, mask):
-    """The largest side of the bounding box of the rows of X (n, 3) where mask (1 where none)."""
-    lo = jnp.min(jnp.where(mask[:, None], X, jnp.inf), axis=0)
-    hi = jnp.max(jnp.where(mask[:, None], X, -jnp.inf), axis=0)
-    return jnp.where(jnp.any(mask), jnp.max(hi - lo), 1.0)
-
-
-def _uniform_states(key, V, ok, G, h, n):
-    """n states uniform in the polytope: rejection from the vertices' bounding box in their
-    principal axes (the polytope is thin and oblique: about 15 % of that box is admissible, under
-    2 % of the axis-aligned one), 16 n draws; where fewer are admissible the rest are the centroid
-    of the vertices."""
-    centre = jnp.sum(jnp.where(ok[:, None], V, 0.0), axis=0) / jnp.maximum(jnp.sum(ok, dtype=float), 1.0)
-    D = jnp.where(ok[:, None], V - centre[None, :], 0.0)
-    _, _, axes = jnp.linalg.svd(D, full_matrices=False)  # rows: principal directions
-    Y = D @ axes.T
-    lo = jnp.min(jnp.where(ok[:, None], Y, jnp.inf), axis=0)
-    hi = jnp.max(jnp.where(ok[:, None], Y, -jnp.inf), axis=0)
-    lo, hi = jnp.where(jnp.any(ok), lo, 0.0), jnp.where(jnp.any(ok), hi, 0.0)
-    X = centre[None, :] + (lo[None, :] + (hi - lo)[None, :] * jax.random.uniform(key, (16 * n, 3))) @ axes
-    inside = jnp.all(X @ G.T + h[None, :] >= 0.0, axis=1)
-    first = jnp.argsort(~inside, stable=True)[:n]
-    return jnp.where(inside[first][:, None], X[first], centre[None, :])
-
-
-def _sparse_weights(key, alpha, mask, n):
-    """(n, m) random convex weights on the slots where mask, few of them large for a small alpha:
-    E U^(1/alpha) normalised (E exponential, U uniform), Dirichlet(alpha) but for E, which there is
-    Gamma(1 + alpha). jax.random.dirichlet's rejection-sampled Gamma is ~2000 HLO instructions a
-    call: the band program compiled ~20 % faster without (docs/performance.md)."""
-    ke, ku = jax.random.split(key)
-    shape = (n, mask.shape[0])
-    log_w = jnp.log(jax.random.exponential(ke, shape)) + jnp.log(
-        jax.random.uniform(ku, shape, minval=1e-300)) / alpha
-    log_w = jnp.where(mask[None, :], log_w, -jnp.inf)
-    top = jnp.max(log_w, axis=1, keepdims=True)
-    w = jnp.exp(log_w - jnp.where(jnp.isfinite(top), top, 0.0))
-    return w / jnp.maximum(jnp.sum(w, axis=1, keepdims=True), 1e-300)
-
-
 def _sample(shape, mu, contacts, load, psi, key, n_samples, motion=None, residual=None):
     T, valid_point, P, n0 = admissible_samples(shape, mu, key, n_samples)
     k_re, k_im, status = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0,

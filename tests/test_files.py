@@ -93,8 +93,9 @@ def test_a_png_is_drawn_once_as_savefig_would_save_it(tmp_path, monkeypatch):
                         lambda self, r: draws.append(1) or real_draw(self, r))
     for kw in ({}, {"dpi": 110}):
         fig = build()
+        canvas = fig.canvas
         save_figure(fig, tmp_path / "once.png", **kw)
-        assert fig.get_dpi() == 80
+        assert fig.get_dpi() == 80 and fig.canvas is canvas
         n_once, draws[:] = len(draws), []
         fig2 = build()
         fig2.savefig(tmp_path / "savefig.png", **kw)

@@ -72,12 +72,14 @@ def save_figure(fig, path, **savefig_kwargs) -> Path:
                 and _savefig_rc_is_default():
             from matplotlib.backends.backend_agg import FigureCanvasAgg
 
-            dpi = fig.get_dpi()
+            # as savefig does: the figure keeps its own canvas (a window's, a notebook's) and dpi
+            dpi, canvas = fig.get_dpi(), fig.canvas
             fig.set_dpi(savefig_kwargs.get("dpi") or dpi)
             try:
                 FigureCanvasAgg(fig).print_png(f)
             finally:
                 fig.set_dpi(dpi)
+                fig.set_canvas(canvas)
         else:
             fig.savefig(f, **savefig_kwargs)
     return path
