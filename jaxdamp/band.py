@@ -45,7 +45,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic
 from .residual import through_residual
-from .runtime import cpu_cores, padded_size, run_program, thread_map
+from .runtime import map_in_parts, run_program
 from .sequence import corner_rows, loop_stiffness
 from .tract import NO_EVENT
 from .status import RESULTS, number_repr, status_repr
@@ -360,18 +360,11 @@ def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: Loa
     if starts > n_samples:
         raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
     n = psi.size
-    size = CPU_CHUNK if jax.default_backend() == "cpu" else padded_size(n, 1, 8)
-    chunks = -(-n // size)
-    padded = np.concatenate([psi, np.full(chunks * size - n, psi[-1])]).reshape(chunks, size)
     program = bands_program(n_samples, steps if refine else 0, starts)
     key = jax.random.PRNGKey(seed)
-
-    def run(part):
-        return jax.device_get(run_program(program, (shape, mu, contacts, load, jnp.asarray(part),
-                                                    key), runner))
-
-    parts = thread_map(run, padded, cpu_cores())
-    out = jax.tree_util.tree_map(lambda *x: np.concatenate(x), *parts)
+    out = map_in_parts(lambda part: run_program(program, (shape, mu, contacts, load,
+                                                          jnp.asarray(part), key), runner),
+                       psi, CPU_CHUNK)
     return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
                  int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
 

@@ -19,7 +19,7 @@ from .conventions import warn_small_rotation
 from .cycle import base_cycle_kernel
 from .geometry import DamperShape, validate_shape
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
-from .runtime import batch_jit, cpu_cores, padded_size, run_program, thread_map
+from .runtime import batch_jit, map_in_parts, padded_size, run_program
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
@@ -84,15 +84,15 @@ def curves_kernel(shapes: DamperShape, mu, contacts: Contacts, load: LoadCase, p
 _curves_jit = batch_jit(curves_kernel, static_argnames=("initial", "max_tracts", "max_pairs"))
 
 
-def flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs, pair_budget=None):
+def flat_cycles(shapes, mu, contacts, load, psi, initial, max_tracts, max_pairs):
     """The exact steady cycle of each (design, amplitude) pair (every leaf with one leading pair
-    axis): StiffnessCurves of 1-D arrays; one compiled program per option set. pair_budget: the
-    pairs of halves run at most (`amplitude_kernel`; None: max_pairs), not part of the program."""
+    axis): StiffnessCurves of 1-D arrays; one compiled program per option set."""
     return _flat_program(initial, max_tracts, max_pairs)(
-        shapes, mu, contacts, load, psi, _budget(max_pairs, pair_budget))
+        shapes, mu, contacts, load, psi, _budget(max_pairs))
 
 
 def _budget(max_pairs: int, pair_budget=None) -> np.ndarray:
+    """A flat-cycle program's pair budget input (None: max_pairs)."""
     return np.int32(max_pairs if pair_budget is None else pair_budget)
 
 
@@ -125,19 +125,13 @@ def _cycles_at(program, designs, n_amp: int, flat_psi, index, pair_budget, runne
     """{field: numpy array} of program (a `_flat_program`) at the pairs `index` of the flattened
     (design, amplitude) grid. Gathers and merges in numpy: as eager JAX operations they cost a
     dispatch each, more than half of a 128-design x 64-amplitude curve job."""
-    on_cpu = jax.default_backend() == "cpu"
-    step = FLAT_CPU_CHUNK if on_cpu else max(index.size, 1)
-    parts = [index[k:k + step] for k in range(0, index.size, step)]
-
-    def run(part):
-        idx = (np.concatenate([part, np.full(FLAT_CPU_CHUNK - part.size, part[0])]) if on_cpu
-               else padded_index(part))
+    def run(idx):
         sub = jax.tree_util.tree_map(lambda x: x[idx // n_amp], designs)
         out = run_program(program, (*sub, flat_psi[idx], pair_budget), runner)
-        return {f: np.array(getattr(out, f))[: part.size] for f in _CYCLE_FIELDS}
+        return {f: getattr(out, f) for f in _CYCLE_FIELDS}
 
-    done = thread_map(run, parts, cpu_cores())
-    return {f: np.concatenate([d[f] for d in done]) for f in _CYCLE_FIELDS}
+    # np.array: writable copies, the second stage's values are written into the first's
+    return {f: np.array(v) for f, v in map_in_parts(run, index, FLAT_CPU_CHUNK, 16).items()}
 
 
 # Above psi_BC (by this relative margin) the steady cycle from a gross-slip history is the

@@ -23,6 +23,7 @@ import os
 from concurrent.futures import ThreadPoolExecutor
 
 import jax
+import numpy as np
 
 # Measured (issue 15): keep XLA's own loop emitter for reductions instead of YNNPACK calls.
 CPU_BATCH_OPTIONS = {"xla_cpu_experimental_ynn_fusion_type": ""}
@@ -114,6 +115,24 @@ def thread_map(fn, items, threads: int) -> list:
         return list(pool.map(fn, items))
 
 
+def map_in_parts(run, items, cpu_chunk: int, min_step: int = 1):
+    """run(part) over a non-empty 1-D array `items` in parts of one shape, the outputs (pytrees of
+    arrays with the part's leading axis) trimmed to the real entries and concatenated, as NumPy.
+    On the CPU the parts are cpu_chunk long and run on the cores' threads (`thread_map`): one
+    compiled program for every batch, and a vmapped while loop waits on the slowest lane of a
+    smaller batch. Elsewhere one part, padded to `padded_size(n, min_step, 8)`. A part is padded
+    by repeating its first entry (the band's amplitude chunks, the curves' cycle chunks)."""
+    items = np.asarray(items)
+    step = cpu_chunk if jax.default_backend() == "cpu" else padded_size(items.size, min_step, 8)
+
+    def one(part):
+        out = run(np.concatenate([part, np.full(step - part.size, part[0], part.dtype)]))
+        return jax.tree_util.tree_map(lambda x: np.asarray(x)[: part.size], out)
+
+    done = thread_map(one, [items[k:k + step] for k in range(0, items.size, step)], cpu_cores())
+    return jax.tree_util.tree_map(lambda *x: np.concatenate(x), *done)
+
+
 def run_program(program, args: tuple, runner=None):
     """program(*args), or runner(program, args) where a runner is given: the one protocol of the
     library's `runner=` arguments (the CLI passes its saved-program cache, `jaxdamp.cli.exported`),
@@ -166,4 +185,5 @@ def batch_jit(fun=None, **kwargs):
 
 
 __all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LATENCY_OPTIONS", "batch_compiler_options",
-           "batch_jit", "compile_for_latency", "side_by_side", "run_program"]
+           "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
+           "run_program"]

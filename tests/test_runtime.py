@@ -203,6 +203,29 @@ def test_thread_map_runs_up_to_its_threads_at_once_in_order():
         runtime.thread_map(fails, range(5), 2)
     assert runtime.cpu_cores() >= 1
 
+def test_map_in_parts_runs_parts_of_one_shape_trimmed_in_order(monkeypatch):
+    """On the CPU every part is cpu_chunk long (the last padded by repeating its first entry),
+    elsewhere one part padded to padded_size; the outputs come back trimmed, in order, for a
+    pytree of outputs too."""
+    seen = []
+
+    def run(part):
+        seen.append(part.copy())
+        return {"twice": 2 * part, "rows": np.stack([part, -part], axis=1)}
+
+    items = np.arange(10, 17)
+    out = runtime.map_in_parts(run, items, 3)
+    assert [p.tolist() for p in sorted(seen, key=lambda p: p[0])] == [[10, 11, 12], [13, 14, 15],
+                                                                      [16, 16, 16]]
+    assert out["twice"].tolist() == (2 * items).tolist()
+    assert out["rows"].tolist() == np.stack([items, -items], axis=1).tolist()
+    seen.clear()
+    monkeypatch.setattr(runtime.jax, "default_backend", lambda: "gpu")
+    out = runtime.map_in_parts(run, items, 3, min_step=16)
+    assert [p.tolist() for p in seen] == [list(range(10, 17)) + [10] * 9]
+    assert out["twice"].tolist() == (2 * items).tolist()
+
+
 def test_run_program_calls_the_program_or_hands_it_to_the_runner():
     """The one `runner=` protocol: without a runner the program's own call, with one the runner
     gets the program and its arguments and its result is returned."""
