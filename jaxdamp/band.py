@@ -45,7 +45,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic
 from .residual import through_residual
-from .runtime import map_in_parts, run_program
+from .runtime import compile_ahead, map_in_parts, part_size, run_program
 from .sequence import corner_rows, loop_stiffness
 from .tract import NO_EVENT
 from .status import RESULTS, number_repr, status_repr
@@ -360,13 +360,27 @@ def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: Loa
     if starts > n_samples:
         raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
     n = psi.size
-    program = bands_program(n_samples, steps if refine else 0, starts)
-    key = jax.random.PRNGKey(seed)
-    out = map_in_parts(lambda part: run_program(program, (shape, mu, contacts, load,
-                                                          jnp.asarray(part), key), runner),
-                       psi, CPU_CHUNK)
+    program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
+    out = map_in_parts(lambda part: run_program(program, inputs(part), runner), psi, CPU_CHUNK)
     return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
                  int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
+
+
+def _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed):
+    """(the bands' program, the function from one part of the amplitudes to its inputs)."""
+    program = bands_program(n_samples, steps if refine else 0, starts)
+    key = jax.random.PRNGKey(seed)
+    return program, lambda part: (shape, mu, contacts, load, jnp.asarray(part), key)
+
+
+def compile_bands_ahead(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, n_psi: int, *,
+                        n_samples: int = 64, refine: bool = True, steps: int = 6, starts: int = 2,
+                        seed: int = 0, runner=None) -> None:
+    """`runtime.compile_ahead` of the program `amplitude_bands_kernel` runs for n_psi amplitudes
+    with these options: for a caller whose amplitude grid waits on another result (`peak_band`'s
+    on psi_BC)."""
+    program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
+    compile_ahead(program, inputs(np.ones(part_size(n_psi, CPU_CHUNK))), runner)
 
 
 def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
@@ -390,5 +404,6 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
 
 
 __all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_kernel",
+           "compile_bands_ahead",
            "band_kernel", "bands_program", "CONFIRM_TOL",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

@@ -20,6 +20,7 @@ from __future__ import annotations
 import functools
 import importlib.util
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 
 import jax
@@ -123,7 +124,7 @@ def map_in_parts(run, items, cpu_chunk: int, min_step: int = 1):
     smaller batch. Elsewhere one part, padded to `padded_size(n, min_step, 8)`. A part is padded
     by repeating its first entry (the band's amplitude chunks, the curves' cycle chunks)."""
     items = np.asarray(items)
-    step = cpu_chunk if jax.default_backend() == "cpu" else padded_size(items.size, min_step, 8)
+    step = part_size(items.size, cpu_chunk, min_step)
 
     def one(part):
         out = run(np.concatenate([part, np.full(step - part.size, part[0], part.dtype)]))
@@ -131,6 +132,42 @@ def map_in_parts(run, items, cpu_chunk: int, min_step: int = 1):
 
     done = thread_map(one, [items[k:k + step] for k in range(0, items.size, step)], cpu_cores())
     return jax.tree_util.tree_map(lambda *x: np.concatenate(x), *done)
+
+
+def part_size(n: int, cpu_chunk: int, min_step: int = 1) -> int:
+    """The length of every part `map_in_parts` runs a batch of n items in."""
+    return cpu_chunk if jax.default_backend() == "cpu" else padded_size(n, min_step, 8)
+
+
+def compile_ahead(program, args: tuple, runner=None) -> threading.Thread | None:
+    """Start compiling program for the shapes and dtypes of args (their values are not used) on a
+    thread of its own, and return at once: a later run_program(program, args2, runner) with inputs
+    of those shapes and dtypes then finds it compiled, or waits for this compilation where it is
+    still under way (JAX compiles a jitted program once for all the threads that ask). For a
+    program whose inputs wait on another program's results (the band's amplitude grid on the
+    Base-Cycle's psi_BC): both compile side by side, XLA releasing Python's lock while it compiles.
+    runner: as run_program's; one with a `compile_ahead(program, args)` method (the CLI's saved
+    programs) compiles through it, one without compiles nothing ahead (None is returned). Returns
+    the compiling thread (join() waits for it). An error there is dropped: the later call compiles
+    again and raises it."""
+    if runner is None:
+        def ahead():
+            program.lower(*args).compile()
+    elif hasattr(runner, "compile_ahead"):
+        def ahead():
+            runner.compile_ahead(program, args)
+    else:
+        return None
+
+    def quietly():
+        try:
+            ahead()
+        except Exception:  # noqa: BLE001 - the later call raises it where it is handled
+            pass
+
+    thread = threading.Thread(target=quietly, name="compile_ahead")
+    thread.start()
+    return thread
 
 
 def run_program(program, args: tuple, runner=None):
@@ -186,4 +223,4 @@ def batch_jit(fun=None, **kwargs):
 
 __all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LATENCY_OPTIONS", "batch_compiler_options",
            "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
-           "run_program"]
+           "part_size", "compile_ahead", "run_program"]

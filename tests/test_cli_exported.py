@@ -195,3 +195,26 @@ def test_grad_through_a_saved_export_equals_the_plain_call(monkeypatch, tmp_path
                 assert_tree_allclose(got[key][var], value, rtol=1e-12, atol=1e-12 * scale,
                                      err_msg=(key, var))
     assert abs(plain["k_im_bc"]["theta_l"]) > 0  # a derivative that is not trivially zero
+
+
+def test_a_runners_compile_ahead_leaves_the_call_nothing_to_trace_or_compile(monkeypatch, tmp_path):
+    """`Runner.compile_ahead` loads (here: exports and saves) and compiles the program for the
+    inputs' shapes; the runner's later call with other values of those shapes reads the same
+    file and neither traces nor compiles."""
+    from helpers import count_compiles
+
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")
+    runner = exported.Runner("ahead", "v1")
+    placeholder = (jnp.zeros(3), (jnp.asarray(0.0), jnp.asarray(0.0)))
+    runner.compile_ahead(_program, placeholder)
+    saved = list((tmp_path / "exported").iterdir())
+    assert len(saved) == 1 and saved[0].name.startswith("ahead-")
+    n = len(TRACES)
+    args = (jnp.arange(3.0), (jnp.asarray(1.5), jnp.asarray(3.0)))
+    with count_compiles() as compiled:
+        out = runner(_program, args)
+    assert compiled == [] and len(TRACES) == n
+    assert list((tmp_path / "exported").iterdir()) == saved
+    np.testing.assert_array_equal(out["sum"], np.arange(3.0) + 1.5)
+    assert float(out["loop"]) == 12.0

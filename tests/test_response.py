@@ -217,6 +217,42 @@ def test_peak_band_brackets_every_named_history():
     assert float(highest.peak_amplitude_mm[0]) > 1.2 * float(lowest.peak_amplitude_mm[0])
 
 
+def test_peak_band_compiles_ahead_the_programs_it_then_runs():
+    """peak_band compiles the band's program before psi_BC fixes its grid, and the peaks' program
+    while the band runs (`runtime.compile_ahead`): each for exactly the program, the input
+    structure, shapes and dtypes that it then runs, else the compile would be wasted. A runner
+    records both and returns ones of each program's output shapes (nothing is compiled)."""
+    import threading
+
+    from jaxdamp.cli.exported import program_identity
+    from jaxdamp.response import peak_band
+
+    def signature(program, args):
+        leaves, tree = jax.tree_util.tree_flatten(args)
+        return (program_identity(program), tree,
+                [(np.shape(x), jnp.result_type(x), getattr(x, "weak_type", False)) for x in leaves])
+
+    ran, ahead = [], []
+
+    class Recorder:
+        def __call__(self, program, args):
+            ran.append(signature(program, args))
+            out = jax.eval_shape(getattr(program, "__wrapped__", program), *args)
+            return jax.tree_util.tree_map(lambda o: jnp.ones(o.shape, o.dtype), out)
+
+        def compile_ahead(self, program, args):
+            ahead.append(signature(program, args))
+
+    peak_band(SHAPE, 0.5, force_n=[2.0, 5.0], psi_grid_mrad=np.geomspace(0.1, 5.0, 7),
+              n_samples=8, steps=1, runner=Recorder())
+    for thread in threading.enumerate():
+        if thread.name == "compile_ahead":
+            thread.join()
+    assert len(ahead) == 2 and all(a[0] is not None for a in ahead)
+    for a in ahead:
+        assert a in ran
+
+
 def test_linear_frf_reaches_the_closed_form_resonance_of_free_and_stuck():
     """A linear oscillator k_b (1 - W + i eta) + g k: the peak is F / (eta k_b) at
     W = 1 + g k / k_b; every point is |A| = F / |D| (response_amplitude_linear, a second

@@ -14,7 +14,7 @@ import jaxdamp as jd
 from jaxdamp import batch as B
 from jaxdamp import runtime
 
-from helpers import assert_tree_allclose
+from helpers import assert_tree_allclose, count_compiles
 
 
 @pytest.fixture
@@ -243,3 +243,52 @@ def test_run_program_calls_the_program_or_hands_it_to_the_runner():
     assert run_program(program, (2, 3)) == 5 and not seen
     assert run_program(program, (2, 3), runner) == "from the runner"
     assert seen == [(program, (2, 3))]
+
+
+def test_compile_ahead_compiles_for_the_later_call_on_a_thread(monkeypatch):
+    """compile_ahead compiles a program on a thread for its inputs' shapes and dtypes (the values
+    are not used): the later call with other values of those shapes neither traces nor compiles
+    and gives the program's values. A runner with a compile_ahead method gets the program and
+    the inputs there; one without compiles nothing ahead; an error on the thread is dropped (the
+    later call raises it)."""
+    traces = []
+
+    @jax.jit
+    def program(x, scale):
+        traces.append(1)  # runs only while tracing
+        return jnp.sin(x) * scale
+
+    thread = runtime.compile_ahead(program, (np.zeros(5), np.zeros(())))
+    thread.join()
+    assert len(traces) == 1
+    x = np.linspace(0.0, 1.0, 5)
+    args = (jnp.asarray(x), jnp.asarray(2.0, float))  # float64, not weakly typed: as placeholder's
+    with count_compiles() as compiled:
+        out = program(*args)
+    assert compiled == [] and len(traces) == 1
+    assert_tree_allclose(out, 2.0 * np.sin(x), rtol=1e-15, atol=0.0)
+
+    assert runtime.compile_ahead(program, (x, 1.0), lambda prog, args: None) is None
+    seen = []
+
+    class Runner:
+        def __call__(self, prog, args):
+            return prog(*args)
+
+        def compile_ahead(self, prog, args):
+            seen.append((prog, args))
+
+    runtime.compile_ahead(program, (x, 1.0), Runner()).join()
+    assert seen == [(program, (x, 1.0))]
+
+    raised = []
+    monkeypatch.setattr("threading.excepthook", raised.append)
+
+    @jax.jit
+    def broken(x):
+        raise RuntimeError("traced")
+
+    runtime.compile_ahead(broken, (x,)).join()
+    assert raised == []
+    with pytest.raises(RuntimeError, match="traced"):
+        broken(x)

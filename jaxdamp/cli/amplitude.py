@@ -113,8 +113,8 @@ def run(args) -> int:
                 # A saved program (exported.call): a later process, or a first one with the
                 # program shipped in the package, neither traces nor lowers it.
                 ac = amplitude_cycle(shape, args.mu, psi, contacts, load, initial=args.initial,
-                                     motion=motion, runner=lambda prog, a: exported.call(
-                                         "amplitude", prog, a, str(args.initial)))
+                                     motion=motion, runner=exported.Runner(
+                                         "amplitude", str(args.initial)))
         warned.extend(m for m in caught if m not in warned)
         valid = bool(RESULTS.valid(ac.status))
         row = {"psi_a_mrad": psi, "k_re": C.number(ac.k_re) if valid else None,

@@ -35,7 +35,7 @@ from ..paper.files import write_bytes
 from ..runtime import batch_compiler_options
 from . import cache_dir
 
-__all__ = ["call", "SHIPPED_DIR", "sources_digest", "program_identity"]
+__all__ = ["call", "compile_only", "Runner", "SHIPPED_DIR", "sources_digest", "program_identity"]
 
 # Saved programs that come with the package (read-only; scripts/export_programs.py writes them).
 SHIPPED_DIR = Path(__file__).resolve().parents[1] / "data" / "exported"
@@ -164,21 +164,56 @@ def _read(path: Path) -> bytes | None:
         return None
 
 
-def call(name: str, program, args: tuple, variant: str = ""):
-    """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
-    off: a plain call). program: a jitted function of array pytrees; its outputs come back in
-    their own structure, saved with the program, so that a later process neither traces nor
-    lowers it. variant: what else selects the program (its static options), part of the key."""
+def _through_saved(name: str, program, args: tuple, variant: str):
+    """(the saved program jitted, its output structure, args' leaves), or None where the cache
+    folder is off or the program cannot be saved (`program_identity`)."""
     folder = cache_dir()
     identity = program_identity(program)
     if folder is None or identity is None:
-        return program(*args)
+        return None
     leaves, in_tree = jax.tree_util.tree_flatten(args)
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree, identity)}.bin"
     with _path_lock(path):
         data = _saved_or_export(path, program, leaves, in_tree)
     run, out_tree = _runner(data)
+    return run, out_tree, leaves
+
+
+def call(name: str, program, args: tuple, variant: str = ""):
+    """program(*args), through a saved export where the cache folder allows (JAXDAMP_CACHE_DIR;
+    off: a plain call). program: a jitted function of array pytrees; its outputs come back in
+    their own structure, saved with the program, so that a later process neither traces nor
+    lowers it. variant: what else selects the program (its static options), part of the key."""
+    saved = _through_saved(name, program, args, variant)
+    if saved is None:
+        return program(*args)
+    run, out_tree, leaves = saved
     return jax.tree_util.tree_unflatten(out_tree, run(*leaves))
+
+
+def compile_only(name: str, program, args: tuple, variant: str = "") -> None:
+    """What `call` does before it runs the program (load or export it, compile it for args' shapes
+    and dtypes), without running it: a later call with inputs of those shapes runs at once."""
+    saved = _through_saved(name, program, args, variant)
+    if saved is None:
+        program.lower(*args).compile()
+    else:
+        run, _, leaves = saved
+        run.lower(*leaves).compile()
+
+
+class Runner:
+    """The library's runner= (`runtime.run_program`) through saved programs under one name: called
+    as runner(program, args); `runtime.compile_ahead` compiles through its compile_ahead."""
+
+    def __init__(self, name: str, variant: str = ""):
+        self.name, self.variant = name, variant
+
+    def __call__(self, program, args: tuple):
+        return call(self.name, program, args, self.variant)
+
+    def compile_ahead(self, program, args: tuple) -> None:
+        compile_only(self.name, program, args, self.variant)
 
 
 def _saved_or_export(path: Path, program, leaves, in_tree) -> bytes:

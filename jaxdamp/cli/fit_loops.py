@@ -281,7 +281,7 @@ def _fit(args, loops, shape, load, start, groups):
     return fit_loops(loops, shape, load=load, initial=args.history, start=start,
                      robust=not args.no_robust, max_steps=args.max_steps, callback=tick,
                      names=[repr(str(f)) for f in args.files],
-                     runner=lambda p, a: exported.call("fit_loops", p, a), **groups)
+                     runner=exported.Runner("fit_loops"), **groups)
 
 
 def _document(args, fit, shape, load, start, groups):

@@ -54,10 +54,7 @@ def grad_payload(shape, mu, contacts, load, mode="fwd", psi_a_mrad=None) -> tupl
         validate_psi_a(psi_a_mrad)  # before the first Jacobian is computed
     # The Jacobian program is saved once (exported.call): a later process neither traces nor
     # lowers it (a reverse-mode trace took most of a repeat call's 4.5 s).
-    name = f"grad_{mode}"
-
-    def runner(program, args):
-        return exported.call(name, program, args)
+    runner = exported.Runner(f"grad_{mode}")
 
     jac = five_numbers_jacobian(shape, mu, contacts, load, mode, runner=runner)
     status = C.status_name(jac)

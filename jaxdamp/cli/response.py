@@ -199,7 +199,7 @@ def compute(args, scene, forces, bar, motion=None) -> Computed:
 
     def peak_band():
         highest, lowest, _, _ = peak_band_kernel(
-            scene, jnp.asarray(forces), runner=lambda prog, a: exported.call("band_grid", prog, a))
+            scene, jnp.asarray(forces), runner=exported.Runner("band_grid"))
         return highest, lowest
 
     # The band is independent of the curves and, on a first call, mostly XLA compiling its own
@@ -215,8 +215,8 @@ def compute(args, scene, forces, bar, motion=None) -> Computed:
         dd = designer_diagram(scene, force_at_fd_n=float(np.median(forces)),
                               force_n=np.geomspace(0.05, 100.0, 21), fd_n=np.geomspace(
                                   float(args.fd) / 30.0, float(args.fd) * 30.0, 21),
-                              method=args.stiffness, runner=lambda prog, a: exported.call(
-                                  "designer_diagram", prog, a, variant), **options)
+                              method=args.stiffness, runner=exported.Runner(
+                                  "designer_diagram", variant), **options)
         bar.update(1)
     return Computed(res, band, dd)
 

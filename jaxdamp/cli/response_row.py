@@ -183,14 +183,14 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
                          unit="stage")
     design = (scene.shape, scene.mu, scene.contacts, scene.load)
     res = row_response(*design, modes=family, engine_orders=orders, force_n=forces,
-                       h_l_mm=args.h_l, initial=args.initial, runner=lambda prog, a: exported.call(
-                           "row_peaks", prog, a, args.initial))
+                       h_l_mm=args.h_l, initial=args.initial, runner=exported.Runner(
+                           "row_peaks", args.initial))
     bar.update(1)
     band = None
     if args.band:
         bar.set_description("band over histories")
         band = row_band(*design, modes=family, engine_orders=orders, force_n=forces,
-                        h_l_mm=args.h_l, runner=lambda prog, a: exported.call("row_band", prog, a))
+                        h_l_mm=args.h_l, runner=exported.Runner("row_band"))
         bar.update(1)
     bar.close()
     rows, worst = _row_json(res, band), _worst_json(res, band)

@@ -42,7 +42,7 @@ def run(args) -> int:
     # (tracing was ~29 s of a ~90 s repeat), and those shipped with the package serve a first one.
     summary = run_study(out, shapes, mus, kn, kt, progress=C.show_progress(args),
                         figures=not args.no_figures, figure_processes=args.figure_processes,
-                        runner=lambda program, a: exported.call("study", program, a))
+                        runner=exported.Runner("study"))
     crit = summary["paper_comparison"]["criterion"]
     lift = [f"{s} mu={m}" for s, per in summary["results"].items() for m, e in per.items() if e["liftoff"]]
     files = [out / "study.json", out / "report.md", out / "report.html"]

@@ -7,15 +7,18 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..band import amplitude_bands_kernel
+from ..band import amplitude_bands_kernel, compile_bands_ahead
 from ..params import check_param
-from ..runtime import batch_jit, run_program
+from ..runtime import batch_jit, compile_ahead, run_program
 from ..status import RESULTS
 from .peaks import peak_response
 from .scene import BladeMode, Scene, prepare_scene
 from .stiffness import DamperStiffness, interpolated_damper, tabulated_stiffness
 
-__all__ = ["peak_band", "peak_band_kernel"]
+__all__ = ["peak_band", "peak_band_kernel", "GRID_POINTS"]
+
+# The band's default amplitude grid: this many points from 0.05 psi_BC to 3 psi_BC.
+GRID_POINTS = 24
 
 
 def peak_band(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None, force_n=1.0,
@@ -40,10 +43,19 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
     """`peak_band` of a Scene (`prepare_scene`) at forces checked already: neither is checked
     here (the amplitude grid and the counts are)."""
     shape, mu, contacts, load, mode = scene
+    n_grid = GRID_POINTS if psi_grid_mrad is None else np.size(psi_grid_mrad)
+    # The grid waits on psi_BC, its program's shape does not: the band's program (the longest to
+    # compile) compiles while the Base-Cycle's does and runs.
+    compile_bands_ahead(shape, mu, contacts, load, n_grid, n_samples=n_samples, steps=steps,
+                        runner=runner)
     status, k_re_stuck, psi_ref = run_program(_base_scale, (shape, mu, contacts, load), runner)
+    force = jnp.asarray(force_n, float)
+    tail = (status, k_re_stuck, psi_ref, mode, force.reshape(-1))
+    placeholder = np.zeros(n_grid)
+    compile_ahead(_band_peaks, (placeholder,) * 4 + tail, runner)  # while the band runs
     if psi_grid_mrad is None:
         psi_ref = float(psi_ref)
-        psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, 24)
+        psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, GRID_POINTS)
     grid = np.asarray(psi_grid_mrad, float)
     # every amplitude's band through one program (sampling plus the trust-region refinement)
     bands = amplitude_bands_kernel(shape, mu, contacts, load, grid, n_samples=n_samples,
@@ -52,10 +64,9 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
     k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
     # The frequency uses k_Re; at the bound of k_Im take the k_Re of the same band (its middle).
     k_re_mid = 0.5 * (k[:, 0] + k[:, 1])
-    force = jnp.asarray(force_n, float)
     highest, lowest = run_program(_band_peaks, (
-        jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k[:, 2]), jnp.asarray(k[:, 3]), status,
-        k_re_stuck, psi_ref, mode, force.reshape(-1)), runner)
+        jnp.asarray(grid), jnp.asarray(k_re_mid), jnp.asarray(k[:, 2]), jnp.asarray(k[:, 3]))
+        + tail, runner)
     pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
     return jax.tree_util.tree_map(pick, highest), jax.tree_util.tree_map(pick, lowest), grid, k
 
