@@ -218,3 +218,26 @@ def test_a_runners_compile_ahead_leaves_the_call_nothing_to_trace_or_compile(mon
     assert list((tmp_path / "exported").iterdir()) == saved
     np.testing.assert_array_equal(out["sum"], np.arange(3.0) + 1.5)
     assert float(out["loop"]) == 12.0
+
+
+@batch_jit
+def _halve(x, scale):
+    return x * 0.5, scale
+
+
+def test_a_saved_programs_own_outputs_fed_back_compile_nothing(monkeypatch, tmp_path):
+    """A saved program's outputs come back committed to a device (they carry the export's
+    shardings) and JAX compiles a jitted function anew for a committed input it first saw
+    uncommitted: the fit's solver step, fed its own theta back, compiled twice (4.7 s each). Every
+    call gets its inputs committed, so that a loop feeding outputs back compiles once."""
+    from helpers import count_compiles
+
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")
+    runner = exported.Runner("loop")
+    x, scale = runner(_halve, (jnp.arange(4.0), jnp.asarray(2.0, float)))
+    with count_compiles() as compiled:
+        for _ in range(3):
+            x, scale = runner(_halve, (x, scale))
+    assert compiled == []
+    np.testing.assert_array_equal(x, np.arange(4.0) / 16.0)

@@ -47,10 +47,10 @@ def force_track(bc):
     Returns (track, secondary, labels): the tip of F_R1 (= tail of F_L = -F_L) and the tail of F_L1
     (= -F_L1, with F_L = F_L2 + F_L1 ending at the origin) at every tract end, and point names.
     """
-    from ..geometry import section_geometry
-    from ..summary import force_points, point_names
+    from ..summary import force_points, point_names, section_data
 
-    geo = section_geometry(bc.shape)
+    # the study's compiled program (op by op the geometry compiled ~18 small programs per process)
+    geo = section_data(bc.shape, bc.mu)[0]
     n, t = as_numpy(geo.normals), as_numpy(geo.tangents)
     N, T = force_points(bc)
     F = -N[..., None] * n + T[..., None] * t  # (points, contact, xy)
@@ -65,7 +65,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
     per cycle: the path of the tip of F_R1 / tail of F_L (solid) and of the tail of F_L1 (thin dashed,
     the secondary loop), with the friction-cone boundaries of the left contacts (through the origin)
     and of R1 (through the tip of F_D). Cycles that lift off get a labelled empty panel."""
-    from ..geometry import section_geometry
+    from ..summary import section_data
 
     cycles = as_cycles(cycles)
     created = axes is None
@@ -76,7 +76,7 @@ def plot_equilibrium_tracks(cycles, axes=None, show_secondary=True):
                         "radial force component (units of $F_D$)"):
             continue
         mu = float(bc.mu)
-        geo = section_geometry(bc.shape)
+        geo = section_data(bc.shape, mu)[0]
         n, t = as_numpy(geo.normals), as_numpy(geo.tangents)
         track, sec, labels = force_track(bc)
         apex_r = np.array([0.0, 1.0])
