@@ -350,20 +350,31 @@ def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: Loa
                            starts: int = 2, seed: int = 0, runner=None) -> list:
     """`amplitude_bands` on a design prepared already (`params.prepare_inputs`, or a
     `response.Scene`'s fields): the design is NOT checked here; the amplitudes and counts are."""
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
-    psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
-    if psi.ndim != 1 or psi.size == 0:
-        raise ValueError(f"psi_a_mrad must be one amplitude or a 1-D grid of them; got shape {psi.shape}")
-    check_int("n_samples", n_samples, 2)
-    check_int("steps", steps, 0)
-    check_int("starts", starts, 1)
-    if starts > n_samples:
-        raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
+    psi = check_band_amplitudes(psi_a_mrad)
+    check_band_options(n_samples, steps, starts)
     n = psi.size
     program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
     out = map_in_parts(lambda part: run_program(program, inputs(part), runner), psi, CPU_CHUNK)
     return [Band(float(psi[i]), out.bounds[i], out.N[i], out.T[i], out.refined[i],
                  int(out.n_valid[i]), int(out.status[i]), out.confirmed[i]) for i in range(n)]
+
+
+def check_band_amplitudes(psi_a_mrad) -> np.ndarray:
+    """The band's amplitudes (mrad) as a 1-D float array; ValueError naming psi_a_mrad otherwise."""
+    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    psi = np.atleast_1d(np.asarray(psi_a_mrad, float))
+    if psi.ndim != 1 or psi.size == 0:
+        raise ValueError(f"psi_a_mrad must be one amplitude or a 1-D grid of them; got shape {psi.shape}")
+    return psi
+
+
+def check_band_options(n_samples: int, steps: int, starts: int) -> None:
+    """ValueError naming the count out of its range."""
+    check_int("n_samples", n_samples, 2)
+    check_int("steps", steps, 0)
+    check_int("starts", starts, 1)
+    if starts > n_samples:
+        raise ValueError(f"starts must be an integer in [1, n_samples = {n_samples}]; got {starts}")
 
 
 def _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed):
@@ -378,7 +389,8 @@ def compile_bands_ahead(shape: DamperShape, mu, contacts: Contacts, load: LoadCa
                         seed: int = 0, runner=None) -> None:
     """`runtime.compile_ahead` of the program `amplitude_bands_kernel` runs for n_psi amplitudes
     with these options: for a caller whose amplitude grid waits on another result (`peak_band`'s
-    on psi_BC)."""
+    on psi_BC). The counts are checked first: nothing compiles for options the call refuses."""
+    check_band_options(n_samples, steps, starts)
     program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
     compile_ahead(program, inputs(np.ones(part_size(n_psi, CPU_CHUNK))), runner)
 
@@ -404,6 +416,6 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
 
 
 __all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_kernel",
-           "compile_bands_ahead",
+           "compile_bands_ahead", "check_band_amplitudes", "check_band_options",
            "band_kernel", "bands_program", "CONFIRM_TOL",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

@@ -253,6 +253,29 @@ def test_peak_band_compiles_ahead_the_programs_it_then_runs():
         assert a in ran
 
 
+def test_peak_band_refuses_bad_grids_and_counts_before_compiling_ahead(monkeypatch):
+    """A bad amplitude grid or count is one ValueError naming it, raised before any program is
+    compiled ahead (no thread left compiling for a call that was refused)."""
+    import importlib
+
+    from jaxdamp.response import peak_band
+
+    band_module = importlib.import_module("jaxdamp.band")
+    # the module (jaxdamp.response re-exports its function under the same name)
+    peak_band_module = importlib.import_module("jaxdamp.response.peak_band")
+
+    started = []
+    for module in (band_module, peak_band_module):
+        monkeypatch.setattr(module, "compile_ahead", lambda *a, **k: started.append(a))
+    with pytest.raises(ValueError, match="psi_a_mrad"):
+        peak_band(SHAPE, 0.5, force_n=5.0, psi_grid_mrad=[0.5, -1.0])
+    with pytest.raises(ValueError, match="n_samples"):
+        peak_band(SHAPE, 0.5, force_n=5.0, n_samples=1)
+    with pytest.raises(ValueError, match="steps"):
+        peak_band(SHAPE, 0.5, force_n=5.0, steps=-1)
+    assert started == []
+
+
 def test_linear_frf_reaches_the_closed_form_resonance_of_free_and_stuck():
     """A linear oscillator k_b (1 - W + i eta) + g k: the peak is F / (eta k_b) at
     W = 1 + g k / k_b; every point is |A| = F / |D| (response_amplitude_linear, a second

@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..band import amplitude_bands_kernel, compile_bands_ahead
+from ..band import amplitude_bands_kernel, check_band_amplitudes, compile_bands_ahead
 from ..params import check_param
 from ..runtime import batch_jit, compile_ahead, run_program
 from ..status import RESULTS
@@ -43,7 +43,8 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
     """`peak_band` of a Scene (`prepare_scene`) at forces checked already: neither is checked
     here (the amplitude grid and the counts are)."""
     shape, mu, contacts, load, mode = scene
-    n_grid = GRID_POINTS if psi_grid_mrad is None else np.size(psi_grid_mrad)
+    # checked before anything compiles ahead (the band's call checks them again)
+    n_grid = GRID_POINTS if psi_grid_mrad is None else check_band_amplitudes(psi_grid_mrad).size
     # The grid waits on psi_BC, its program's shape does not: the band's program (the longest to
     # compile) compiles while the Base-Cycle's does and runs.
     compile_bands_ahead(shape, mu, contacts, load, n_grid, n_samples=n_samples, steps=steps,
