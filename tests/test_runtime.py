@@ -203,6 +203,7 @@ def test_thread_map_runs_up_to_its_threads_at_once_in_order():
         runtime.thread_map(fails, range(5), 2)
     assert runtime.cpu_cores() >= 1
 
+
 def test_map_in_parts_runs_parts_of_one_shape_trimmed_in_order(monkeypatch):
     """On the CPU every part is cpu_chunk long (the last padded by repeating its first entry),
     elsewhere one part padded to padded_size; the outputs come back trimmed, in order, for a
