@@ -99,6 +99,33 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     N0 = jnp.where(liftoff0, jnp.ones(3), start.N)  # keep the masked solve finite
     T0 = START_FRICTION_SIGNS * mech.mu * N0
 
+    empty = empty_half(max_tracts)
+    if max_pairs == 1:
+        fwd, bwd, conv, nhalf = _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop)
+    else:
+        fwd, bwd, conv, nhalf = _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop)
+    halves = jnp.stack([fwd.status, bwd.status])
+    liftoff = (liftoff0 & ~singular0) | jnp.any(halves == RESULTS.liftoff)
+    failed = singular0 | (~liftoff0 & jnp.any(halves == RESULTS.singular))
+    converged = conv & ~liftoff
+    residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
+    # A Base-Cycle of zero span means the contacts behave as rigid to working precision (their
+    # stiffness over F_D is numerically infinite): its numbers are meaningless too.
+    rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
+    ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
+    ill = ill | above_validated_range(mech.kn, mech.kt)
+    # A failed half-cycle comes before liftoff: a half that continues from an unfinished one may
+    # lift off spuriously (so the two-stage batch reruns `singular`, and keeps `liftoff`).
+    status = RESULTS.promote(ok_status(), ill, RESULTS.ill_conditioned)
+    status = RESULTS.promote(status, failed, RESULTS.singular)
+    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
+    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
+    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, nhalf, status)
+
+
+def _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop):
+    """(forward half, backward half, converged, half-cycles run) of the iteration to the periodic
+    cycle from (N0, T0), up to max_pairs pairs (none where liftoff0)."""
     # One loop over half-cycles (forward, backward, forward, ...), so that the program holds one
     # compiled half instead of a pair's two (as the amplitude kernel does): the reverse-mode
     # program of the five numbers traced in 6 s instead of 10 and compiled in 11 s instead of
@@ -124,30 +151,28 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
                     bad=jnp.where(pair_end, False, bad), conv=pair_end & closed & ~bad,
                     stop=pair_end & (closed | bad), nhalf=j + 1)
 
-    empty = empty_half(max_tracts)
     init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
                 bwd=empty, bad=jnp.array(False), conv=jnp.array(False), stop=liftoff0,
                 nhalf=jnp.array(0))
     # Once the cycle has closed (or failed) the remaining halves change nothing.
     end = repeat_until(next_half, init, 2 * max_pairs, loop, lambda c: c["stop"])
     conv, fwd, bwd, nhalf = end["conv"], end["fwd"], end["bwd"], end["nhalf"]
-    halves = jnp.stack([fwd.status, bwd.status])
-    liftoff = (liftoff0 & ~singular0) | jnp.any(halves == RESULTS.liftoff)
-    failed = singular0 | (~liftoff0 & jnp.any(halves == RESULTS.singular))
-    converged = conv & ~liftoff
-    residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
-    # A Base-Cycle of zero span means the contacts behave as rigid to working precision (their
-    # stiffness over F_D is numerically infinite): its numbers are meaningless too.
-    rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
-    ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
-    ill = ill | above_validated_range(mech.kn, mech.kt)
-    # A failed half-cycle comes before liftoff: a half that continues from an unfinished one may
-    # lift off spuriously (so the two-stage batch reruns `singular`, and keeps `liftoff`).
-    status = RESULTS.promote(ok_status(), ill, RESULTS.ill_conditioned)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
-    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
-    return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, nhalf, status)
+    return fwd, bwd, conv, nhalf
+
+
+def _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop):
+    """`_pairs` with max_pairs 1 (the batch's first stage, `batch.first_stage_summary`), the pair
+    written out: no loop over halves, so the directions are constants and no half record is
+    selected per half. The loop's form cost that stage a fifth more work per design (XLA's flops
+    27 248 -> 33 094) and its Base-Cycles/s as much (docs/performance.md); the same numbers."""
+    fwd = run_half(mech, N0, T0, -1.0, max_tracts=max_tracts, loop=loop)
+    bwd = run_half(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts=max_tracts, loop=loop)
+    bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
+    closed = (jnp.max(jnp.abs(bwd.N_end - N0)) + jnp.max(jnp.abs(bwd.T_end - T0))) <= CLOSE_TOL
+    ran = ~liftoff0
+    pick = lambda half: jax.tree_util.tree_map(  # noqa: E731
+        lambda x, y: jnp.where(ran, x, y), half, empty)
+    return pick(fwd), pick(bwd), ran & closed & ~bad, jnp.where(ran, 2, 0).astype(int)
 
 
 def equilibrium_residual(mech: Mechanics, half: Half):

@@ -4,9 +4,10 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
+from jaxdamp.cycle import MAX_PAIRS
 from jaxdamp.tract import BACKSLIDE, SLIP, STICK
 
-from helpers import assert_tree_allclose
+from helpers import assert_leaf_close, assert_tree_allclose
 
 FIELDS = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
 REF = jd.Contacts(jd.REFERENCE_KN, jd.REFERENCE_KT)
@@ -195,6 +196,32 @@ def test_non_convergence_is_flagged():
     bc = cycle("90R", 0.7, max_pairs=1)
     assert jd.RESULTS.name_of(bc.status) == "not_converged"
     assert np.all(np.isfinite(np.asarray(jd.five_numbers(bc).numbers())))
+
+
+@pytest.mark.parametrize("loop", ["scan", "while"])
+def test_one_pair_equals_the_iteration_where_one_pair_closes_the_cycle(loop):
+    """max_pairs=1 (the batch's first stage) runs the pair written out, no loop over halves: where
+    the iteration closes the cycle in one pair its Base-Cycle is the iteration's, leaf for leaf
+    (flags exactly, values to 1e-12 of the leaf's scale: two compiled programs, as in
+    tests/test_fast_path.py); where it needs more (90R, mu 0.7) one pair is not_converged."""
+    import jax
+
+    names = [("60sym", 0.5), ("74R", 0.3), ("74R", 0.5), ("90L", 0.5), ("90R", 0.7), ("74L", 0.7)]
+    designs = jd.stack_designs([jd.family_shape(n) for n, _ in names], [m for _, m in names], REF)
+
+    def run(max_pairs):
+        return jax.jit(jax.vmap(lambda d: jd.base_cycle_kernel(*d, max_pairs=max_pairs,
+                                                                loop=loop)))(designs)
+
+    one, full = run(1), run(MAX_PAIRS)
+    status = [jd.RESULTS.name_of(s) for s in np.asarray(one.status)]
+    assert status == ["ok", "ok", "ok", "ok", "not_converged", "liftoff"]
+    closed_in_one = np.asarray(full.half_cycles) == 2
+    assert list(closed_in_one) == [True] * 4 + [False, False]
+    leaves = zip(jax.tree_util.tree_leaves(one), jax.tree_util.tree_leaves(full))
+    for i, (a, b) in enumerate(leaves):
+        assert_leaf_close(f"leaf {i}", np.asarray(a)[closed_in_one], np.asarray(b)[closed_in_one])
+    assert list(np.asarray(one.half_cycles)[:5]) == [2] * 5
 
 
 def test_parallel_vertical_flanks_are_flagged_not_nan():
