@@ -1,5 +1,6 @@
 """The direct Base-Cycle solver against the paper's tables, its transition charts and physics identities."""
 
+import jax
 import numpy as np
 import pytest
 
@@ -204,8 +205,6 @@ def test_one_pair_equals_the_iteration_where_one_pair_closes_the_cycle(loop):
     the iteration closes the cycle in one pair its Base-Cycle is the iteration's, leaf for leaf
     (flags exactly, values to 1e-12 of the leaf's scale: two compiled programs, as in
     tests/test_fast_path.py); where it needs more (90R, mu 0.7) one pair is not_converged."""
-    import jax
-
     names = [("60sym", 0.5), ("74R", 0.3), ("74R", 0.5), ("90L", 0.5), ("90R", 0.7), ("74L", 0.7)]
     designs = jd.stack_designs([jd.family_shape(n) for n, _ in names], [m for _, m in names], REF)
 
