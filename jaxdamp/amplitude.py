@@ -43,7 +43,7 @@ from .linalg import solve3
 from .cycle import mechanics
 from .engine import TRAVEL_TOL
 from .half import Half, accelerate, empty_half, run_half
-from .loops import repeat_until, run_by_loop
+from .loops import repeat_until, run_by_loop, tree_where
 from .geometry import CONTACT_NAMES, DamperShape
 from .linalg import rowdot
 from .motion import Motion, loop_moment_coefficients, validate_motion
@@ -302,10 +302,9 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
         closed = is_bwd & (gap <= CLOSE_TOL)
         nxt = accelerate(mech.mu, c["prev"], top, there, k >= 2)
         nxt = jnp.where(is_bwd, nxt, there)
-        pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
-            lambda x, y: jnp.where(m, x, y), new, old)
         return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(is_bwd, top, c["prev"]),
-                    fwd=pick(half, c["fwd"], is_fwd), bwd=pick(half, c["bwd"], is_bwd),
+                    fwd=tree_where(is_fwd, half, c["fwd"]),
+                    bwd=tree_where(is_bwd, half, c["bwd"]),
                     gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
                     stop=closed | bad, bad=c["bad"] | bad,
                     liftoff=c["liftoff"] | (half.status == RESULTS.liftoff),

@@ -45,6 +45,7 @@ from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic
 from .residual import through_residual
+from .loops import tree_where
 from .runtime import compile_ahead, map_in_parts, part_size, run_program
 from .sequence import corner_rows, loop_stiffness
 from .tract import NO_EVENT
@@ -181,7 +182,7 @@ def _trust_region(shape, mu, contacts, load, psi, T0, sign, which, scale, radius
             r = jnp.where(accept, jnp.maximum(r, 2.0 * moved), jnp.minimum(r, 0.25 * moved))
             T_acc = jnp.where(accept, T_try, T_acc)
             v_acc = jnp.where(accept, m.k, v_acc)
-            m_acc = jax.tree_util.tree_map(lambda x, y: jnp.where(accept, x, y), m, m_acc)
+            m_acc = tree_where(accept, m, m_acc)
             b = jnp.concatenate([G @ T_acc + h, jnp.full(6, r)])
             d, _, ok = minimise_quadratic(m_acc.g, m_acc.H, A, b)
             d = jnp.where(ok & jnp.isfinite(v_acc), d, 0.0)

@@ -23,7 +23,7 @@ from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
 from .half import Half, accelerate, empty_half, run_half
-from .loops import repeat_until, run_by_loop
+from .loops import repeat_until, run_by_loop, tree_where
 from .motion import pad_motion
 from .tract import STATE_NAMES, Mechanics, make_mechanics
 
@@ -143,11 +143,10 @@ def _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop):
         there = jnp.concatenate([half.N_end, half.T_end])
         nxt = accelerate(mech.mu, c["prev"], top, there, j > 1)
         nxt = jnp.where(forward, there, nxt)
-        pick = lambda new, old, m: jax.tree_util.tree_map(  # noqa: E731
-            lambda x, y: jnp.where(m, x, y), new, old)
         pair_end = ~forward
         return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(pair_end, top, c["prev"]),
-                    fwd=pick(half, c["fwd"], forward), bwd=pick(half, c["bwd"], pair_end),
+                    fwd=tree_where(forward, half, c["fwd"]),
+                    bwd=tree_where(pair_end, half, c["bwd"]),
                     bad=jnp.where(pair_end, False, bad), conv=pair_end & closed & ~bad,
                     stop=pair_end & (closed | bad), nhalf=j + 1)
 
@@ -170,9 +169,8 @@ def _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop):
     bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
     closed = (jnp.max(jnp.abs(bwd.N_end - N0)) + jnp.max(jnp.abs(bwd.T_end - T0))) <= CLOSE_TOL
     ran = ~liftoff0
-    pick = lambda half: jax.tree_util.tree_map(  # noqa: E731
-        lambda x, y: jnp.where(ran, x, y), half, empty)
-    return pick(fwd), pick(bwd), ran & closed & ~bad, jnp.where(ran, 2, 0).astype(int)
+    return (tree_where(ran, fwd, empty), tree_where(ran, bwd, empty), ran & closed & ~bad,
+            jnp.where(ran, 2, 0).astype(int))
 
 
 def equilibrium_residual(mech: Mechanics, half: Half):

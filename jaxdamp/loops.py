@@ -17,6 +17,12 @@ def zeros_of(rows: dict, length: int) -> dict:
     return {k: jnp.zeros((length,) + r.shape, r.dtype) for k, r in rows.items()}
 
 
+def tree_where(mask, new, old):
+    """new where mask, else old, leaf by leaf (two pytrees of one structure): a loop's carry
+    kept, or a half-cycle's record taken, under a traced condition."""
+    return jax.tree_util.tree_map(lambda x, y: jnp.where(mask, x, y), new, old)
+
+
 def batched_together(carry):
     """The carry unchanged, each leaf tied to all the others (select(p, x, x), which XLA folds
     away): under vmap, where one leaf is batched every leaf is.
@@ -73,8 +79,7 @@ def repeat_until(run, init, length: int, loop: str, stopped):
 
     def step(carry, k):
         new = run(carry, k)
-        return jax.tree_util.tree_map(lambda old, x: jnp.where(stopped(carry), old, x), carry,
-                                      new), None
+        return tree_where(stopped(carry), carry, new), None
 
     return jax.lax.scan(step, batched_together(init), jnp.arange(length))[0]
 
