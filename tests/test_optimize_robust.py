@@ -27,12 +27,15 @@ def test_the_fd_spread_as_a_force_range_matches_fd_applied_explicitly():
     assert_tree_allclose(descent_forces(SPEC), np.array([4.0 / 1.2, 12.0 / 0.8]), rtol=1e-7, atol=0.0)
     val, feas = robust_values(V60, PROBLEM, SPEC, objective_args(PROBLEM, SPEC))
     assert feas[0]
-    # independent: the exact curve recomputed at F_D = 1.2 F_D0 (F = 4 N) and 0.8 F_D0 (F = 12 N)
+    # independent: the exact curve recomputed at F_D = 1.2 F_D0 (F = 4 N) and 0.8 F_D0 (F = 12 N),
+    # under the spec's own history (its default is "band", the larger of the two histories'
+    # peaks: the recomputation must take the same history, not peak_distribution's default)
     worst = 0.0
     for fd, force in ((1200.0, 4.0), (800.0, 12.0)):
         scen = Scenarios(jnp.array([0.4, 0.6]), jnp.full((2, 3), PROBLEM.kn),
                          jnp.full((2, 3), PROBLEM.kt), jnp.full(2, fd))
-        d = peak_distribution(V60_shape(), scen, force_n=force, load=LoadCase())
+        d = peak_distribution(V60_shape(), scen, force_n=force, load=LoadCase(),
+                              history=SPEC.history)
         worst = max(worst, float(np.max(d.magnification)))
     assert val[0] == pytest.approx(worst, rel=1e-7)
 

@@ -344,6 +344,13 @@ def test_stiffness_band_entries_have_status_gaps_and_finite_or_null_numbers(full
                 assert (g["gap"] == 0.0) == (g["side"] == "inside")
 
 
+# Two routes to one stiffness agree to ~10^2 units of round-off (cycles of a few tracts, each a
+# 3x3 solve, and a first-harmonic sum; 38 units seen): 1e-12 of the stiffness scale is ~4500
+# units, still a million times tighter than the 1e-6 at which a band that missed a history's
+# state would show.
+BOUND_ROUNDOFF = 1e-12
+
+
 @pytest.mark.slow  # the whole-family study (fixture `full`): 243 worker-s
 def test_band_holds_both_named_states_and_the_exact_base_cycle_beyond_psi_bc(full):
     """Every amplitude of the band: both named states' exact k lie in [min, max]; beyond psi_BC
@@ -361,10 +368,17 @@ def test_band_holds_both_named_states_and_the_exact_base_cycle_beyond_psi_bc(ful
             at = [int(np.argmin(np.abs(np.array(c["psi_a_mrad"]) - p))) for p in grid]
             for j, k in enumerate(("k_re", "k_im")):
                 lo, hi = _arr(b[f"{k}_min"]), _arr(b[f"{k}_max"])
+                # Where the damper is stuck under every history the band is one point, which the
+                # named states reach by other floating-point routes: they equal its bounds to
+                # round-off, not bit for bit (90L at mu 0.5: 41270.15991929 both, 8.5e-15 apart).
+                # Round-off of a stiffness is relative to the problem's stiffness scale, the
+                # stuck damper's k_Re,fs (no history's k exceeds it): BOUND_ROUNDOFF of it.
+                roundoff = BOUND_ROUNDOFF * abs(s["results"][shape][mu]["k_re_fs"])
                 for initial in ("gross_slip", "assembly"):
                     v = _arr(c[initial][k])[at]
                     have = np.isfinite(v)
-                    assert np.all((lo[have] <= v[have]) & (v[have] <= hi[have])), (shape, mu, initial, k)
+                    assert np.all((lo[have] - roundoff <= v[have]) & (v[have] <= hi[have] + roundoff)), \
+                        (shape, mu, initial, k, np.max(np.maximum(lo - v, v - hi)[have]))
                 v = _arr(c["interpolated"][k])[at]
                 beyond = grid >= e["psi_bc_mrad"] * (1 + 1e-9)
                 tol = 1e-9 * np.nanmax(np.abs(hi))
@@ -448,7 +462,7 @@ def test_the_platform_claim_is_computed_and_reported(full):
         first = c["rows"][0]
         assert first["status"] == "ok" and first["k_im_over_in_phase"] == 1.0
     report = (out / "report.md").read_text()
-    assert "# Curved-flat against wedge on every platform motion" in report
+    assert "# 60sym (curved-flat) against its wedge on every platform motion" in report
 
 
 def test_the_claim_section_counts_what_its_table_shows():

@@ -14,7 +14,8 @@ from ..ellipse import interblade_sweep
 from ..geometry import family_shape, pad_names
 from ..status import RESULTS
 
-PLATFORM_CLAIM_SECTION = "Curved-flat against wedge on every platform motion"
+# The report names a shape in every heading (its contents list reads as a list of shapes' results).
+PLATFORM_CLAIM_SECTION = "60sym (curved-flat) against its wedge on every platform motion"
 
 CLAIM_PHIS_DEG = (0.0, 30.0, 60.0, 90.0, 120.0, 150.0, 180.0)
 CLAIM_AMPLITUDES_MRAD = (2.0, 10.0)
