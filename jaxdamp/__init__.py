@@ -7,7 +7,9 @@ and imports no plotting library. Layers (docs/architecture.md): this package's c
 
 Contents (units: psi in mrad, k in N mm/mrad, forces in N, stiffness in N/mm):
 
-- Inputs: `Design` (shape, mu, contacts, load as one pytree), `DamperShape`, `family_shape`,
+- Inputs: `Design` (shape, mu, contacts, load as one pytree), `check_design` and `check_batch`
+  (the one input boundary of a design and of a batch: every entry point checks through it before
+  anything is traced), `DamperShape`, `family_shape`,
   `Contacts`, `LoadCase`, the validated stiffness range (`validated_range_violations`: the limits
   a contact pair leaves, as text).
 - Status: `RESULTS`, the one status code every result carries; `Float64Required`;
@@ -37,6 +39,8 @@ __version__ = "0.2.0"
 import jax
 
 from .design import Design as Design
+from .design import check_design as check_design
+from .design import check_batch as check_batch
 from .geometry import DamperShape as DamperShape
 from .geometry import SectionGeometry as SectionGeometry
 from .geometry import section_geometry as section_geometry
@@ -202,7 +206,7 @@ def enable_x64() -> None:
     jax.config.update("jax_enable_x64", True)
 
 
-__all__ = ["__version__", "enable_x64", "Design", "DamperShape", "SectionGeometry",
+__all__ = ["__version__", "enable_x64", "Design", "check_design", "check_batch", "DamperShape", "SectionGeometry",
            "section_geometry", "family_shape", "pad_names", "FAMILY", "CONTACT_NAMES", "paper_tables",
            "platform_moment", "Contacts", "LoadCase", "REFERENCE_KN", "REFERENCE_KT",
            "validate_mu", "validate_contacts", "validate_load",

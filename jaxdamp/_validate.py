@@ -35,19 +35,40 @@ def is_concrete(value) -> bool:
 
 
 def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
-    """Check lo <(=) value <(=) hi elementwise, and finiteness."""
+    """Check lo <(=) value <(=) hi elementwise, and finiteness (traced values pass). None, text
+    or anything that is not numbers is refused like an out-of-range value: an optional input is
+    checked only where it is given."""
+    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+    if value is None or isinstance(value, (str, bytes)):
+        raise ValueError(f"{name} must be a finite number in {rng}; got {value!r}")
     if not is_concrete(value):
         return
-    arr = np.asarray(value, dtype=float)
+    if np.asarray(value).dtype.kind in "USb":  # text or booleans, even inside a list
+        raise ValueError(f"{name} must be a finite number in {rng}; got {value!r}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{name} must be a finite number in {rng}; got "
+                         f"{type(value).__name__}") from None
     finite = np.isfinite(arr)
     bad = ~finite | ((arr <= lo) if lo_open else (arr < lo)) | ((arr >= hi) if hi_open else (arr > hi))
     if not bad.any():
         return
-    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
     if not finite.all():
         raise ValueError(f"{name} must be a finite number in {rng}; got {value!r}")
     shown = arr if arr.ndim == 0 else arr[bad][0]
     raise ValueError(f"{name} must be in {rng}; got {float(shown):g}")
+
+
+def check_scalar(name, value, lo, hi, *, lo_open=False, hi_open=False, unit="") -> float:
+    """`check_range` of one number (an array of any other shape is refused in one line): the
+    value as a float (a traced value passes, as it is)."""
+    check_range(name, value, lo, hi, lo_open=lo_open, hi_open=hi_open, unit=unit)
+    if not is_concrete(value):
+        return value
+    if np.ndim(value) != 0:
+        raise ValueError(f"{name} must be one number; got shape {np.shape(value)}")
+    return float(value)
 
 
 def check_positive(name, value, unit=""):
@@ -110,5 +131,27 @@ def check_param(name: str, value, label: str | None = None):
     return value
 
 
-__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range",
-           "check_positive", "check_int", "RANGES", "MOTION_RANGES", "RANGE_CHECKS", "check_param"]
+def check_values(name: str, value, label: str | None = None, *, max_ndim: int = 1) -> np.ndarray:
+    """A concrete scalar or 1-D sequence of numbers (max_ndim) checked against RANGES[name], as a
+    float numpy array: None, text, an empty sequence or a deeper array is refused in one line
+    naming label (default name), like an out-of-range value."""
+    label = label or name
+    lo, hi, lo_open, hi_open, unit = RANGES[name]
+    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+    if value is None or isinstance(value, (str, bytes, bool)) or getattr(value, "dtype", None) == bool:
+        raise ValueError(f"{label} must be a number or a 1-D sequence of numbers in {rng}; got "
+                         f"{value!r}")
+    try:
+        arr = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{label} must be a number or a 1-D sequence of numbers in {rng}; got "
+                         f"{type(value).__name__}") from None
+    if arr.ndim > max_ndim or arr.size == 0:
+        what = "a number" if max_ndim == 0 else "a number or a non-empty 1-D sequence"
+        raise ValueError(f"{label} must be {what} in {rng}; got shape {arr.shape}")
+    check_param(name, value, label)  # its message shows the value as given
+    return arr
+
+
+__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range", "check_scalar",
+           "check_positive", "check_int", "RANGES", "MOTION_RANGES", "RANGE_CHECKS", "check_param", "check_values"]

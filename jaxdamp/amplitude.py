@@ -433,7 +433,7 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
                              f"[0, {ADMISSIBLE_TOL:g}] F_D; got {cone:g}")
         mode = "explicit"
     if motion is not None:
-        motion = validate_motion(motion)
+        motion = validate_motion(motion, load)
         if motion.quadrature is not None:
             raise ValueError("motion must be a straight path for amplitude_cycle (an elliptic one: "
                              "use jaxdamp.elliptic_cycle)")

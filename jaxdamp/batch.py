@@ -21,13 +21,14 @@ import numpy as np
 from jax.experimental import multihost_utils
 from jax.sharding import Mesh, NamedSharding, PartitionSpec
 
-from ._validate import require_x64
+from ._validate import check_values, require_x64
 from .cycle import MAX_PAIRS, MAX_TRACTS, BaseCycle, base_cycle_kernel
-from .design import Design
+from .design import Design, check_batch
 from .energy import work_shape_factors
 from .geometry import WEDGE_REFUSED, DamperShape, validate_shape
 from .harmonics import five_numbers
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .params import (Contacts, LoadCase, check_types, validate_contacts, validate_load,
+                     validate_mu)
 from .runtime import batch_jit, padded_size
 from .statics import design_br_kernel
 from .status import RESULTS, number_repr, status_repr
@@ -86,9 +87,25 @@ def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts
     Raises ValueError naming the parameter for out-of-range values or mismatched lengths.
     """
     sizes: dict = {}
+    if not isinstance(contacts, Contacts) and not (
+            isinstance(contacts, (list, tuple)) and all(isinstance(c, Contacts) for c in contacts)):
+        raise TypeError(f"contacts must be a jaxdamp.Contacts or a sequence of them; got "
+                        f"{type(contacts).__name__}")
+    if not isinstance(load, LoadCase) and not (
+            isinstance(load, (list, tuple)) and all(isinstance(ld, LoadCase) for ld in load)):
+        raise TypeError(f"load must be a jaxdamp.LoadCase or a sequence of them; got "
+                        f"{type(load).__name__}")
+    for name, v in (("mu", mu), *zip(DamperShape._fields, shapes if isinstance(shapes, DamperShape)
+                                     else ()), *zip(Contacts._fields, contacts
+                                                    if isinstance(contacts, Contacts) else ())):
+        if isinstance(v, (str, bytes)) or (v is None and name not in ("x_d", "br2_over_hr")):
+            raise ValueError(f"{name} must be numbers (a scalar or one per design); got {v!r}")
     if isinstance(shapes, DamperShape):
         shape = shapes
     else:
+        if not isinstance(shapes, (list, tuple)):
+            raise ValueError("shapes must be a DamperShape or a non-empty sequence of DamperShape; "
+                             f"got {type(shapes).__name__}")
         shapes = list(shapes)
         if not shapes or not all(isinstance(s, DamperShape) for s in shapes):
             raise ValueError("shapes must be a DamperShape or a non-empty sequence of DamperShape")
@@ -241,6 +258,25 @@ def _compiled(fn, in_axes):
     return batch_jit(jax.vmap(fn, in_axes=in_axes))
 
 
+def batch_length(batched) -> int:
+    """The leading (batch) axis shared by every leaf of a batched pytree: ValueError in one line
+    where a leaf has none or the lengths differ (map_batched never cuts an axis)."""
+    leaves = jax.tree_util.tree_leaves(batched)
+    if not leaves:
+        raise ValueError("batched: a pytree with at least one array leaf (n, ...)")
+    lengths = {np.shape(x)[0] if np.ndim(x) else None for x in leaves}
+    if None in lengths:
+        raise ValueError("batched: every leaf needs a leading batch axis (n, ...); a scalar leaf "
+                         "goes in as a shared argument, or broadcast it (jaxdamp.stack_designs)")
+    if len(lengths) > 1:
+        raise ValueError(f"batched: the leaves' leading axes differ ({sorted(lengths)}); every "
+                         "leaf must have the same batch length (no axis is cut)")
+    n = lengths.pop()
+    if n < 1:
+        raise ValueError("batched: a batch needs at least one item")
+    return int(n)
+
+
 def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = None,
                 progress=None):
     """fn(item, *shared) over the leading axis of the pytree `batched`: numpy pytree out.
@@ -255,8 +291,7 @@ def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = Non
     """
     if chunk_size is not None and (isinstance(chunk_size, bool) or int(chunk_size) < 1):
         raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}")
-    leaves = [x for x in jax.tree_util.tree_leaves(batched)]
-    n = int(np.shape(leaves[0])[0])
+    n = batch_length(batched)
     mesh = device_mesh(devices)
     ndev = mesh.devices.size
     chunk = device_chunk(mesh) if chunk_size is None else int(chunk_size)
@@ -320,10 +355,14 @@ def base_cycles(shapes, mu=None, contacts: Contacts = Contacts(), load: LoadCase
     """Base-Cycles of a batch of designs (a batched Design, or shapes/mu/contacts/load whose leaves
     have a leading batch axis or are shared scalars). The same numbers as calling `base_cycle`
     design by design; numpy leaves. Float64Required in float32; shapes/mu/contacts/load are
-    checked by `stack_designs`, and a batched Design given is taken as checked (stack_designs made
-    it)."""
+    checked by `stack_designs`, a batched Design by `jaxdamp.design.check_batch` (the batched
+    entry points' one input boundary)."""
     require_x64()
-    designs = shapes if isinstance(shapes, Design) else stack_designs(shapes, mu, contacts, load)
+    if not isinstance(shapes, Design) and mu is None:
+        raise ValueError("mu is required with shapes (a scalar or one per design in (0, 5]), or "
+                         "give a batched Design")
+    designs = (check_batch(shapes) if isinstance(shapes, Design)
+               else stack_designs(shapes, mu, contacts, load))
     chunk = values_chunk(devices) if chunk_size is None else chunk_size
     return two_stage(_cycle_one_pair, _cycle_full, designs, unfinished=_not_closed,
                      devices=devices, chunk_size=chunk)
@@ -372,9 +411,7 @@ def evaluate_designs(designs: Design, *, devices=None, chunk_size: int | None = 
     full iteration for the designs that did not finish). The results equal `base_cycle` design by
     design (see tests/test_batch.py for the one known exception at rounding level, k_Re,BC).
     """
-    require_x64()
-    if not isinstance(designs, Design):
-        raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
+    designs = check_batch(designs)
     chunk = values_chunk(devices) if chunk_size is None else chunk_size
     return two_stage(first_stage_summary, _summary_full, designs, unfinished=needs_second_stage,
                      devices=devices, chunk_size=chunk, progress=progress)
@@ -438,10 +475,9 @@ def check_sweep_inputs(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=Non
     its range; Float64Required in float32); returns (theta_l, theta_r, mu) as 1-D float arrays.
     `sweep` calls it first."""
     require_x64()
-    try:
-        tl, tr, mus = (np.atleast_1d(np.asarray(v, float)) for v in (theta_l, theta_r, mu))
-    except (TypeError, ValueError):
-        raise ValueError("theta_l, theta_r and mu must be sequences of numbers") from None
+    tl, tr, mus = (np.atleast_1d(check_values(name, v))
+                   for name, v in (("theta_l", theta_l), ("theta_r", theta_r), ("mu", mu)))
+    check_types(contacts=contacts, load=load)
     for name, v in (("theta_l", tl), ("theta_r", tr), ("mu", mus)):
         if v.ndim != 1 or v.size == 0:
             raise ValueError(f"{name} must be a non-empty 1-D sequence")
@@ -496,6 +532,6 @@ def sweep(theta_l, theta_r, mu, br_over_hr="centred", *, mu_max=None, bl2_over_h
 __all__ = ["AXIS", "MIN_BATCH", "DesignSummary", "stack_designs", "take", "device_mesh", "shard",
            "gather", "CHUNK_BY_PLATFORM", "BYTES_PER_DESIGN", "MEMORY_SHARE", "default_chunk",
            "VALUES_CHUNK_BY_PLATFORM", "values_chunk", "device_chunk", "bucket_size",
-           "map_batched", "two_stage", "BATCH_LOOP", "SECOND_STAGE_LOOP", "base_cycles",
+           "batch_length", "map_batched", "two_stage", "BATCH_LOOP", "SECOND_STAGE_LOOP", "base_cycles",
            "FIRST_STAGE_TRACTS", "summary_kernel", "first_stage_summary", "needs_second_stage",
            "evaluate_designs", "SweepResult", "centred_br", "check_sweep_inputs", "sweep"]

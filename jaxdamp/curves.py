@@ -18,7 +18,7 @@ from .amplitude import INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, amplitude_kernel
 from .conventions import warn_small_rotation
 from .cycle import base_cycle_kernel
 from .geometry import DamperShape, validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from .params import Contacts, LoadCase, check_types, validate_contacts, validate_load, validate_mu
 from .runtime import batch_jit, map_in_parts, padded_size, run_program
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
@@ -171,6 +171,7 @@ def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stack
     require_x64()
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
+    check_types(shape=shapes, contacts=contacts, load=load)
     validate_shape(shapes)
     validate_mu(mu)
     validate_contacts(contacts)
@@ -178,11 +179,25 @@ def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stack
     check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     warn_small_rotation(psi_a_mrad, "psi_a", stacklevel=stacklevel)
     psi = np.asarray(psi_a_mrad, float)
-    if psi.ndim not in (1, 2):
-        raise ValueError("psi_a_mrad must be a (amplitudes,) or (designs, amplitudes) array in "
-                         "(0, 10000] mrad")
-    args = (shapes, mu, contacts, load)
+    if psi.ndim not in (1, 2) or psi.size == 0:
+        raise ValueError("psi_a_mrad must be a non-empty (amplitudes,) or (designs, amplitudes) "
+                         "array in (0, 10000] mrad")
+    # Every leaf an array (a list of mu is one leaf, not a pytree of numbers), then one batch
+    # length: each leaf a scalar or (designs,); kn, kt also (3,) shared per pad or (designs, 3).
+    args = jax.tree_util.tree_map(lambda v: np.asarray(v, float),
+                                  (shapes, np.asarray(mu, float), contacts, load))
     size = max(batch_size(args), psi.shape[0] if psi.ndim == 2 else 1)
+    named = [*zip(DamperShape._fields, args[0]), ("mu", args[1]), *zip(Contacts._fields, args[2]),
+             *zip(LoadCase._fields, args[3])]
+    for name, v in named:
+        per_pad = name in Contacts._fields
+        shape = np.shape(v)
+        if not (shape in ((), (size,)) or (per_pad and shape in ((3,), (size, 3)))):
+            raise ValueError(f"{name}: a scalar or one per design ({size},)"
+                             f"{f' or per pad (3,) / ({size}, 3)' if per_pad else ''}; got shape "
+                             f"{shape}")
+    if psi.ndim == 2 and psi.shape[0] != size:
+        raise ValueError(f"psi_a_mrad: (amplitudes,) or ({size}, amplitudes); got {psi.shape}")
     return broadcast_designs(args, size, np), np.broadcast_to(psi, (size, psi.shape[-1]))
 
 

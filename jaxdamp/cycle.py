@@ -202,12 +202,6 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
     design = as_design(shape, mu, contacts, load)
-    # one design: mu is one number or one per contact (3); any other length broke deep in the
-    # kernel as a JAX broadcasting TypeError
-    if not isinstance(design.mu, jax.core.Tracer) and np.ndim(design.mu) > 0 \
-            and np.shape(design.mu) != (3,):
-        raise ValueError(f"mu must be one number or one per contact (3 values) in (0, 5]; "
-                         f"got shape {np.shape(design.mu)}")
     return base_cycle_kernel(*design.prepared(), max_tracts=max_tracts, max_pairs=max_pairs)
 
 

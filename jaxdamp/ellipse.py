@@ -39,7 +39,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_int, check_param, check_range
+from ._validate import check_int, check_range, check_scalar, check_values
 from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
@@ -332,9 +332,10 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
     is the unchecked form for jit / vmap / jvp.
     """
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
-    check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    amplitude_mrad = check_scalar("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True,
+                                  unit="mrad")
     warn_small_rotation(amplitude_mrad, "psi_a", stacklevel=3)
-    motion = validate_motion(motion)
+    motion = validate_motion(motion, load)
     wedge = is_wedge(shape)
     n_pads = len(pad_names(shape))
     if motion.quadrature is None:
@@ -391,13 +392,14 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     runner(program, args) -> outputs runs `sweep_program` instead of a plain call (the CLI passes
     its saved-program cache)."""
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
-    check_range("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    amplitude_mrad = check_scalar("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True,
+                                  unit="mrad")
     phis = np.atleast_1d(np.asarray(phis_deg, float))
     if phis.ndim != 1 or phis.size == 0:
         raise ValueError(f"phis_deg must be one or more angles in [-360, 360] deg; got {phis_deg!r}")
     check_range("phis_deg", phis, -360.0, 360.0, unit="deg")
-    check_param("h_c", h_c_mm)
-    check_param("h_l", h_l_mm)
+    h_c_mm = float(check_values("h_c", h_c_mm, max_ndim=0))
+    h_l_mm = float(check_values("h_l", h_l_mm, max_ndim=0))
     if initial not in INITIAL_STATES:
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}; got {initial!r}")
     warn_small_rotation(amplitude_mrad, "psi_a", stacklevel=3)

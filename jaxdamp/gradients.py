@@ -28,10 +28,10 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_range
+from ._validate import check_scalar
 from .batch import map_batched
 from .cycle import base_cycle_kernel
-from .design import Design, as_design
+from .design import Design, as_design, check_batch
 from .geometry import DamperShape
 from .harmonics import UNITS as FIVE_NUMBER_UNITS
 from .harmonics import FiveNumbers, complex_stiffness, five_numbers
@@ -146,7 +146,7 @@ def _check_mode(mode):
 
 
 def validate_psi_a(psi_a_mrad):
-    check_range("psi_a_mrad", psi_a_mrad, 0.0, 1e9, unit="mrad")
+    check_scalar("psi_a_mrad", psi_a_mrad, 0.0, 1e9, unit="mrad")
 
 
 def _collapse(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
@@ -206,13 +206,9 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     (jacobian, (values, status)) with Outputs-of-Design structure and a leading batch axis on every
     leaf (numpy)."""
     _check_mode(mode)
-    if not isinstance(designs, Design):
-        raise ValueError("designs must be a batched Design (see jaxdamp.stack_designs)")
-    shared = (np.ndim(designs.contacts.kn) == 1, np.ndim(designs.contacts.kt) == 1)
-    n = int(np.shape(designs.mu)[0])
-    prepared = designs.prepared()
-    prepared = prepared._replace(contacts=Contacts(
-        *(np.broadcast_to(np.reshape(k, (n, -1)), (n, 3)) for k in prepared.contacts)))
+    prepared = check_batch(designs)
+    # one stiffness per design (a scalar or (n,)): its derivative is the sum over the pads
+    shared = tuple(np.ndim(k) <= 1 for k in designs.contacts)
     validate_psi_a(psi_a)
     jac, aux = map_batched(_BATCHED[mode], prepared, jnp.asarray(psi_a, float), devices=devices,
                            chunk_size=chunk_size, progress=progress)

@@ -26,7 +26,7 @@ from .conventions import warn_small_rotation as warn_small_rotation
 from .cycle import BaseCycle, base_cycle_kernel
 from .design import as_design
 from .geometry import DamperShape
-from .params import Contacts, LoadCase, fast_ok, prepare_inputs, require_x64
+from .params import Contacts, LoadCase, check_types, fast_ok, prepare_inputs, require_x64
 from .runtime import batch_jit, padded_size
 from .status import RESULTS, number_repr, status_repr
 # The stretched Base-Cycle lives in its own module, below this one and below jaxdamp.amplitude
@@ -106,11 +106,22 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_
         # checked on concrete input only: a negative amplitude (or, for the exact cycle, zero) has no
         # cycle and came back as a silent 0 stiffness; psi_a = 0 is the full-stick limit when
         # interpolated (summary.psi_grid starts there)
-        psi = np.asarray(psi_a_mrad, float)
+        if psi_a_mrad is None or isinstance(psi_a_mrad, (str, bytes)):
+            raise ValueError(f"psi_a_mrad must be a number or an array of numbers in mrad; got "
+                             f"{psi_a_mrad!r}")
+        try:
+            psi = np.asarray(psi_a_mrad, float)
+        except (TypeError, ValueError):
+            raise ValueError(f"psi_a_mrad must be a number or an array of numbers in mrad; got "
+                             f"{type(psi_a_mrad).__name__}") from None
+        if psi.size == 0:
+            raise ValueError("psi_a_mrad must hold at least one amplitude (mrad); got none")
         low_ok = psi >= 0 if method == "interpolated" else psi > 0
-        if psi.size and not (np.all(np.isfinite(psi)) and np.all(low_ok)):
+        if not (np.all(np.isfinite(psi)) and np.all(low_ok)):
             bound = ">= 0" if method == "interpolated" else "> 0"
             raise ValueError(f"psi_a_mrad must be finite and {bound} mrad; got {psi_a_mrad!r}")
+        # as amplitude_cycle: a number outside the model's validity says so
+        warn_small_rotation(float(np.max(psi)), "psi_a", stacklevel=3)
     if method == "interpolated":
         return _bucketed(_interpolated_stiffness, bc, psi_a_mrad)
     if method != "exact":
@@ -226,6 +237,7 @@ def cycle_numbers(shape, mu=None, contacts=None, load=None) -> CycleNumbers:
     design = as_design(shape, mu, Contacts() if contacts is None else contacts,
                        LoadCase() if load is None else load)
     s, m, c, ld = design
+    check_types(shape=s, contacts=c, load=ld)  # before fast_ok reads their fields
     if fast_ok(*design):  # plain numbers in range: no array work before the call
         require_x64()
         kn, kt = ((k,) * 3 if type(k) in (float, int) else tuple(k) for k in c)

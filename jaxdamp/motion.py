@@ -31,7 +31,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ._validate import check_param
+from ._validate import check_param, check_values
 from .conventions import (MRAD_PER_RAD, PLATFORM_MOTION, interblade_direction, platform_arm,
                           rigid_displacement)
 from .geometry import DamperShape, is_wedge, pad_geometry, platform_moment_coefficients
@@ -58,8 +58,8 @@ class Motion(NamedTuple):
 
 def in_phase_motion(q_star_mm=100.0, h_l_mm=None) -> Motion:
     """The paper's in-phase motion: dv = q* psi, X_hat = (0, q*/1e3, 0) mm per mrad of psi."""
-    check_param("q_star", q_star_mm)
-    return straight_motion([0.0, float(q_star_mm) / MRAD_PER_RAD, 0.0], h_l_mm)
+    q_star_mm = float(check_values("q_star", q_star_mm, max_ndim=0))
+    return straight_motion([0.0, q_star_mm / MRAD_PER_RAD, 0.0], h_l_mm)
 
 
 def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=None) -> Motion:
@@ -69,12 +69,15 @@ def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=None) -> Motion:
     out-of-phase path (no dv: relative rotation and horizontal motion), which needs the damper's
     size h_l_mm. Other phi give an elliptic path (`elliptic_cycle`); +phi and -phi run it in
     opposite senses."""
-    phi = float(phi_deg)
+    try:
+        phi = float(phi_deg) if not isinstance(phi_deg, (str, bytes, bool)) else np.nan
+    except (TypeError, ValueError):
+        phi = np.nan
     if not np.isfinite(phi) or not -360.0 <= phi <= 360.0:
         raise ValueError(f"ibpa must be a finite angle in [-360, 360] deg; got {phi_deg!r}")
-    check_param("h_c", h_c_mm)
-    check_param("q_star", q_star_mm)
-    return general_motion(interblade_direction(phi, float(h_c_mm), float(q_star_mm)), h_l_mm)
+    h_c_mm = float(check_values("h_c", h_c_mm, max_ndim=0))
+    q_star_mm = float(check_values("q_star", q_star_mm, max_ndim=0))
+    return general_motion(interblade_direction(phi, h_c_mm, q_star_mm), h_l_mm)
 
 
 def straight_motion(direction, h_l_mm=None) -> Motion:
@@ -109,8 +112,7 @@ def _checked_size(components, h_l_mm):
             raise ValueError("h_l must be given for a motion that turns the platforms (dtheta != 0): "
                              "the damper's left flank length in (0, 10000] mm")
         h_l_mm = 1.0  # unused: without a relative rotation the damper's size drops out
-    check_param("h_l", h_l_mm)
-    return jnp.asarray(float(h_l_mm), float)
+    return jnp.asarray(float(check_values("h_l", h_l_mm, max_ndim=0)), float)
 
 
 def general_motion(direction, h_l_mm=None) -> Motion:
@@ -126,15 +128,26 @@ def general_motion(direction, h_l_mm=None) -> Motion:
     return Motion(jnp.asarray(x.real, float), size, jnp.asarray(x.imag, float))
 
 
-def validate_motion(motion: Motion) -> Motion:
-    """A Motion's fields checked (ValueError naming the parameter and its range)."""
+def validate_motion(motion: Motion, load=None) -> Motion:
+    """A Motion's fields checked (ValueError naming the parameter and its range). load: the
+    design's LoadCase, checked against the motion where they must agree: a pure dv path is the
+    in-phase motion of q* = 1e3 dv (per mrad), and its q* must be the load's (a q* of 50 mm on the
+    load beside in_phase_motion(100) ran with k 3.4x off and status ok)."""
     if not isinstance(motion, Motion):
         raise ValueError(f"motion must be a jaxdamp.Motion (in_phase_motion, interblade_motion, "
                          f"straight_motion, general_motion); got {type(motion).__name__}")
     x = np.asarray(motion.direction, float)
     if motion.quadrature is not None:
         x = x + 1j * np.asarray(motion.quadrature, float)
-    return general_motion(x, float(motion.h_l))
+    checked = general_motion(x, float(motion.h_l))
+    if load is not None and checked.quadrature is None:
+        du, dv, dtheta = (abs(float(v)) for v in np.asarray(checked.direction, float))
+        q_motion, q_load = MRAD_PER_RAD * dv, float(np.asarray(load.q_star, float))
+        if du == 0.0 and dtheta == 0.0 and abs(q_motion - q_load) > 1e-9 * q_load:
+            raise ValueError(f"motion: a pure dv path of {dv:g} mm per mrad is "
+                             f"in_phase_motion({q_motion:g}), but load.q_star is {q_load:g} mm; "
+                             f"give both the same q* (in_phase_motion(load.q_star))")
+    return checked
 
 
 def pad_motion(shape: DamperShape, motion: Motion | None, q_star_mm):

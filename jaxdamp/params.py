@@ -135,8 +135,8 @@ def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
     """True when every input is a plain Python number (kn, kt may also be numpy (3,) arrays) inside
     its range: plain comparisons, no array work. Anything else goes through the full checks."""
     vals = (shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl, mu, *load)
-    if shape.x_d is not None:
-        return False
+    if shape.x_d is not None or shape.br2_over_hr is not None:  # a wedge: the full checks refuse
+        return False  # it where the caller computes the curved-flat damper only
     for v, name in zip(vals, _FAST_NAMES):
         lo, hi, lo_open, hi_open, _ = RANGES[name]
         if type(v) not in (float, int) or not ((v > lo) if lo_open else (v >= lo)) \
@@ -153,14 +153,84 @@ def fast_ok(shape, mu, contacts: Contacts, load: LoadCase) -> bool:
     return True
 
 
+_PART_TYPES = {"shape": DamperShape, "contacts": Contacts, "load": LoadCase}
+
+# What a single-design function says to a batch: the batched functions and the transform.
+ONE_DESIGN_HINT = ("this function takes one design; for many use jaxdamp.evaluate_designs, "
+                   "base_cycles or batch_jacobian (a batch from jaxdamp.stack_designs), or jax.vmap "
+                   "over the *_kernel form")
+
+
+def check_one_value(name: str, v, n_pads: int | None = None) -> None:
+    """One input of one design: a real number, or (n_pads,) where n_pads is given (per pad);
+    tracers pass. ValueError / TypeError in one line naming it."""
+    if isinstance(v, jax.core.Tracer):
+        return
+    if v is None:
+        raise ValueError(f"{name} is None: give a number in its range (params.RANGES)")
+    if isinstance(v, (str, bytes, bool)) or getattr(v, "dtype", None) == bool:
+        raise TypeError(f"{name} must be a real number; got {v!r}")
+    try:
+        a = np.asarray(v, dtype=float)
+    except (TypeError, ValueError):
+        raise TypeError(f"{name} must be a real number; got {type(v).__name__}") from None
+    if a.ndim > int(n_pads is not None) or (a.ndim == 1 and a.shape[0] != n_pads):
+        pads = f", or one per pad ({n_pads} for this damper)" if n_pads else ""
+        raise ValueError(f"{name}: one value{pads}; got shape {a.shape}: {ONE_DESIGN_HINT}")
+
+
+def check_types(**parts) -> None:
+    """shape=, contacts=, load= (any of them) are a DamperShape, Contacts and LoadCase: a
+    TypeError in one line naming the argument, before any field is read."""
+    for name, value in parts.items():
+        kind = _PART_TYPES[name]
+        if not isinstance(value, kind):
+            raise TypeError(f"{name} must be a jaxdamp.{kind.__name__}; got {type(value).__name__}")
+
+
+def check_one_shape(shape) -> None:
+    """A DamperShape of one design: every field one real number (x_d and br2_over_hr may be
+    None). Ranges are `validate_shape`'s."""
+    check_types(shape=shape)
+    for f, v in zip(DamperShape._fields, shape):
+        if not (f in ("x_d", "br2_over_hr") and v is None):
+            check_one_value(f, v, None)
+
+
+def check_one_design(shape, mu, contacts, load, *, mu_per_pad: bool = True) -> None:
+    """The types, None and shapes of one design's inputs (concrete leaves; tracers pass): a
+    DamperShape, Contacts and LoadCase; every shape and load field one number (x_d and
+    br2_over_hr may be None); mu one number or, with mu_per_pad, one per pad; kn, kt one number
+    or one per pad. TypeError or ValueError in one line naming the parameter; a batch gets
+    ONE_DESIGN_HINT."""
+    check_one_shape(shape)
+    n_pads = 3 if shape.br2_over_hr is None else 4
+    check_one_value("mu", mu, n_pads if mu_per_pad else None)
+    check_contacts_and_load(contacts, load, n_pads)
+
+
+def check_contacts_and_load(contacts, load, n_pads: int = 3) -> None:
+    """A Contacts of one value or one per pad (n_pads) each, a LoadCase of one number per field:
+    `check_one_design`'s part for the functions that take no shape or mu (a nominal design)."""
+    check_types(contacts=contacts, load=load)
+    check_one_value("kn", contacts.kn, n_pads)
+    check_one_value("kt", contacts.kt, n_pads)
+    for f, v in zip(LoadCase._fields, load):
+        check_one_value(f, v, None)
+
+
 def prepare_inputs(shape, mu, contacts: Contacts, load: LoadCase, *, wedge_ok: bool = False):
     """Validate a solver's inputs (ValueError naming the parameter and its range; Float64Required
     in float32) and convert them to float arrays with kn, kt per contact, so that every entry point
     compiles the same program. Plain numbers take a one-comparison fast path. wedge_ok: the
     solver computes a wedge (`DamperShape.br2_over_hr`); the others refuse one."""
     require_x64()
+    contacts = Contacts() if contacts is None else contacts
+    load = LoadCase() if load is None else load
+    check_types(shape=shape, contacts=contacts, load=load)  # before fast_ok reads any field
     wedge = shape.br2_over_hr is not None
     if wedge or not fast_ok(shape, mu, contacts, load):
+        check_one_design(shape, mu, contacts, load)
         validate_shape(shape, wedge_ok=wedge_ok)
         validate_mu(mu)
         validate_contacts(contacts)
@@ -197,4 +267,6 @@ def _per_contact(k, n_pads: int = 3):
 __all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
            "VALIDATED_KT_OVER_KN", "above_validated_range", "validated_range_violations", "Contacts",
            "LoadCase", "RANGES", "RANGE_CHECKS", "check_param", "validate_mu", "validate_contacts",
-           "validate_load", "fast_ok", "prepare_inputs"]
+           "validate_load", "fast_ok", "ONE_DESIGN_HINT", "check_one_value", "check_types", "check_one_shape",
+           "check_one_design", "check_contacts_and_load",
+           "prepare_inputs"]

@@ -174,7 +174,7 @@ def path_base_cycle_inputs(shape: DamperShape, mu, motion: Motion,
     contacts, load, motion). ValueError naming the parameter and its range; an elliptic path
     refused (it has no Base-Cycle)."""
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
-    motion = validate_motion(motion)
+    motion = validate_motion(motion, load)
     if motion.quadrature is not None:
         raise ValueError("motion must be a straight path for a Base-Cycle (in-phase, an interblade "
                          "phase angle of 0 or 180 deg, a real X_hat): on an ellipse no half ends "

@@ -11,7 +11,7 @@ from .linalg import generalized, solve3
 from .geometry import DamperShape, full_slip_slide_rates, pad_geometry, validate_shape
 from ._validate import require_x64
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
-from .params import validate_mu
+from .params import check_one_shape, check_one_value, validate_mu
 from .status import RESULTS, number_repr, ok_status, status_repr
 
 
@@ -87,6 +87,8 @@ def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
     A shape that lifts off is a valid result (liftoff=True), not an error.
     """
     require_x64()
+    check_one_shape(shape)  # one design: a batch goes through vmap of statics_kernel
+    check_one_value("mu", mu)
     validate_shape(shape)
     validate_mu(mu)
     return statics_kernel(shape, mu)
@@ -122,6 +124,8 @@ def full_slip_work_shape_factors(shape: DamperShape, mu) -> WorkShapeFactors:
     float32); traced ones pass to `full_slip_work_shape_factors_kernel`, the unchecked form.
     """
     require_x64()
+    check_one_shape(shape)  # one design: a batch goes through vmap of statics_kernel
+    check_one_value("mu", mu)
     validate_shape(shape)
     validate_mu(mu)
     return full_slip_work_shape_factors_kernel(shape, mu)
@@ -173,6 +177,8 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     (cycle start) and L2 (mid-cycle) at mu_max, by bisection. `inside` is False where no b_R keeps
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
     require_x64()
+    check_one_shape(shape)
+    check_one_value("mu_max", mu_max)
     validate_shape(shape)
     validate_mu(mu_max, "mu_max")
     return design_br_kernel(shape, mu_max, lo, hi)

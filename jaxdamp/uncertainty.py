@@ -25,8 +25,9 @@ import jax.numpy as jnp
 import numpy as np
 
 from .batch import map_batched
-from ._validate import require_x64
-from .params import RANGES, Contacts, LoadCase, validate_contacts, validate_load
+from ._validate import check_int, check_values, require_x64
+from .params import (RANGES, Contacts, LoadCase, check_contacts_and_load, validate_contacts,
+                     validate_load)
 from .response import BladeMode, Scene, damper_stiffness_kernel, peak_response, prepare_scene
 from .status import RESULTS, number_repr, status_repr
 
@@ -116,8 +117,8 @@ def sample_scenarios(key, n: int, uncertainty: Uncertainty = Uncertainty(),
     the uncertainty, n, the nominal kn, kt and F_D, q*, r sin beta; Float64Required in float32)."""
     require_x64()
     u = validate_uncertainty(uncertainty)
-    if int(n) < 1:
-        raise ValueError(f"n must be an integer >= 1; got {n}")
+    n = check_int("n", n, 1)  # 2.5, "3" or True are no count (int() took them)
+    check_contacts_and_load(contacts, load)
     validate_contacts(contacts)
     validate_load(load)
     kn0, kt0 = contacts.per_contact()
@@ -167,9 +168,7 @@ def peak_distribution(shape, scenarios: Scenarios, mode: BladeMode | None = None
     load default to BladeMode() and LoadCase()."""
     if history not in HISTORIES + ("band",):
         raise ValueError(f"history must be one of gross_slip, assembly, band; got {history!r}")
-    forces = np.atleast_1d(np.asarray(force_n, float))
-    if forces.ndim != 1 or not np.all(forces > 0):
-        raise ValueError(f"force_n must be one or more forces > 0 N; got {force_n!r}")
+    forces = np.atleast_1d(check_values("force_n", force_n))
     if not isinstance(shape, Scene):
         # the nominal mu only validates the scene; every sample brings its own
         shape = prepare_scene(shape, 0.5, Contacts(), load, mode)

@@ -9,16 +9,38 @@ and is for reporting and checking a design, not for differentiation.
 
 from __future__ import annotations
 
+import jax
 import jax.numpy as jnp
+import numpy as np
 
-from jaxdamp import RESULTS, Contacts, LoadCase, amplitude_band, amplitude_kernel
+from jaxdamp import (RESULTS, Contacts, LoadCase, amplitude_band, amplitude_kernel, check_design,
+                     validate_mu)
 
 
 def k_im_at_amplitude(shape, mus, psi_a_mrad, contacts=Contacts(), load=LoadCase(), *,
                       initial="gross_slip"):
     """(k_Im per mu (n_mu,), worst = min over the mu set, valid per mu) at psi_a (mrad), in
     N mm/mrad, from the exact steady cycle started at `initial` ("gross_slip" or "assembly").
-    An invalid cycle (liftoff, not periodic) counts as k_Im = 0 in the worst case."""
+    An invalid cycle (liftoff, not periodic) counts as k_Im = 0 in the worst case. Concrete
+    inputs are checked first (ValueError naming the parameter and its range); traced ones are the
+    caller's (an optimiser checks its box once)."""
+    if not any(isinstance(x, jax.core.Tracer)
+               for x in jax.tree_util.tree_leaves((shape, mus, contacts, load, psi_a_mrad))):
+        validate_mu(mus, "mus")  # numbers in range: None, text or NaN refused in one line
+        mu_list = np.asarray(mus, float)
+        if mu_list.ndim > 1 or mu_list.size == 0:
+            raise ValueError(f"mus must be one or more friction coefficients in (0, 5]; got shape "
+                             f"{mu_list.shape}")
+        for m in np.atleast_1d(mu_list):
+            check_design(shape, float(m), contacts, load)
+        try:
+            psi = float(psi_a_mrad) if not isinstance(psi_a_mrad, (str, bool)) else np.nan
+        except (TypeError, ValueError):
+            psi = np.nan
+        if np.ndim(psi_a_mrad) != 0 or not 0.0 < psi <= 1e4:
+            raise ValueError(f"psi_a_mrad must be one amplitude in (0, 10000] mrad; got {psi_a_mrad!r}")
+        if initial not in ("gross_slip", "assembly"):
+            raise ValueError(f"initial must be gross_slip or assembly; got {initial!r}")
     mus = jnp.atleast_1d(jnp.asarray(mus, float))
     contacts = Contacts(jnp.asarray(contacts.kn, float), jnp.asarray(contacts.kt, float))
     load = LoadCase(*(jnp.asarray(v, float) for v in load))

@@ -17,7 +17,7 @@ import numpy as np
 
 from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
                      five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
-from jaxdamp import RESULTS, validate_contacts, validate_load, validate_mu
+from jaxdamp import RESULTS, check_design, family_shape, validate_contacts, validate_mu
 
 from .constraints import Margins, margins
 from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit
@@ -52,9 +52,11 @@ def make_problem(space: DesignSpace | None = None, mus=DEFAULT_MU_SET, kn=REFERE
                  min_vertex_deg=DEFAULT_MIN_VERTEX_DEG) -> Problem:
     """Validated Problem (ValueError naming the parameter and its range)."""
     space = design_space() if space is None else space
+    validate_mu(mus, "mu_set")  # numbers in range: None, text or NaN refused in one line
+    if np.ndim(mus) > 1 or np.size(mus) == 0:
+        raise ValueError(f"mu_set must hold one or more friction coefficients in (0, 5]; got shape "
+                         f"{np.shape(mus)}")
     mus = tuple(float(m) for m in np.atleast_1d(np.asarray(mus, float)))
-    if not mus:
-        raise ValueError("mu_set must contain at least one friction coefficient")
     # The library's validators: one message for the same parameter in the library, the CLI and here.
     for m in mus:
         validate_mu(m, "mu_set")
@@ -63,9 +65,12 @@ def make_problem(space: DesignSpace | None = None, mus=DEFAULT_MU_SET, kn=REFERE
     for name, k in (("kn", kn), ("kt", kt)):
         if np.ndim(k) != 0:
             raise ValueError(f"{name} must be one number (shared by R1, L1, L2); got {k!r}")
-    validate_contacts(Contacts(float(kn), float(kt)))
+    validate_contacts(Contacts(kn, kt))
+    load = LoadCase(*load) if type(load) is tuple else load  # a plain tuple, not another type
+    # the contacts and load checked as one design's (types, one number per field, ranges): the
+    # shape is the design space's business, any valid one serves here
+    check_design(family_shape("60sym"), mus[0], Contacts(float(kn), float(kt)), load)
     load = tuple(float(v) for v in load)
-    validate_load(LoadCase(*load))
     if not (np.isfinite(margin_pct) and 0.0 <= margin_pct < 50.0):
         raise ValueError(f"margin must be in [0, 50) % of L1-L2; got {margin_pct!r}")
     if not (np.isfinite(min_normal) and 0.0 <= min_normal < 1.0):

@@ -33,8 +33,9 @@ def test_interpolated_zero_is_full_stick(bc):
 
 
 def test_mu_of_wrong_length_is_one_line_error():
-    # per-contact mu is 3 values; 2 used to fail inside the kernel as a JAX TypeError
-    with pytest.raises(ValueError, match="mu must be one number or one per contact") as err:
+    # per-contact mu is 3 values; 2 used to fail inside the kernel as a JAX TypeError. The one
+    # message of every per-pad input of one design (params.check_one_design) says so.
+    with pytest.raises(ValueError, match=r"mu: one value, or one per pad \(3 for this damper\)") as err:
         jd.base_cycle(jd.family_shape("60sym"), [0.3, 0.5])
     assert "\n" not in str(err.value)
 

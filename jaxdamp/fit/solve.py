@@ -16,11 +16,13 @@ import numpy as np
 from .._validate import check_range, require_x64
 from ..amplitude import INITIAL_STATES, amplitude_kernel
 from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
-from ..params import VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_param, validate_load
+from ..params import (VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_contacts_and_load,
+                      check_one_shape, check_param, validate_load)
 from ..response.scene import Scene
 from ..status import RESULTS
 from ..runtime import padded_size, run_program, side_by_side
-from .loops import COMPONENTS, ContactLoop, MomentLoop, analyse_loop
+from .loops import (COMPONENTS, ContactLoop, LoopError, MomentLoop, analyse_loop,
+                    loop_direction_error)
 from .model import contact_loop_force, loop_model_moment
 from .result import LoopFit, identify, z_value
 
@@ -314,6 +316,8 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     if isinstance(shape, Scene):  # checked already (`prepare_scene`): its shape and load
         shape, load = shape.shape, shape.load
     else:
+        check_one_shape(shape)  # one damper: the test's
+        check_contacts_and_load(Contacts(), load)
         validate_shape(shape)
         validate_load(load)
     if initial not in INITIAL_STATES:
@@ -334,8 +338,11 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
     loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*lp, name=nm)
              for lp, nm in zip(loops, names)]
-    for lp in loops:
+    for lp, nm in zip(loops, names):
         check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
+        why = loop_direction_error(lp, nm)  # as the CLI: a loop of negative energy is refused
+        if why is not None:
+            raise LoopError(why)
     spec = FitSpec(mu, kn, kt)
     n_mu, n_kn, n_kt = spec.sizes()
     n_phys = n_mu + n_kn + n_kt
@@ -403,8 +410,9 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
     raise LoopError (a ValueError) naming the loop.
     """
-    if not isinstance(max_steps, int) or max_steps < 1:
+    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
         raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
+    check_range("rtol", rtol, 0.0, 1.0, lo_open=True, hi_open=True)
     prob = _stacked(loops, shape, load, initial, mu, kn, kt, start, names)
     prob = side_by_side(lambda: _with_offsets(prob, runner), lambda: _first_step(prob, rtol, runner))[0]
     spec, n_phys, data, scale, theta = prob.spec, prob.n_phys, prob.data, prob.scale, prob.theta0

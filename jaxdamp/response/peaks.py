@@ -14,7 +14,7 @@ import numpy as np
 from ..loops import batched_together
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
-from ..params import check_param
+from .._validate import check_values
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel, is_traced,
@@ -116,7 +116,8 @@ def _bracketed_roots(g, lo, hi, glo, ghi, steps):
         done = (gx == 0) | (jnp.abs(x_new - x0) <= tol) | (hi - lo <= tol)
         new = (lo, hi, glo, ghi, x_new, side, done)
         old = (lo0, hi0, glo0, ghi0, x0, side0, done0)
-        return (i + active, *(jnp.where(active, n, o) for n, o in zip(new, old)))
+        # the count as an int32 step: int32 + bool has no strict promotion path
+        return (i + active.astype(i.dtype), *(jnp.where(active, n, o) for n, o in zip(new, old)))
 
     def more(c):
         return jnp.any((c[0] < steps) & ~c[7])
@@ -188,6 +189,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     """
     checked = isinstance(mode, Scene)
     mode = mode.mode if checked else mode
+    if not is_traced(force_n):  # a concrete force is checked (a negative one gave NaN peaks)
+        check_values("force_n", force_n)
     f = jnp.asarray(force_n, float)
     if f.ndim > 1:
         raise ValueError(f"force_n must be a scalar or a 1-D array of forces in N; got shape {f.shape}")
@@ -414,8 +417,7 @@ def response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMode | 
     checked once here (shape may be a Scene, checked already: `prepare_scene`), then one compiled
     program (`curves_program`)."""
     scene = prepare_scene(shape, mu, contacts, load, mode)
-    forces = jnp.asarray(force_n, float).reshape(-1)
-    check_param("force_n", np.asarray(forces))
+    forces = jnp.asarray(np.atleast_1d(check_values("force_n", force_n)))
     return curves_program(method, tuple(sorted(options.items())))(*scene, forces)
 
 
@@ -436,13 +438,12 @@ def path_response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMo
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
     scene = prepare_scene(shape, mu, contacts, load, mode, wedge_ok=True)
-    forces = jnp.asarray(force_n, float).reshape(-1)
-    check_param("force_n", np.asarray(forces))
+    forces = jnp.asarray(np.atleast_1d(check_values("force_n", force_n)))
     if motion is None:
         if not is_wedge(scene.shape):
             return response_curves(scene, force_n=forces, initial=initial)
         motion = in_phase_motion(float(scene.load.q_star))
-    return path_curves_program(initial)(*scene, validate_motion(motion), forces)
+    return path_curves_program(initial)(*scene, validate_motion(motion, scene.load), forces)
 
 
 def design_peaks(shape, mu=None, contacts=None, load=None, mode: BladeMode | None = None,
@@ -450,7 +451,7 @@ def design_peaks(shape, mu=None, contacts=None, load=None, mode: BladeMode | Non
     """`peak_response` of one design, compiled (force_n may be an array: vmapped over it; shape
     may be a Scene, checked already: `prepare_scene`)."""
     shape, mu, contacts, load, mode = prepare_scene(shape, mu, contacts, load, mode)
-    force = check_param("force_n", jnp.asarray(force_n, float))
+    force = jnp.asarray(check_values("force_n", force_n))
     run = peak_program(method, tuple(sorted(options.items())))
     if force.ndim == 0:
         return run(shape, mu, contacts, load, mode, force)

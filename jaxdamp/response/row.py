@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..params import check_param
+from .._validate import check_values
 from ..runtime import batch_jit, padded_size, run_program
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
@@ -26,7 +26,7 @@ ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power 
 FORCE_BUCKET = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
-           "prepare_row", "flexible_row"]
+           "check_engine_orders", "prepare_row", "flexible_row"]
 
 
 class RowResponse(NamedTuple):
@@ -151,18 +151,39 @@ def flexible_row(residual):
     return residual if np.any(residual != 0) else None
 
 
+def check_engine_orders(engine_orders) -> list[int]:
+    """Engine orders as a list of integers >= 0 (one, or a 1-D sequence): ValueError in one line
+    for anything else (text such as 'all' is `engine_orders_of`'s, a fraction is no order)."""
+    hint = ("engine_orders must be one or more integers >= 0 (for 'a:b', 'a,b' or 'all' use "
+            "jaxdamp.engine_orders_of(text, n_blades))")
+    if engine_orders is None or isinstance(engine_orders, (str, bytes)):
+        raise ValueError(f"{hint}; got {engine_orders!r}")
+    try:
+        raw = np.asarray(engine_orders, dtype=float)
+    except (TypeError, ValueError):
+        raise ValueError(f"{hint}; got {engine_orders!r}") from None
+    flat = raw.reshape(-1)
+    if flat.size == 0:
+        raise ValueError("engine_orders must hold at least one integer >= 0; got none")
+    if raw.ndim > 1 or not np.all(np.isfinite(flat)) \
+            or np.any(flat != np.round(flat)) or np.any(flat < 0):
+        raise ValueError(f"{hint}; got {engine_orders!r}")
+    return [int(e) for e in flat]
+
+
 def prepare_row(shape, mu, contacts, load, modes: ModalFamily, engine_orders, force_n, h_l_mm):
     """Every check of a row's inputs, before any work: ((shape, mu, contacts, load) prepared,
     forces (n_f,), engine orders (list), their NodalScenes, tip forces (m, n_f), residual
     flexibilities (m,)). ValueError naming the parameter and its range."""
     shape, mu, contacts, load, _ = prepare_scene(shape, mu, contacts, load, BladeMode())
-    forces = np.asarray(force_n, float).reshape(-1)
-    check_param("force_n", forces)
-    check_param("h_l", h_l_mm)
-    orders = [int(e) for e in np.asarray(engine_orders).reshape(-1)]
-    if not orders:
-        raise ValueError("engine_orders must hold at least one integer >= 0")
+    forces = np.atleast_1d(check_values("force_n", force_n))
+    h_l_mm = float(check_values("h_l", h_l_mm, max_ndim=0))
+    orders = check_engine_orders(engine_orders)
     scenes = nodal_scenes(modes, orders, float(load.q_star), float(h_l_mm))
+    for s in scenes:  # a zero modal force has no peak to find (it gave NaN peaks marked ok)
+        if not s.force_per_unit > 0.0:
+            raise ValueError(f"modal_force is zero at nodal diameter {s.nodal_diameter}: engine "
+                             f"order {s.engine_order} does not excite the family; leave it out")
     tip = np.array([s.force_per_unit for s in scenes])[:, None] * forces[None, :]
     residual = np.array([s.residual_mrad_per_nmm for s in scenes])
     return (shape, mu, contacts, load), forces, orders, scenes, tip, residual

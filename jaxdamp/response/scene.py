@@ -6,7 +6,9 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
+import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..geometry import DamperShape
 from ..params import Contacts, LoadCase, check_param, prepare_inputs
@@ -41,9 +43,16 @@ class BladeMode(NamedTuple):
 
 
 def validate_mode(mode: BladeMode) -> BladeMode:
-    """ValueError naming the parameter and its range (concrete values only; `params.RANGES`)."""
+    """ValueError naming the parameter and its range (concrete values only; `params.RANGES`);
+    TypeError for anything that is not a BladeMode."""
+    if not isinstance(mode, BladeMode):
+        raise TypeError(f"mode must be a jaxdamp.BladeMode (f0_hz, k_b, eta, r); got "
+                        f"{type(mode).__name__}")
     for name in BladeMode._fields:
         check_param(name, getattr(mode, name))
+        if not isinstance(getattr(mode, name), jax.core.Tracer) and np.ndim(getattr(mode, name)):
+            raise ValueError(f"mode.{name} must be one number; got shape "
+                             f"{np.shape(getattr(mode, name))}")
     return mode
 
 
