@@ -46,7 +46,7 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict):
     "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
     once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
     finished steps must be inactive rows, e.g. zero travel). rows: the shapes and dtypes of one
-    step's outputs (a dict, as `tract_rows`), which spares tracing the step once more to find them
+    step's outputs (a dict, as `engine._rows` builds for a tract), which spares tracing the step once more to find them
     (tracing is most of a CLI call's cost)."""
     if loop == "scan":
         return jax.lax.scan(step, batched_together(init), None, length=length)

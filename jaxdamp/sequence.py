@@ -17,7 +17,7 @@ status; otherwise the break between them is found from the models themselves, wh
 affine length reaches zero (a tract leaving the left model or entering the right one), and
 accepted only where both models give the same k there. A gap that neither test resolves gets a
 probe in its middle (rounds, at most `max_rounds`); what is still unresolved then is marked
-uncovered, and `amplitude_curves(method="sequence")` computes those amplitudes by plain cycles.
+uncovered, and `sequence_curves` computes those amplitudes by plain cycles.
 So a change of sequence the models do not see (a transient pair more or less, a change of the
 preliminary halves of the assembly history) costs more probes, never a wrong number.
 

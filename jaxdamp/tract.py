@@ -32,7 +32,7 @@ STICK, SLIP, BACKSLIDE, OPEN = 0, 1, 2, 3
 STATE_NAMES = ("stick", "slip", "backslide", "open")
 
 # The 8 candidate state sets for 3 contacts, (8, 3) bool: bit i of row c set means contact i
-# slips; candidate_rates and choose_states use this order.
+# slips; candidate_rates and engine.choose_closed use this order.
 # numpy, not jnp: a module-level JAX array would start the backend when jaxdamp is imported.
 CANDIDATE_SETS = np.array([[(c >> i) & 1 for i in range(3)] for c in range(8)], dtype=bool)
 

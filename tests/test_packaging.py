@@ -16,8 +16,12 @@ def test_every_package_folder_is_listed_and_the_optimiser_is_renamed():
     tool = PYPROJECT["tool"]["setuptools"]
     package_dir = tool["package-dir"]
     assert package_dir == {"jaxdamp_optimize": "optimize"}
-    folder_of = {name: package_dir.get(name, name.replace(".", "/")) for name in tool["packages"]}
-    # each listed package is a folder with an __init__.py
+    data = {name for name in tool["packages"] if name.startswith("jaxdamp.data")}
+    assert data == set(tool["package-data"]) == {"jaxdamp.data", "jaxdamp.data.exported"}
+    assert all(not list((ROOT / n.replace(".", "/")).glob("*.py")) for n in data)  # data only
+    folder_of = {name: package_dir.get(name, name.replace(".", "/")) for name in tool["packages"]
+                 if name not in data}
+    # each listed package of code is a folder with an __init__.py
     assert all((ROOT / folder / "__init__.py").is_file() for folder in folder_of.values()), folder_of
     # and each such folder under jaxdamp/ and optimize/ is listed (a new subpackage must be added)
     on_disk = {str(p.parent.relative_to(ROOT)) for top in ("jaxdamp", "optimize")
@@ -34,7 +38,8 @@ def test_the_optimize_command_points_at_the_installed_name():
 def test_licence_is_mit_and_declared():
     text = (ROOT / "LICENSE").read_text()
     assert text.startswith("MIT License") and "Copyright (c) 2026 the jaxdamp developers" in text
-    assert PYPROJECT["project"]["license"] == {"text": "MIT"}
+    assert PYPROJECT["project"]["license"] == "MIT"  # an SPDX expression
+    assert PYPROJECT["project"]["license-files"] == ["LICENSE"]
 
 
 def test_citation_names_this_version_and_the_paper():
