@@ -106,16 +106,19 @@ def test_tests_use_no_private_name_of_the_project():
 
 
 def test_few_imports_inside_functions_each_with_its_reason():
-    """A core module's imports sit at its top, where a reader finds them; at most 5 inside
-    functions (an import measured to cost `import jaxdamp` time), each under a comment."""
+    """A core module's imports (jaxdamp/*.py and the core's subpackages response/ and fit/) sit at
+    its top, where a reader finds them; at most 9 inside functions (an import measured to cost
+    `import jaxdamp` time, such as optimistix for the loop fit), each under a comment."""
     inside = []
-    for path in sorted((ROOT / "jaxdamp").glob("*.py")):
+    core = [*(ROOT / "jaxdamp").glob("*.py"), *(ROOT / "jaxdamp" / "response").glob("*.py"),
+            *(ROOT / "jaxdamp" / "fit").glob("*.py")]
+    for path in sorted(core):
         lines = path.read_text().splitlines()
         for fn in ast.walk(ast.parse(path.read_text())):
             if isinstance(fn, (ast.FunctionDef, ast.AsyncFunctionDef)):
                 inside += [(path.name, node.lineno, lines[node.lineno - 2].strip())
                            for node in ast.walk(fn) if isinstance(node, (ast.Import, ast.ImportFrom))]
-    assert len(inside) <= 5, inside
+    assert len(inside) <= 9, inside
     assert all(above.startswith("#") for _, _, above in inside), inside
 
 

@@ -176,6 +176,7 @@ def _lm_init(theta, args, rtol):
 
 def _state_arrays(state) -> list:
     """The solver state's arrays (its other leaves, a jaxpr, are the same at every step)."""
+    # equinox comes with optimistix: imported where used, as in _lm_solver
     import equinox as eqx
 
     return [x for x in jax.tree_util.tree_leaves(state) if eqx.is_array(x)]
@@ -184,6 +185,7 @@ def _state_arrays(state) -> list:
 def _state_of(arrays, theta, args, rtol):
     """The solver state from its arrays (`_state_arrays`); the rest of it comes from tracing the
     solver's init again (shapes only, no computation)."""
+    # equinox comes with optimistix: imported where used, as in _lm_solver
     import equinox as eqx
 
     leaves, tree = jax.tree_util.tree_flatten(eqx.filter_eval_shape(_lm_init, theta, args, rtol))
@@ -219,6 +221,7 @@ def _fit_programs(spec: FitSpec, history: str, rtol: float):
 
     @jax.jit
     def step(theta, arrays, shape, load, data, inv_delta):
+        # optimistix where used, as in _lm_solver (1-2 s of `import jaxdamp` otherwise)
         import optimistix as optx
 
         args = args_of(shape, load, data, inv_delta)

@@ -11,7 +11,9 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from ..geometry import is_wedge
 from ..loops import batched_together
+from ..motion import in_phase_motion, validate_motion
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .._validate import check_values
@@ -432,9 +434,6 @@ def path_response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMo
     (`path_curves_program`). The damper's status and amplitude scale are the in-phase
     Base-Cycle's for the curved-flat damper, the path's gross-slip move's for a wedge
     (`path_damper`; a wedge runs on the path engine in-phase too, motion None)."""
-    from ..geometry import is_wedge
-    from ..motion import in_phase_motion, validate_motion
-
     if initial not in PATH_HISTORIES:
         raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
     scene = prepare_scene(shape, mu, contacts, load, mode, wedge_ok=True)
