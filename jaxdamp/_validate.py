@@ -34,6 +34,12 @@ def is_concrete(value) -> bool:
     return not any(isinstance(v, Tracer) for v in leaves)
 
 
+def traced(*trees) -> bool:
+    """True where any leaf of the trees is a tracer (inside jit, vmap, grad): the unchecked,
+    traceable building blocks check their inputs only where this is False."""
+    return any(isinstance(x, Tracer) for x in jax.tree_util.tree_leaves(trees))
+
+
 def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
     """Check lo <(=) value <(=) hi elementwise, and finiteness (traced values pass). None, text
     or anything that is not numbers is refused like an out-of-range value: an optional input is
@@ -153,5 +159,5 @@ def check_values(name: str, value, label: str | None = None, *, max_ndim: int = 
     return arr
 
 
-__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "check_range", "check_scalar",
+__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "traced", "check_range", "check_scalar",
            "check_positive", "check_int", "RANGES", "MOTION_RANGES", "RANGE_CHECKS", "check_param", "check_values"]

@@ -27,7 +27,7 @@ from .design import Design, check_batch
 from .energy import work_shape_factors
 from .geometry import WEDGE_REFUSED, DamperShape, validate_shape
 from .harmonics import five_numbers
-from .params import (Contacts, LoadCase, check_types, validate_contacts, validate_load,
+from .params import (Contacts, LoadCase, check_param, check_types, validate_contacts, validate_load,
                      validate_mu)
 from .runtime import batch_jit, padded_size
 from .statics import design_br_kernel
@@ -460,7 +460,14 @@ def centred_br(theta_l, theta_r, mu_max=0.7, bl2_over_hl=0.8):
     """The paper's centring rule (jaxdamp.design_br) for arrays of angles: (br, found, inside).
     Checked (ValueError naming the parameter and its range; Float64Required in float32)."""
     require_x64()
-    tl, tr = np.broadcast_arrays(np.asarray(theta_l, float), np.asarray(theta_r, float))
+    check_param("theta_l", theta_l)  # numbers in range: None, text or NaN refused in one line
+    check_param("theta_r", theta_r)
+    check_values("mu", mu_max, "mu_max", max_ndim=0)
+    try:
+        tl, tr = np.broadcast_arrays(np.asarray(theta_l, float), np.asarray(theta_r, float))
+    except ValueError:
+        raise ValueError(f"theta_l and theta_r must broadcast to one grid; got shapes "
+                         f"{np.shape(theta_l)} and {np.shape(theta_r)}") from None
     validate_shape(DamperShape(tl, tr, 0.0, bl2_over_hl))
     validate_mu(mu_max, "mu_max")
     res = _centring(jnp.asarray(tl.ravel()), jnp.asarray(tr.ravel()), jnp.asarray(bl2_over_hl, float),

@@ -7,6 +7,7 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from ._validate import check_scalar, traced
 from .conventions import platform_arm, travel_mm
 from .cycle import BaseCycle
 from .half import Half
@@ -33,11 +34,18 @@ class CycleEnergy(NamedTuple):
                 f"moment={number_repr(self.moment, 'N mm')})")
 
 
-@jax.jit
 def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     """Energy dissipated per cycle (N mm) at each contact and by the platform moment, at amplitude
     psi_a >= psi_BC (default: the Base-Cycle; a smaller psi_a is read as psi_BC).
-    Unchecked, traceable (jit, vmap, grad): takes a BaseCycle (checked when it was made)."""
+    Unchecked, traceable (jit, vmap, grad): takes a BaseCycle (checked when it was made); a
+    concrete psi_a_mrad is checked (one number in (0, 10000] mrad)."""
+    if psi_a_mrad is not None and not traced(psi_a_mrad):
+        check_scalar("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
+    return _contact_energies(bc, psi_a_mrad)
+
+
+@jax.jit
+def _contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     psi = base_cycle_amplitude(bc) if psi_a_mrad is None else jnp.maximum(
         psi_a_mrad, base_cycle_amplitude(bc))
     total = 2.0 * travel_mm(psi, bc.load.q_star)

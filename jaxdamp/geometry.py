@@ -13,7 +13,7 @@ from typing import NamedTuple
 
 import jax.numpy as jnp
 
-from ._validate import check_param
+from ._validate import check_param, traced
 from .conventions import moment_coefficients
 from .linalg import rowdot
 
@@ -130,7 +130,16 @@ class SectionGeometry(NamedTuple):
 def section_geometry(shape: DamperShape) -> SectionGeometry:
     """Pads, reference points, normals and tangents; differentiable, valid at vertical flanks.
     Unchecked, traceable (jit, vmap, grad): a building block of the kernels (the entry points, e.g.
-    `base_cycle`, check the shape)."""
+    `base_cycle`, check the shape). Called with concrete values, it checks them (types, ranges)."""
+    if not traced(shape):
+        if not isinstance(shape, DamperShape):
+            raise TypeError(f"shape must be a jaxdamp.DamperShape; got {type(shape).__name__}")
+        validate_shape(shape, wedge_ok=True)
+        try:
+            jnp.broadcast_shapes(*(jnp.shape(v) for v in shape if v is not None))
+        except ValueError:
+            raise ValueError("shape: the fields' arrays do not broadcast together; got shapes "
+                             f"{[jnp.shape(v) for v in shape if v is not None]}") from None
     tl = jnp.deg2rad(jnp.asarray(shape.theta_l, dtype=float))
     tr = jnp.deg2rad(jnp.asarray(shape.theta_r, dtype=float))
     sl, cl, sr, cr = jnp.sin(tl), jnp.cos(tl), jnp.sin(tr), jnp.cos(tr)

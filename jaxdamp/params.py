@@ -62,6 +62,9 @@ def validated_range_violations(contacts: "Contacts", load: "LoadCase") -> list[s
     `ill_conditioned`; an empty list where the inputs are inside (then an ill_conditioned status
     comes from the solves' residuals). Below the range nothing is listed: the numbers stay exact
     there (the small-rotation limit warns instead). Contacts named R1, L1, L2 where they differ."""
+    check_contacts_and_load(contacts, load)
+    validate_contacts(contacts)
+    validate_load(load)
     names = ("R1", "L1", "L2")
     fd = float(np.asarray(load.F_D, float))
     kn = np.broadcast_to(np.asarray(contacts.kn, float), (3,)) / fd

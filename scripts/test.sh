@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# Set up, run the whole test suite (including the notebooks and the documentation's code blocks),
-# then build the documentation site with its API reference, where every warning is an error.
+# Set up, run the test suite (including the notebooks and the documentation's code blocks; the
+# slow tier by rotating shards, below), then build the documentation site with its API reference,
+# where every warning is an error.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh
@@ -8,11 +9,21 @@ bash scripts/setup.sh
 # its own programs (no persistent compilation cache: tests/conftest.py says why), a whole test file
 # at a time (--dist loadfile), so that a file's programs compile in one worker, not in both. No
 # reruns: a worker that crashes fails the run (docs/performance.md, "Worker crashes").
-# The default tier leaves out the tests marked slow (over 10 worker-seconds each, nearly all XLA
-# compilation of long end-to-end programs): `--full` runs them too (README gives both times).
-tier=(-m "not slow")
-if [[ "${1:-}" == "--full" ]]; then tier=(); shift; fi
+# Every test not marked slow, and one third of those marked slow (over 10 worker-seconds each,
+# nearly all XLA compilation of long end-to-end programs): the shard is the commit count of the
+# checkout modulo 3 (tests/conftest.py, tests/slow_shards.json), so consecutive landings rotate
+# through the slow tier (README). `--shard K` picks shard K; `--full` runs every test and prints
+# the time it took.
+shard=$(( $(git rev-list --count HEAD 2>/dev/null || echo 0) % 3 ))
+tier=(--slow-shard "$shard")
+full=0
+if [[ "${1:-}" == "--full" ]]; then tier=(); full=1; shift
+elif [[ "${1:-}" == "--shard" ]]; then tier=(--slow-shard "${2:?--shard needs K in 0..2}"); shift 2
+fi
+[[ $full == 1 ]] && echo "test.sh: every test, the slow tier whole" || echo "test.sh: slow shard ${tier[1]} of 3"
+start=$SECONDS
 # --durations: every run lists its 25 slowest tests, where the next cut of the suite starts.
 .venv/bin/python -m pytest -n 2 --dist loadfile --durations=25 "${tier[@]}" "$@"
+[[ $full == 1 ]] && echo "test.sh --full: the tests took $(( (SECONDS - start) / 60 )) min $(( (SECONDS - start) % 60 )) s"
 # Quiet: a passing build prints nothing, so pytest's summary stays the last line of the output.
 NO_MKDOCS_2_WARNING=1 .venv/bin/mkdocs build --strict --quiet

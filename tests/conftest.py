@@ -1,4 +1,7 @@
+import json
 import os
+import zlib
+from pathlib import Path
 
 import jax
 import pytest
@@ -65,6 +68,41 @@ HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
                "test_band.py", "test_cli_study.py", "test_coupled_hbm.py", "test_notebooks.py")
 
 
-def pytest_collection_modifyitems(items):
+# The slow tier in shards (README, "Two commands"): CI runs every test but those marked slow, and
+# one shard of those, the commit count of main modulo SLOW_SHARDS (scripts/test.sh); `--full`
+# runs them all. tests/slow_shards.json assigns each slow test to a shard, balanced by measured
+# worker-seconds (scripts/slow_shards.py writes it from a `--durations=0` run of the slow tier); a
+# slow test it does not name yet goes to the shard of a stable hash of its id.
+SLOW_SHARDS = 3
+SHARDS_FILE = Path(__file__).with_name("slow_shards.json")
+
+
+def pytest_addoption(parser):
+    parser.addoption("--slow-shard", default=None, metavar="K",
+                     help=f"run the tests marked slow of shard K in [0, {SLOW_SHARDS}) only "
+                          "(tests/slow_shards.json), with every test not marked slow")
+
+
+def slow_shard_of(nodeid: str, assigned: dict) -> int:
+    """The shard of a slow test: its entry in tests/slow_shards.json, else a stable hash."""
+    if nodeid in assigned:
+        return int(assigned[nodeid])
+    return zlib.crc32(nodeid.encode()) % SLOW_SHARDS
+
+
+def pytest_collection_modifyitems(config, items):
+    shard = config.getoption("--slow-shard")
+    if shard is not None:
+        k = int(shard)
+        if not 0 <= k < SLOW_SHARDS:
+            raise pytest.UsageError(f"--slow-shard must be an integer in [0, {SLOW_SHARDS}); got {shard}")
+        assigned = json.loads(SHARDS_FILE.read_text())["shards"]
+        keep, drop = [], []
+        for item in items:
+            is_out = item.get_closest_marker("slow") and slow_shard_of(item.nodeid, assigned) != k
+            (drop if is_out else keep).append(item)
+        if drop:
+            config.hook.pytest_deselected(items=drop)
+            items[:] = keep
     rank = {name: i for i, name in enumerate(HEAVY_FIRST)}
     items.sort(key=lambda item: rank.get(item.path.name, len(rank)))  # stable: files stay whole

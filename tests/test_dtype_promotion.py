@@ -38,20 +38,15 @@ def test_core_public_paths_run_with_strict_dtype_promotion(name):
                           if np.asarray(x).dtype.kind == "f")
 
 
-def test_the_peak_search_loop_runs_under_strict_promotion():
-    """The peak search's bracketed root loop (response.peaks._bracketed_roots), alone on a
-    residual with known roots: it counted its steps as int32 + bool, which strict promotion
-    refuses (the slow design_peaks case above caught it; this one is cheap enough for every run)."""
-    import jax.numpy as jnp
+def test_the_peak_search_runs_under_strict_promotion():
+    """The peak search (its bracketed root loop counted its steps as int32 + bool, which strict
+    promotion refuses; the slow design_peaks case above caught it) on the cheapest curve, a stuck
+    damper: the blade's peak is then the linear one, F / (eta k_b) (an identity, not a number of
+    the code's)."""
+    from helpers import assert_tree_allclose
 
-    from jaxdamp.response.peaks import _bracketed_roots
-
-    lo, hi = jnp.array([0.0, 1.0]), jnp.array([2.0, 4.0])
-    roots = jnp.array([1.5, 3.0])
-
-    def g(x):
-        return x ** 3 - roots ** 3
-
+    mode = jd.BladeMode()
     with jax.numpy_dtype_promotion("strict"):
-        x = _bracketed_roots(g, lo, hi, g(lo), g(hi), 60)
-    np.testing.assert_allclose(np.asarray(x), np.asarray(roots), rtol=1e-9)
+        peaks = jd.peak_response(jd.stuck_damper(1e4), mode, np.array([2.0, 5.0]))
+    assert_tree_allclose(np.asarray(peaks.peak_amplitude_mm),
+                         np.array([2.0, 5.0]) / (mode.eta * mode.k_b), rtol=1e-9, atol=0.0)

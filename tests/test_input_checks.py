@@ -29,16 +29,15 @@ CHECKED = {
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
     "validate_family", "nodal_scene", "row_response", "row_band", "prepare_scene", "engine_orders_of",
-    "path_response_curves", "path_base_cycle",
+    "path_response_curves", "path_base_cycle", "check_design", "check_batch", "evaluate_designs",
+    "validated_range_violations",
     # jaxdamp.baselines
     "hbm_aft", "hbm_aft_path", "regularized_aft", "time_march", "march_ellipse", "modal_family",
     "sector_matrices", "full_matrices", "ring_response",
 }
-# Take a result made (and checked) by a checked function: a BaseCycle, a batched Design from
-# `stack_designs`, checked contacts and load.
-TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness", "evaluate_designs",
-                  "elliptic_transitions_chart",
-                  "validated_range_violations"}
+# Take a result made (and checked) by a checked function: a BaseCycle, an EllipticCycle.
+TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness",
+                  "elliptic_transitions_chart"}
 # Unchecked, traceable helpers (building blocks of the kernels, used inside jit/vmap/grad): their
 # docstrings say "unchecked" and "traceable".
 UNCHECKED = {

@@ -11,7 +11,6 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_values
-from ..params import validate_mu
 from ..runtime import batch_jit, run_program
 from ..status import number_repr, status_repr
 from .peaks import peak_frequency_hz, peak_response
@@ -69,26 +68,29 @@ def designer_diagram(shape, mode: BladeMode | None = None, contacts=None, load=N
     own, and its mu is not used: the diagram runs over `mu`). The friction range mu is checked
     unless it is DIAGRAM_MUS.
     """
-    mus = check_values("mu", mu)
-    if isinstance(shape, Scene):
+    # A Scene marks a caller that has checked its inputs (the CLI): its grids are taken as given.
+    checked = isinstance(shape, Scene)
+    if checked:
         scene = prepare_scene(shape, None, contacts, load, mode)
-        if mu is not DIAGRAM_MUS:
-            validate_mu(mus)
+        mus = np.atleast_1d(np.asarray(mu, float) if mu is DIAGRAM_MUS else check_values("mu", mu))
     else:
+        mus = np.atleast_1d(check_values("mu", mu))
         scene = prepare_scene(shape, float(mus[0]), contacts, load, mode)
-        for m in mus[1:]:
-            validate_mu(float(m))
     shape, _, contacts, load, mode = scene
     fd0 = float(load.F_D)
     if not float(mode.eta) > 0.0:  # the free blade's peak F / (eta k_b) is the diagram's limit
         raise ValueError(f"mode.eta must be in (0, 1] for the designer's diagram (its free-blade "
                          f"limit F / (eta k_b)); got {float(mode.eta):g}")
+    def given(value, name, label, max_ndim=1):
+        return np.asarray(value, float) if checked else check_values(name, value, label,
+                                                                      max_ndim=max_ndim)
+
     force = (np.geomspace(0.05, 100.0, 41) if force_n is None
-             else np.atleast_1d(check_values("force_n", force_n)))
+             else np.atleast_1d(given(force_n, "force_n", "force_n")))
     fds = (np.geomspace(fd0 / 30.0, fd0 * 30.0, 41) if fd_n is None
-           else np.atleast_1d(check_values("F_D", fd_n, "fd_n")))
+           else np.atleast_1d(given(fd_n, "F_D", "fd_n")))
     f_fd = float(np.median(force) if force_at_fd_n is None
-                 else check_values("force_n", force_at_fd_n, "force_at_fd_n", max_ndim=0))
+                 else given(force_at_fd_n, "force_n", "force_at_fd_n", max_ndim=0))
     program = diagram_program(method, tuple(sorted(options.items())))
     args = (shape, jnp.asarray(mus), contacts, load, mode, jnp.asarray(force), jnp.asarray(fds),
             jnp.asarray(fd0), jnp.asarray(f_fd))

@@ -6,9 +6,11 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import jax.numpy as jnp
+import numpy as np
 
+from .._validate import check_int, check_range, check_values, traced
 from ..status import number_repr, status_repr
-from .scene import BladeMode
+from .scene import BladeMode, validate_mode
 from .stiffness import DamperStiffness, stuck_damper
 
 __all__ = ["FRF", "FRF_POINTS", "dynamic_stiffness", "frf", "frf_amplitude_grid",
@@ -53,8 +55,17 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
     k_b (1 - W) + K_re = +/- sqrt((F/A)^2 - K_im'^2) with W = (omega/omega0)^2 and
     K_im' = eta k_b + 1e-3 r^2 k_Im: W = (k_b + K_re -/+ s) / k_b, s = sqrt(...).
     Unchecked, traceable (jit, vmap, grad): a building block of the compiled response programs; the
-    checked path is `response_curves` (or `prepare_scene` for the mode).
+    checked path is `response_curves` (or `prepare_scene` for the mode). Concrete inputs are
+    checked (the mode, a force > 0 N, amplitudes > 0 mm, 1-D).
     """
+    if not traced(mode, force_n, amplitude_mm):
+        validate_mode(mode)
+        check_values("force_n", force_n, max_ndim=0)
+        check_range("amplitude_mm", amplitude_mm, 0.0, np.inf, lo_open=True, hi_open=True,
+                    unit="mm")
+        if np.ndim(amplitude_mm) > 1 or np.size(amplitude_mm) == 0:
+            raise ValueError(f"amplitude_mm must be one amplitude or a non-empty 1-D grid (mm); "
+                             f"got shape {np.shape(amplitude_mm)}")
     a = jnp.asarray(amplitude_mm, float)
     re, im = dynamic_stiffness(mode, damper.k_of_psi, a)
     pos = a > 0
@@ -96,7 +107,13 @@ def linear_frf(mode: BladeMode, k_re, force_n, n: int = FRF_POINTS) -> FRF:
     """The FRF of the blade with a damper frozen as a real spring k_re (N mm/mrad; 0: free, k_Re,fs:
     stuck) across its own resonance: amplitudes up to its own peak F / (eta k_b), at
     f0 sqrt(1 + 1e-3 r^2 k_re / k_b). Without structural damping (eta = 0) the peak is unbounded:
-    the grid then stops at 1e3 F / k_b. Unchecked, traceable (jit, vmap, grad), as `frf`."""
+    the grid then stops at 1e3 F / k_b. Unchecked, traceable (jit, vmap, grad), as `frf`; concrete
+    inputs are checked (the mode, k_re >= 0, a force > 0 N, n >= 2 points)."""
+    if not traced(mode, k_re, force_n):
+        validate_mode(mode)
+        check_range("k_re", k_re, 0.0, np.inf, hi_open=True, unit="N mm/mrad")
+        check_values("force_n", force_n, max_ndim=0)
+        check_int("n", n, 2)
     damped = mode.eta * mode.k_b > 0
     force = jnp.asarray(force_n, float)
     top = jnp.where(damped, force / jnp.where(damped, mode.eta * mode.k_b, 1.0),

@@ -44,7 +44,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._validate import check_int, check_param, check_range
+from .._validate import check_int, check_param, check_range, check_values
 from ..conventions import MRAD_PER_RAD, platform_directions
 from ..motion import Motion, general_motion
 from .scene import BladeMode
@@ -218,7 +218,8 @@ def nodal_scenes(family: ModalFamily, engine_orders, q_star_mm: float,
                  h_l_mm: float) -> list[NodalScene]:
     """`nodal_scene` of each engine order, the family and the damper checked once."""
     family = validate_family(family)
-    check_param("q_star", q_star_mm)
+    q_star_mm = float(check_values("q_star", q_star_mm, max_ndim=0))
+    h_l_mm = float(check_values("h_l", h_l_mm, max_ndim=0))
     return [_reduced(family, e, q_star_mm, h_l_mm) for e in engine_orders]
 
 

@@ -8,7 +8,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..band import amplitude_bands_kernel, check_band_amplitudes, compile_bands_ahead
-from ..params import check_param
+from .._validate import check_values
 from ..runtime import batch_jit, compile_ahead, run_program
 from ..status import RESULTS
 from .peaks import peak_response
@@ -32,9 +32,11 @@ def peak_band(shape, mu=None, contacts=None, load=None, mode: BladeMode | None =
     0.05 psi_BC to 3 psi_BC, through one program: `band.amplitude_bands`; runner as there) and
     interpolated linearly between them. Returns (Peaks with the band's
     lowest k_Im: the highest A*, Peaks with its highest k_Im: the lowest A*, the grid and the
-    bound curves). shape may be a Scene (`prepare_scene`), checked already."""
+    bound curves). shape may be a Scene (`prepare_scene`): the mark of a caller that has checked
+    its inputs (the CLI), whose forces are then taken as given too; otherwise force_n is checked."""
+    checked = isinstance(shape, Scene)
     scene = prepare_scene(shape, mu, contacts, load, mode)
-    force = check_param("force_n", jnp.asarray(force_n, float))
+    force = jnp.asarray(force_n if checked else check_values("force_n", force_n), float)
     return peak_band_kernel(scene, force, psi_grid_mrad, n_samples, steps, runner)
 
 

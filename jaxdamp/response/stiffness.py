@@ -9,13 +9,16 @@ from typing import Callable, NamedTuple
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 from ..amplitude import amplitude_kernel
 from ..cycle import base_cycle_kernel
 from ..conventions import MRAD_PER_RAD
 from ..ellipse import elliptic_kernel, gross_slip_amplitude_kernel
 from ..geometry import is_wedge
-from ..motion import Motion, as_ellipse
+from .._validate import check_scalar, check_values, traced
+from ..design import check_design
+from ..motion import Motion, as_ellipse, validate_motion
 from ..harmonics import complex_stiffness, five_numbers_kernel
 from ..params import Contacts, LoadCase, prepare_inputs
 from ..residual import through_residual
@@ -151,7 +154,11 @@ def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly
     STUCK_FRACTION psi_ref, where every pad sticks).
     loop: the cycles' (`amplitude_kernel`): "while" traces several times faster where no reverse
     derivative is needed (forward mode still passes); repeats: `path_cycle_kernel`'s. Unchecked,
-    traceable (jit, vmap, grad)."""
+    traceable (jit, vmap, grad); concrete inputs are checked as one design's and its path."""
+    if not traced(shape, mu, contacts, load, motion):
+        check_design(shape, mu, contacts, load, wedge_ok=True)
+        if motion is not None:
+            validate_motion(motion, load)
     if is_wedge(shape):
         # No Base-Cycle for a wedge: the amplitude scale is the path's gross-slip amplitude, the
         # status that of the move there (unseated, unreachable).
@@ -271,7 +278,12 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
     stretches the psi axis: the stick stiffness is independent of F_D. An F_D sweep costs one curve.
     Unchecked, traceable (jit, vmap, grad): fd_ref_n, fd_n (> 0 N) and contact_scale (> 0) are taken
     as given (traced in the designer's diagram); `ref` comes from `damper_stiffness` (checked).
+    Concrete ones are checked (F_D's range, contact_scale > 0).
     """
+    if not traced(fd_ref_n, fd_n, contact_scale):
+        check_values("F_D", fd_ref_n, "fd_ref_n", max_ndim=0)
+        check_values("F_D", fd_n, "fd_n")
+        check_scalar("contact_scale", contact_scale, 0.0, np.inf, lo_open=True, hi_open=True)
     s = (jnp.asarray(fd_n, float) / fd_ref_n) / contact_scale
 
     def scaled(k_fn, stretch, c):
@@ -288,7 +300,9 @@ def scaled_stiffness(ref: DamperStiffness, fd_ref_n, fd_n, contact_scale=1.0) ->
 
 def stuck_damper(k_re_stuck) -> DamperStiffness:
     """The stuck limit: a real spring k_Re,fs at every amplitude (no dissipation).
-    Unchecked, traceable (jit, vmap, grad)."""
+    Unchecked, traceable (jit, vmap, grad); a concrete k_re_stuck is checked (one number >= 0)."""
+    if not traced(k_re_stuck):
+        check_scalar("k_re_stuck", k_re_stuck, 0.0, np.inf, hi_open=True, unit="N mm/mrad")
     k = jnp.asarray(k_re_stuck, float)
     return DamperStiffness(lambda psi: (jnp.zeros_like(psi) + k, jnp.zeros_like(psi)),
                            jnp.int32(RESULTS.ok), k, jnp.asarray(1.0))
