@@ -95,9 +95,12 @@ def stack_designs(shapes, mu, contacts: Contacts | Sequence[Contacts] = Contacts
             isinstance(load, (list, tuple)) and all(isinstance(ld, LoadCase) for ld in load)):
         raise TypeError(f"load must be a jaxdamp.LoadCase or a sequence of them; got "
                         f"{type(load).__name__}")
-    for name, v in (("mu", mu), *zip(DamperShape._fields, shapes if isinstance(shapes, DamperShape)
-                                     else ()), *zip(Contacts._fields, contacts
-                                                    if isinstance(contacts, Contacts) else ())):
+    named = [("mu", mu)]
+    if isinstance(shapes, DamperShape):
+        named += list(zip(DamperShape._fields, shapes))
+    if isinstance(contacts, Contacts):
+        named += list(zip(Contacts._fields, contacts))
+    for name, v in named:  # text and None are no numbers (numpy would read "0.5" as one)
         if isinstance(v, (str, bytes)) or (v is None and name not in ("x_d", "br2_over_hr")):
             raise ValueError(f"{name} must be numbers (a scalar or one per design); got {v!r}")
     if isinstance(shapes, DamperShape):

@@ -48,8 +48,8 @@ class Design(NamedTuple):
 
 def _batch_leaf(name: str, value, n: int | None, per_pad: int | None):
     """One leaf of a batched Design as a float numpy array: a shared scalar, or (n,) per design;
-    kn, kt (per_pad = the pad count) also (n, per_pad). n None: not known yet (returns the
-    leaf's batch length, or None for a scalar)."""
+    kn, kt (per_pad = the pad count) also (n, per_pad). n None: the batch's length is not known
+    yet (a (per_pad,) stiffness is then not refused)."""
     if value is None:
         raise ValueError(f"{name} is None: give a number, or one per design (n,)")
     try:

@@ -270,6 +270,5 @@ def _per_contact(k, n_pads: int = 3):
 __all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
            "VALIDATED_KT_OVER_KN", "above_validated_range", "validated_range_violations", "Contacts",
            "LoadCase", "RANGES", "RANGE_CHECKS", "check_param", "validate_mu", "validate_contacts",
-           "validate_load", "fast_ok", "ONE_DESIGN_HINT", "check_one_value", "check_types", "check_one_shape",
-           "check_one_design", "check_contacts_and_load",
-           "prepare_inputs"]
+           "validate_load", "fast_ok", "ONE_DESIGN_HINT", "check_one_value", "check_types",
+           "check_one_shape", "check_one_design", "check_contacts_and_load", "prepare_inputs"]

@@ -168,6 +168,12 @@ def _jd(name):
 # name -> (function, the valid call's arguments (a function: some are built once), the kind of
 # each parameter the fuzz replaces). Parameters left out take their defaults.
 E = (lambda **kw: (lambda: kw))  # noqa: E731
+# The blade row's valid call and its parameters (row_response and row_band share them).
+ROW_CALL = (lambda: dict(shape=S60, mu=0.5, modes=_family(), engine_orders=[3],  # noqa: E731
+                         force_n=[2.0], h_l_mm=10.0))
+ROW_KINDS = {"shape": "shape", "mu": "mu", "contacts": "contacts", "load": "load",
+             "engine_orders": "engine_orders", "force_n": "force", "h_l_mm": "psi",
+             "modes": "motion"}
 ENTRY_POINTS = {
     "base_cycle": (_jd("base_cycle"), E(shape=S60, mu=0.5),
                    {"shape": "shape", "mu": "mu", "contacts": "contacts", "load": "load",
@@ -240,12 +246,7 @@ ENTRY_POINTS = {
                       {"shapes": "shape", "mu": "mu_list", "contacts": "contacts", "load": "load"}),
     "sweep": (_jd("sweep"), E(theta_l=[50.0, 60.0], theta_r=[60.0], mu=[0.5]),
               {"mu": "mu_list", "contacts": "contacts", "load": "load"}),
-    "row_response": (_jd("row_response"),
-                     lambda: dict(shape=S60, mu=0.5, modes=_family(), engine_orders=[3],
-                                  force_n=[2.0], h_l_mm=10.0),
-                     {"shape": "shape", "mu": "mu", "contacts": "contacts", "load": "load",
-                      "engine_orders": "engine_orders", "force_n": "force", "h_l_mm": "psi",
-                      "initial": "option", "modes": "motion"}),
+    "row_response": (_jd("row_response"), ROW_CALL, {**ROW_KINDS, "initial": "option"}),
     "peak_distribution": (_jd("peak_distribution"),
                           lambda: dict(shape=S60, scenarios=jd.sample_scenarios(
                               __import__("jax").random.PRNGKey(0), 4), force_n=2.0),
@@ -283,12 +284,7 @@ ENTRY_POINTS = {
     "peak_band": (_jd("peak_band"), E(shape=S60, mu=0.5, force_n=[2.0]),
                   {"shape": "shape", "mu": "mu", "contacts": "contacts", "load": "load",
                    "mode": "mode", "force_n": "force", "n_samples": "count1", "shape#": "wedge"}),
-    "row_band": (_jd("row_band"),
-                 lambda: dict(shape=S60, mu=0.5, modes=_family(), engine_orders=[3],
-                              force_n=[2.0], h_l_mm=10.0),
-                 {"shape": "shape", "mu": "mu", "contacts": "contacts", "load": "load",
-                  "engine_orders": "engine_orders", "force_n": "force", "h_l_mm": "psi",
-                  "n_samples": "count1", "modes": "motion"}),
+    "row_band": (_jd("row_band"), ROW_CALL, {**ROW_KINDS, "n_samples": "count1"}),
     "nodal_scene": (_jd("nodal_scene"),
                     lambda: dict(family=_family(), engine_order=3, q_star_mm=100.0, h_l_mm=10.0),
                     {"engine_order": "count0", "q_star_mm": "psi", "h_l_mm": "psi",
