@@ -21,7 +21,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import require_x64
-from .geometry import DamperShape, validate_shape
+from .geometry import WEDGE_REFUSED, DamperShape, validate_shape
 from .params import (Contacts, LoadCase, prepare_inputs, validate_contacts, validate_load,
                      validate_mu)
 
@@ -87,7 +87,8 @@ def check_batch(designs) -> Design:
                                ("load", load, LoadCase)):
         if not isinstance(value, kind):
             raise TypeError(f"designs.{field} must be a {kind.__name__}; got {type(value).__name__}")
-    validate_shape(shape)  # refuses a wedge first, in one line naming the wedge's functions
+    if shape.br2_over_hr is not None:  # refused first, in one line naming the wedge's functions
+        raise ValueError(WEDGE_REFUSED)
     names = [(f, v, None) for f, v in zip(DamperShape._fields[:4], shape[:4])]
     if shape.x_d is not None:
         names.append(("x_d", shape.x_d, None))
@@ -104,8 +105,8 @@ def check_batch(designs) -> Design:
                          "single-design functions (base_cycle, cycle_numbers, "
                          "five_numbers_jacobian), a batch is built by jaxdamp.stack_designs")
     n = next(iter(lengths.values()))
-    for name, v, pads in names:  # per-pad shapes need n
-        _batch_leaf(name, v, n, pads)
+    for name in ("kn", "kt"):  # per-pad shapes need n
+        _batch_leaf(name, arrays[name], n, 3)
     lengths = {name: a.shape[0] for name, a in arrays.items() if a.ndim >= 1}
     if len(set(lengths.values())) > 1:
         raise ValueError("designs: the leaves' batch lengths differ (no axis is cut): "
