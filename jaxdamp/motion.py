@@ -80,13 +80,22 @@ def interblade_motion(phi_deg, h_c_mm, q_star_mm=100.0, h_l_mm=None) -> Motion:
     return general_motion(interblade_direction(phi, h_c_mm, q_star_mm), h_l_mm)
 
 
+def _direction(direction) -> np.ndarray:
+    """X_hat as a complex array; anything that is no numbers refused in one line."""
+    try:
+        return np.asarray(direction, dtype=complex)
+    except (TypeError, ValueError):
+        raise ValueError(f"motion must be 3 finite numbers (du mm, dv mm, dtheta mrad); got "
+                         f"{type(direction).__name__}") from None
+
+
 def straight_motion(direction, h_l_mm=None) -> Motion:
     """A Motion from X_hat (3 numbers, real or complex: du mm, dv mm, dtheta mrad per mrad of
     amplitude), which must be real up to one common phase (a straight path; it is rotated to
     real, which leaves the cycle and its complex stiffness unchanged), and the damper's left
     flank length h_l_mm, needed where dtheta is not zero (else unused). ValueError, naming the
     parameter and its range, for anything else."""
-    x = np.asarray(direction, dtype=complex)
+    x = _direction(direction)
     if x.shape != (3,) or not np.all(np.isfinite(x)):
         raise ValueError(f"motion must be 3 finite numbers (du mm, dv mm, dtheta mrad); got {direction!r}")
     norm = float(np.linalg.norm(x))
@@ -118,7 +127,7 @@ def _checked_size(components, h_l_mm):
 def general_motion(direction, h_l_mm=None) -> Motion:
     """A Motion from X_hat (3 numbers, real or complex): straight where it is real up to one
     common phase (as `straight_motion`), else the ellipse X(tau) = a Re(X_hat e^{i tau})."""
-    x = np.asarray(direction, dtype=complex)
+    x = _direction(direction)
     try:
         return straight_motion(x, h_l_mm)
     except ValueError as e:

@@ -9,7 +9,7 @@ import jax.numpy as jnp
 
 from .linalg import generalized, solve3
 from .geometry import DamperShape, full_slip_slide_rates, pad_geometry, validate_shape
-from ._validate import require_x64
+from ._validate import require_x64, traced
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import check_one_shape, check_one_value, validate_mu
 from .status import RESULTS, number_repr, ok_status, status_repr
@@ -51,7 +51,13 @@ def contact_columns(shape: DamperShape):
 
 def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
     """Statics with every contact at its friction limit T_i = s_i mu N_i.
-    Unchecked, traceable (jit, vmap, grad); the checked form is `full_slip_statics`."""
+    Unchecked, traceable (jit, vmap, grad); the checked form is `full_slip_statics`. Concrete
+    inputs are checked as one design's (mu one number or one per pad)."""
+    if not traced(shape, mu):
+        check_one_shape(shape)
+        check_one_value("mu", mu, 3)
+        validate_shape(shape)
+        validate_mu(mu)
     a, c, _ = contact_columns(shape)
     # Force on the damper per unit N: -n_i + s_i mu t_i; plus F_D = 1 upward at D.
     cols = -a + (friction_signs * mu)[:, None] * c

@@ -1,5 +1,5 @@
 """A fuzz of the public API's input boundary (issue 58): the public entry points of jaxdamp and
-jaxdamp_optimize below (52 functions, 232 parameters, 2133 pairs of a parameter and a bad value;
+jaxdamp_optimize below (57 functions, 241 parameters, 2212 pairs of a parameter and a bad value;
 the building blocks documented as unchecked and traceable check what they get concretely, so
 they are here too), each called with one input replaced by a generated bad one (wrong shape,
 mismatched axes, NaN, +-inf, zero, negative, out of range, None, wrong type, a swapped argument,
@@ -88,6 +88,9 @@ BAD = {
     "count0": [-1, 2.5, "3", None, True, NAN],
     "angles": [None, NAN, [95.0, 60.0], [-10.0, 60.0], "60", Opaque(), [60.0, INF]],
     "option": ["bogus", None, 3, Opaque()],
+    "family_name": ["bogus", None, 3, Opaque(), "60SYM "],
+    "order_text": ["bogus", None, Opaque(), "1.5", "-1", "", "3:1"],
+    "direction": [None, NAN, [], [-1.0, 2.0], "2", [1.0, NAN, 0.0], Opaque(), [0.0, 0.0, 0.0]],
     "engine_orders": [[1.5], "all", None, [-1], [], [[1, 2]], [NAN]],
     "batch": [None, S60, 0.5, Opaque(), [S60, S60]],
     "designs_bad_leaf": ["lengths", "mu_nan", "theta_95", "kn_negative", "kn_per_pad_short",
@@ -106,6 +109,9 @@ ALIASES = {
     "batch": ("designs", "batch"),
     "designs_bad_leaf": ("designs", "theta_l", "mu", "kn", "br2_over_hr", "batch"),
     "mu": ("mu",),
+    "family_name": ("shape",),
+    "order_text": ("engine_order",),
+    "direction": ("motion",),
     "motion": ("motion", "modes", "family"),
     "angles": ("theta_l", "theta_r"),
     "mu_list": ("mu",),
@@ -311,6 +317,16 @@ ENTRY_POINTS = {
     "validated_range_violations": (_jd("validated_range_violations"),
                                    E(contacts=jd.Contacts(), load=jd.LoadCase()),
                                    {"contacts": "contacts", "load": "load"}),
+    "full_slip_state": (_jd("full_slip_state"),
+                        E(shape=S60, mu=0.5, friction_signs=np.array([1.0, -1.0, -1.0])),
+                        {"shape": "shape", "mu": "mu"}),
+    "straight_motion": (_jd("straight_motion"), E(direction=[0.0, 0.1, 0.0]),
+                        {"direction": "direction", "h_l_mm": "psi"}),
+    "general_motion": (_jd("general_motion"), E(direction=[0.0, 0.1, 1.0], h_l_mm=10.0),
+                       {"direction": "direction", "h_l_mm": "psi"}),
+    "engine_orders_of": (_jd("engine_orders_of"), E(text="all", n_blades=24),
+                         {"text": "order_text", "n_blades": "count1"}),
+    "family_shape": (_jd("family_shape"), E(name="60sym"), {"name": "family_name"}),
     "k_im_at_amplitude": (jo.k_im_at_amplitude, E(shape=S60, mus=[0.5], psi_a_mrad=2.0),
                           {"shape": "shape", "mus": "mu_list", "psi_a_mrad": "psi",
                            "contacts": "contacts", "load": "load"}),
@@ -324,6 +340,7 @@ NONE_IS_DEFAULT = {
     ("response_curves", "mode"), ("path_response_curves", "mode"), ("designer_diagram", "mode"),
     ("designer_diagram", "force_n"), ("designer_diagram", "fd_n"), ("peak_distribution", "mode"),
     ("contact_energies", "psi_a_mrad"), ("path_damper", "motion"), ("peak_band", "mode"),
+    ("straight_motion", "h_l_mm"),
 }
 UNIT_SUFFIXES = ("_mm", "_mrad", "_n", "_deg", "_hz")
 

@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._validate import check_values
+from .._validate import check_int, check_values
 from ..runtime import batch_jit, padded_size, run_program
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
@@ -71,7 +71,8 @@ class RowResponse(NamedTuple):
 
 def engine_orders_of(text: str, n_blades: int) -> list[int]:
     """Engine orders from 'a:b' (inclusive), 'a,b,c' or 'all' (0 ... N/2: every nodal diameter
-    once). ValueError naming engine_order and the valid form otherwise."""
+    once). ValueError naming engine_order and the valid form otherwise; n_blades an integer >= 2."""
+    n_blades = check_int("n_blades", n_blades, 2)
     t = str(text).strip()
     if t == "all":
         return list(range(n_blades // 2 + 1))
