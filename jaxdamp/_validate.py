@@ -34,6 +34,11 @@ def is_concrete(value) -> bool:
     return not any(isinstance(v, Tracer) for v in leaves)
 
 
+def range_text(lo, hi, lo_open=False, hi_open=False, unit="") -> str:
+    """A range as the messages write it: '(0, 5]', '(0, inf) N/mm'."""
+    return f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+
+
 def traced(*trees) -> bool:
     """True where any leaf of the trees is a tracer (inside jit, vmap, grad): the unchecked,
     traceable building blocks check their inputs only where this is False."""
@@ -44,7 +49,7 @@ def check_range(name, value, lo, hi, *, lo_open=False, hi_open=False, unit=""):
     """Check lo <(=) value <(=) hi elementwise, and finiteness (traced values pass). None, text
     or anything that is not numbers is refused like an out-of-range value: an optional input is
     checked only where it is given."""
-    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+    rng = range_text(lo, hi, lo_open, hi_open, unit)
     if value is None or isinstance(value, (str, bytes)):
         raise ValueError(f"{name} must be a finite number in {rng}; got {value!r}")
     if not is_concrete(value):
@@ -143,7 +148,7 @@ def check_values(name: str, value, label: str | None = None, *, max_ndim: int = 
     naming label (default name), like an out-of-range value."""
     label = label or name
     lo, hi, lo_open, hi_open, unit = RANGES[name]
-    rng = f"{'(' if lo_open else '['}{lo:g}, {hi:g}{')' if hi_open else ']'}{f' {unit}' if unit else ''}"
+    rng = range_text(lo, hi, lo_open, hi_open, unit)
     if value is None or isinstance(value, (str, bytes, bool)) or getattr(value, "dtype", None) == bool:
         raise ValueError(f"{label} must be a number or a 1-D sequence of numbers in {rng}; got "
                          f"{value!r}")
@@ -159,5 +164,5 @@ def check_values(name: str, value, label: str | None = None, *, max_ndim: int = 
     return arr
 
 
-__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "traced", "check_range", "check_scalar",
+__all__ = ["X64_MESSAGE", "Float64Required", "require_x64", "is_concrete", "range_text", "traced", "check_range", "check_scalar",
            "check_positive", "check_int", "RANGES", "MOTION_RANGES", "RANGE_CHECKS", "check_param", "check_values"]

@@ -17,9 +17,9 @@ import jax
 import jax.numpy as jnp
 
 from ._validate import traced
-from .geometry import DamperShape, validate_shape
+from .geometry import DamperShape
 from .linalg import solve3
-from .params import check_one_shape, check_one_value, validate_mu
+from .params import check_shape_and_mu
 from .qp3 import row_subsets
 from .statics import contact_columns
 
@@ -32,12 +32,9 @@ VERTEX_SLOTS = 24  # of the 84 triples, the feasible ones first (a polytope in R
 def admissible_polytope(shape: DamperShape, mu):
     """(P, n0, G, h): N = P T + n0 and the constraints G T + h >= 0 (9,), for T (3,).
     Unchecked, traceable (jit, vmap, grad): the band kernel's building block (`amplitude_band`
-    checks its inputs). Concrete inputs are checked as one design's (`params.check_one_shape`)."""
+    checks its inputs). Concrete inputs are checked as one design's (`params.check_shape_and_mu`)."""
     if not traced(shape, mu):
-        check_one_shape(shape)
-        check_one_value("mu", mu)
-        validate_shape(shape)
-        validate_mu(mu)
+        check_shape_and_mu(shape, mu)
     a, c, _ = contact_columns(shape)
     mu = jnp.asarray(mu, float)
     # A^T N = C^T T + e_y  ->  N = A^-T C^T T + A^-T e_y (A^T is invertible for a real damper).

@@ -200,6 +200,15 @@ def check_one_shape(shape) -> None:
             check_one_value(f, v, None)
 
 
+def check_shape_and_mu(shape, mu, name: str = "mu", n_pads: int | None = None) -> None:
+    """One curved-flat damper's shape and friction coefficient (named `name`; one number, or one
+    per pad where n_pads is given), types, shapes and ranges: the statics' inputs."""
+    check_one_shape(shape)
+    check_one_value(name, mu, n_pads)
+    validate_shape(shape)
+    validate_mu(mu, name)
+
+
 def check_one_design(shape, mu, contacts, load, *, mu_per_pad: bool = True) -> None:
     """The types, None and shapes of one design's inputs (concrete leaves; tracers pass): a
     DamperShape, Contacts and LoadCase; every shape and load field one number (x_d and
@@ -271,4 +280,4 @@ __all__ = ["REFERENCE_KN", "REFERENCE_KT", "VALIDATED_STIFFNESS_OVER_FD_PER_MM",
            "VALIDATED_KT_OVER_KN", "above_validated_range", "validated_range_violations", "Contacts",
            "LoadCase", "RANGES", "RANGE_CHECKS", "check_param", "validate_mu", "validate_contacts",
            "validate_load", "fast_ok", "ONE_DESIGN_HINT", "check_one_value", "check_types",
-           "check_one_shape", "check_one_design", "check_contacts_and_load", "prepare_inputs"]
+           "check_one_shape", "check_shape_and_mu", "check_one_design", "check_contacts_and_load", "prepare_inputs"]

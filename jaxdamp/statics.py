@@ -8,10 +8,10 @@ import jax
 import jax.numpy as jnp
 
 from .linalg import generalized, solve3
-from .geometry import DamperShape, full_slip_slide_rates, pad_geometry, validate_shape
+from .geometry import DamperShape, full_slip_slide_rates, pad_geometry
 from ._validate import require_x64, traced
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
-from .params import check_one_shape, check_one_value, validate_mu
+from .params import check_shape_and_mu
 from .status import RESULTS, number_repr, ok_status, status_repr
 
 
@@ -54,10 +54,7 @@ def full_slip_state(shape: DamperShape, mu, friction_signs) -> FullSlipState:
     Unchecked, traceable (jit, vmap, grad); the checked form is `full_slip_statics`. Concrete
     inputs are checked as one design's (mu one number or one per pad)."""
     if not traced(shape, mu):
-        check_one_shape(shape)
-        check_one_value("mu", mu, 3)
-        validate_shape(shape)
-        validate_mu(mu)
+        check_shape_and_mu(shape, mu, n_pads=3)
     a, c, _ = contact_columns(shape)
     # Force on the damper per unit N: -n_i + s_i mu t_i; plus F_D = 1 upward at D.
     cols = -a + (friction_signs * mu)[:, None] * c
@@ -93,10 +90,7 @@ def full_slip_statics(shape: DamperShape, mu) -> FullSlipStatics:
     A shape that lifts off is a valid result (liftoff=True), not an error.
     """
     require_x64()
-    check_one_shape(shape)  # one design: a batch goes through vmap of statics_kernel
-    check_one_value("mu", mu)
-    validate_shape(shape)
-    validate_mu(mu)
+    check_shape_and_mu(shape, mu)  # one design: a batch goes through vmap of statics_kernel
     return statics_kernel(shape, mu)
 
 
@@ -130,10 +124,7 @@ def full_slip_work_shape_factors(shape: DamperShape, mu) -> WorkShapeFactors:
     float32); traced ones pass to `full_slip_work_shape_factors_kernel`, the unchecked form.
     """
     require_x64()
-    check_one_shape(shape)  # one design: a batch goes through vmap of statics_kernel
-    check_one_value("mu", mu)
-    validate_shape(shape)
-    validate_mu(mu)
+    check_shape_and_mu(shape, mu)  # one design: a batch goes through vmap of statics_kernel
     return full_slip_work_shape_factors_kernel(shape, mu)
 
 
@@ -183,10 +174,7 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     (cycle start) and L2 (mid-cycle) at mu_max, by bisection. `inside` is False where no b_R keeps
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
     require_x64()
-    check_one_shape(shape)
-    check_one_value("mu_max", mu_max)
-    validate_shape(shape)
-    validate_mu(mu_max, "mu_max")
+    check_shape_and_mu(shape, mu_max, "mu_max")
     return design_br_kernel(shape, mu_max, lo, hi)
 
 

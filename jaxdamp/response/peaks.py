@@ -16,10 +16,10 @@ from ..loops import batched_together
 from ..motion import in_phase_motion, validate_motion
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
-from .._validate import check_values
+from .._validate import check_values, traced
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
-from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel, is_traced,
+from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel,
                         path_cycle_kernel, path_damper, through_residual, with_residual)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
@@ -191,7 +191,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     """
     checked = isinstance(mode, Scene)
     mode = mode.mode if checked else mode
-    if not is_traced(force_n):  # a concrete force is checked (a negative one gave NaN peaks)
+    if not traced(force_n):  # a concrete force is checked (a negative one gave NaN peaks)
         check_values("force_n", force_n)
     f = jnp.asarray(force_n, float)
     if f.ndim > 1:
@@ -200,7 +200,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         damper = damper._replace(k_of_psi=damper.values)
     if (differentiable and damper.source is not None and damper.source.matches(damper)
             and n_grid == N_GRID
-            and max_roots == MAX_ROOTS and amplitude_cap_mm is None and not is_traced(mode, f)):
+            and max_roots == MAX_ROOTS and amplitude_cap_mm is None and not traced(mode, f)):
         # A curve that `damper_stiffness` built from concrete inputs, called from plain Python:
         # the compiled peak program of its method (the same function, jitted), not op by op.
         src = damper.source

@@ -25,7 +25,7 @@ from ..residual import through_residual
 from ..status import RESULTS, number_repr, status_repr
 
 __all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
-           "interpolated_damper", "exact_damper", "register_stiffness_method", "is_traced",
+           "interpolated_damper", "exact_damper", "register_stiffness_method",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
            "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "path_cycle_kernel",
            "path_damper", "STUCK_FRACTION", "through_residual", "with_residual"]
@@ -214,10 +214,6 @@ def register_stiffness_method(name: str, factory: Callable[..., DamperStiffness]
     STIFFNESS_METHODS[name] = factory
 
 
-def is_traced(*trees) -> bool:
-    return any(isinstance(x, jax.core.Tracer) for x in jax.tree_util.tree_leaves(trees))
-
-
 def damper_stiffness_kernel(shape, mu, contacts, load, method: str = "exact",
                             **options) -> DamperStiffness:
     """`damper_stiffness` without input checks, for use inside jit/vmap/grad (inputs as
@@ -237,7 +233,7 @@ def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
     once outside, or call `damper_stiffness_kernel`)."""
     contacts = Contacts() if contacts is None else contacts
     load = LoadCase() if load is None else load
-    if is_traced(shape, mu, contacts, load):
+    if traced(shape, mu, contacts, load):
         return damper_stiffness_kernel(shape, mu, contacts, load, method, **options)
     design = prepare_inputs(shape, mu, contacts, load)
     damper = damper_stiffness_kernel(*design, method, **options)
