@@ -4,7 +4,7 @@ Writes jaxdamp/data/example_disk_modes.npz (`jaxdamp.baselines.lumped_disk.write
 the first family of `LumpedDisk()` with 24 blades, q* = 100 mm, h_C = 20 mm) and
 docs/example_disk_frequencies.png (natural frequency against nodal diameter, both families).
 
-Run: python benchmarks/make_example_disk.py
+Run from the repository root: python scripts/make_example_disk.py
 """
 
 from __future__ import annotations

@@ -7,10 +7,10 @@ raw floor on both sides, each side with its own jaxdamp and its own jobs.py: Bas
 batched first stage, and the warm latency of one `cycle_numbers` call (median of 500), in
 alternating fresh processes (base, this, base, this, ...), so that the machine's load hits both.
 
-    python benchmarks/commit_ab.py                  # base: f2b97d2, before issue 34's engine
-    python benchmarks/commit_ab.py --base REV --rounds 4
+    python scripts/commit_ab.py                  # base: f2b97d2, before issue 34's engine
+    python scripts/commit_ab.py --base REV --rounds 4
 
-Writes results/commit_ab.json. The base is checked out with `git worktree` into a temporary folder
+Writes benchmarks/results/commit_ab.json. The base is checked out with `git worktree` into a temporary folder
 and removed afterwards. Where there is no git (a machine that gets a copy of the working tree):
 `--base-tree DIR` names a folder that already holds the base's jaxdamp/ and benchmarks/ (e.g.
 `git archive f2b97d2 jaxdamp benchmarks | tar -x -C DIR`), `--out FILE` the result.
@@ -29,10 +29,11 @@ import tempfile
 import time
 from pathlib import Path
 
-from bench_common import machine
-
 ROOT = Path(__file__).resolve().parents[1]
-OUT = Path(__file__).parent / "results"
+OUT = ROOT / "benchmarks" / "results"
+sys.path.insert(0, str(ROOT / "benchmarks"))  # bench_common: the machine record
+
+from bench_common import machine  # noqa: E402
 # The last commit before issue 34's one tract engine (2026-11-26 03:56): the in-phase speed the
 # issue says must not get worse.
 DEFAULT_BASE = "f2b97d2"

@@ -13,7 +13,7 @@ those programs again and again, the way the suite does:
 Every process is a fresh interpreter; a process killed by a signal is a crash and is counted with
 its signal and the last lines of its stderr (faulthandler's stack).
 
-    python benchmarks/crash_repro.py --processes 2 --rounds 10 [--json out.json]
+    python scripts/crash_repro.py --processes 2 --rounds 10 [--json out.json]
 
 Run it with the interpreter of the JAX version to test; it records jax.__version__.
 """
