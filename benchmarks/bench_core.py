@@ -23,7 +23,7 @@ jax.config.update("jax_enable_x64", True)
 import jaxdamp as jd  # noqa: E402
 from bench_common import random_shapes, interleaved_ms, machine, median_time  # noqa: E402
 from jaxdamp.linalg import solve3  # noqa: E402
-from jaxdamp import cycle, tract  # noqa: E402
+from jaxdamp import cycle, engine, tract  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 
@@ -43,6 +43,13 @@ def linalg_solve3(m, b, rel_tol=1e-12):
     safe = jnp.where(ok[..., None, None], m, jnp.eye(3))
     x = jnp.linalg.solve(safe, b[..., None])[..., 0]
     return jnp.where(ok[..., None], x, 0.0), ok
+
+
+def variant_flops(program, *args) -> float:
+    """XLA's flop count of a compiled program (its cost analysis)."""
+    cost = program.lower(*args).compile().cost_analysis()
+    cost = cost[0] if isinstance(cost, (list, tuple)) else cost
+    return float(cost.get("flops", 0.0))
 
 
 def main():
@@ -76,17 +83,24 @@ def main():
             lambda slipping: tract.plain_tract_rates(mech, slipping, signs, direction, solve))(
                 tract.CANDIDATE_SETS)
 
-    variants = {"reduced": tract.candidate_rates, "plain_cramer": plain(solve3),
+    variants = {"reduced": engine.candidate_rates, "plain_cramer": plain(solve3),
                 "plain_linalg": plain(linalg_solve3)}
     programs = {}
     for name, candidate_rates in variants.items():
-        original = tract.candidate_rates
-        tract.candidate_rates = candidate_rates  # traced into this program only
+        # The solver calls the name that jaxdamp.engine imported (`choose_closed`), so that is the
+        # one swapped, while this program is traced; nothing in the chain is jitted on its own,
+        # so every variant is traced afresh; their flop counts show that the programs differ.
+        original = engine.candidate_rates
+        engine.candidate_rates = candidate_rates
         try:
             programs[name] = batched(1)
             jax.block_until_ready(programs[name](shapes, mus))
+            res.setdefault("variant_flops_per_design", {})[name] = variant_flops(
+                programs[name], shapes, mus) / n
         finally:
-            tract.candidate_rates = original
+            engine.candidate_rates = original
+    flops = res["variant_flops_per_design"]
+    assert len(set(flops.values())) == len(flops), f"the variants compiled alike: {flops}"
     ms = interleaved_ms(programs, shapes, mus, repeats=9)
     res["tract_solve"] = {f"{k}_designs_per_s": n / (1e-3 * v) for k, v in ms.items()}
     res["tract_solve"].update({f"{k}_time_over_reduced": v / ms["reduced"] for k, v in ms.items()

@@ -253,11 +253,12 @@ except jd.Float64Required as exc:
 PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "jaxdamp.cli",
           "jaxdamp.modal_file"}
 # Benchmarks that measure an internal choice import the module that makes it: the solve forms
-# (linalg, tract, cycle), the compiler options (runtime), the two-stage batching (batch) and the
-# Jacobian programs (gradients). Nothing in optimize/ may.
+# (linalg, tract, cycle, and engine, whose `candidate_rates` bench_core.py swaps for the variants
+# it times), the compiler options (runtime), the two-stage batching (batch) and the Jacobian
+# programs (gradients). Nothing in optimize/ may.
 MEASURED_INTERNALS = {"jaxdamp.linalg", "jaxdamp.runtime", "jaxdamp.tract", "jaxdamp.cycle",
-                      "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude", "jaxdamp.curves",
-                      "jaxdamp.sequence", "jaxdamp.band"}
+                      "jaxdamp.engine", "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude",
+                      "jaxdamp.curves", "jaxdamp.sequence", "jaxdamp.band"}
 
 
 def _public(target: str) -> bool:
