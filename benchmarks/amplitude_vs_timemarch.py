@@ -12,8 +12,6 @@ step counts per half-cycle. Amplitudes: 0.5 psi_fs (below), (psi_fs + psi_BC)/2 
 from __future__ import annotations
 
 import json
-import platform
-import time
 from pathlib import Path
 
 import jax
@@ -25,6 +23,7 @@ import numpy as np  # noqa: E402
 import jaxdamp as jd  # noqa: E402
 from jaxdamp import RESULTS, amplitude_cycle  # noqa: E402
 from jaxdamp.baselines.timemarch import march_amplitude  # noqa: E402
+from bench_common import call_time, machine  # noqa: E402
 
 CONTACTS = jd.Contacts(17900.0, 3580.0)
 STEPS = (1000, 4000, 16000, 64000, 256000)
@@ -54,6 +53,7 @@ def amplitude_for(shape, mu, regime):
 
 
 def main():
+    info = machine()
     rows = []
     for name, mu, regime, initial in CASES:
         shape = SHAPES[name]
@@ -64,20 +64,20 @@ def main():
                    k_re=float(ac.k_re), k_im=float(ac.k_im), status=RESULTS.name_of(ac.status),
                    cycles=int(ac.cycles), march=[])
         for n in STEPS:
-            t = time.perf_counter()
-            tm = march_amplitude(shape, mu, psi, CONTACTS, initial=initial, n_steps=n, max_pairs=10)
+            seconds, tm = call_time(lambda: march_amplitude(shape, mu, psi, CONTACTS, initial=initial,
+                                                            n_steps=n, max_pairs=10))
             err = max(abs(float(tm.k_re) - row["k_re"]), abs(float(tm.k_im) - row["k_im"])) / scale
             row["march"].append(dict(n_steps=n, k_re=float(tm.k_re), k_im=float(tm.k_im), rel_err=err,
                                      closure=float(np.asarray(tm.closure)[-1]),
                                      newton_failures=int(tm.newton_failures),
-                                     seconds=time.perf_counter() - t))
+                                     seconds=seconds))
         rows.append(row)
         errs = " ".join(f"{m['rel_err']:.1e}" for m in row["march"])
         print(f"{name:7} mu {mu:.1f} {regime:8} {initial:10} psi {psi:7.4f}  k_re {row['k_re']:10.3f} "
               f"k_im {row['k_im']:9.3f} {row['status']:9} cyc {row['cycles']}  err@{STEPS}: {errs}",
               flush=True)
     out = Path(__file__).parent / "results" / "amplitude_vs_timemarch.json"
-    out.write_text(json.dumps(dict(machine=platform.platform(), processor=platform.processor(),
+    out.write_text(json.dumps(dict(machine=info,
                                    contacts_N_per_mm=[17900.0, 3580.0], steps=STEPS,
                                    error="max(|dk_Re|, |dk_Im|) / max(|k_Re|, |k_Im|)", cases=rows),
                               indent=1))

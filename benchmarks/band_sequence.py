@@ -43,7 +43,7 @@ import numpy as np  # noqa: E402
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.band import admissible_polytope, polytope_vertices, recession_rays  # noqa: E402
 from jaxdamp.cli import configure_runtime  # noqa: E402
-from bench_common import loadavg, machine, use_measured_xla_flags  # noqa: E402
+from bench_common import loadavg, machine, use_measured_xla_flags, warm_times  # noqa: E402
 
 use_measured_xla_flags()
 configure_runtime()
@@ -110,12 +110,8 @@ def narrower(bands, ref, n_ref_valid):
 
 
 def timed(fn, repeats=5):
-    fn()
-    ts = []
-    for _ in range(repeats):
-        t0 = time.perf_counter()
-        fn()
-        ts.append(time.perf_counter() - t0)
+    """(median, [min, max]) of warm calls (s), by bench_common's timer."""
+    ts, _ = warm_times(fn, repeats=repeats)
     return float(np.median(ts)), [float(min(ts)), float(max(ts))]
 
 

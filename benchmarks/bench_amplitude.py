@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 from pathlib import Path
 
 import jax
@@ -20,7 +19,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import use_measured_xla_flags, random_shapes, machine, median_time  # noqa: E402
+from bench_common import use_measured_xla_flags, random_shapes, call_time, machine, median_time  # noqa: E402
 
 use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 from jaxdamp import RESULTS, amplitude_curves  # noqa: E402
@@ -46,9 +45,7 @@ def main():
            "psi_a_mrad": [float(psi[0]), float(psi[-1])], "curves": {}}
     n_cycles = a.designs * a.amplitudes
     for initial in ("gross_slip", "assembly"):
-        t = time.perf_counter()
-        cv = jax.block_until_ready(amplitude_curves(shape, mu, psi, contacts, initial=initial))
-        first = time.perf_counter() - t
+        first, cv = call_time(lambda: amplitude_curves(shape, mu, psi, contacts, initial=initial))
         warm = median_time(lambda: amplitude_curves(shape, mu, psi, contacts, initial=initial),
                            repeats=a.repeats)
         status = np.asarray(cv.status)
@@ -57,9 +54,7 @@ def main():
             "status_counts": {RESULTS(c).name: int(np.sum(status == c)) for c in np.unique(status)},
             "max_cycles": int(np.max(cv.cycles))}
         print(initial, out["curves"][initial], flush=True)
-    t = time.perf_counter()
-    jax.block_until_ready(jd.base_cycles(shape, mu, contacts))
-    first = time.perf_counter() - t
+    first, _ = call_time(jd.base_cycles, shape, mu, contacts)
     warm = median_time(lambda: jd.base_cycles(shape, mu, contacts), repeats=a.repeats)
     out["base_cycles"] = {"first_call_s": first, "warm_s": warm, "base_cycles_per_s": a.designs / warm}
     out["ratio_base_cycles_per_s_over_cycles_per_s"] = {

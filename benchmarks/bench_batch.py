@@ -27,7 +27,8 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import use_measured_xla_flags, random_shapes, interleaved_ms, machine, median_time  # noqa: E402
+from bench_common import (use_measured_xla_flags, random_shapes, interleaved_ms,  # noqa: E402
+                          interleaved_times, machine, median_time)
 
 use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 from jaxdamp import batch as B  # noqa: E402
@@ -63,15 +64,10 @@ def throughput(sizes, repeats=5) -> dict:
 def chunk_sweep(chunks=(1024, 2048, 4096, 8192, 16384), n=40_000, repeats=3) -> dict:
     """evaluate_designs designs/s per chunk size (designs per device per call), best of repeats."""
     d = random_designs(n)
-    for c in chunks:
-        B.evaluate_designs(d, chunk_size=c)
-    best = {c: np.inf for c in chunks}
-    for _ in range(repeats):
-        for c in chunks:  # round-robin, so that machine load hits every size alike
-            t = time.perf_counter()
-            B.evaluate_designs(d, chunk_size=c)
-            best[c] = min(best[c], time.perf_counter() - t)
-    return {str(c): n / t for c, t in best.items()}
+    # round-robin, so that machine load hits every size alike
+    times, _ = interleaved_times({c: (lambda c=c: B.evaluate_designs(d, chunk_size=c)) for c in chunks},
+                                 repeats=repeats)
+    return {str(c): n / min(t) for c, t in times.items()}
 
 
 def plain_vmap_throughput(sizes) -> dict:

@@ -1,4 +1,10 @@
-"""Shared by the benchmarks: the machine a run is recorded on, and warm median timing."""
+"""Shared by the benchmarks: the machine a run is recorded on, and the one timer.
+
+Every timing is a call of `fn(*args)` waited for with `jax.block_until_ready` (`call_time`);
+`warm_times` times warm calls (one call first, so compilation is not timed); `median_time` and
+`best_time` reduce them; `interleaved_times` / `interleaved_ms` time several programs round-robin,
+so that the load of a shared machine hits all alike; `spread` is the median, min and max of a list
+of times."""
 
 from __future__ import annotations
 
@@ -76,27 +82,63 @@ def machine(note: str | None = None) -> dict:
     return info
 
 
+def call_time(fn, *args):
+    """(wall time in s, output) of one call of fn(*args), waited for: a first call's time
+    includes its tracing and compilation."""
+    t = time.perf_counter()
+    out = jax.block_until_ready(fn(*args))
+    return time.perf_counter() - t, out
+
+
+def warm_times(fn, *args, repeats=7, budget_s=0.0, max_repeats=None):
+    """(times in s, last output) of warm calls: one call first so compilation is not timed, then
+    `repeats` timed calls, and more (up to max_repeats) while their total stays under budget_s."""
+    out = jax.block_until_ready(fn(*args))
+    times = []
+    limit = max(repeats, max_repeats or repeats)
+    while len(times) < repeats or (sum(times) < budget_s and len(times) < limit):
+        dt, out = call_time(fn, *args)
+        times.append(dt)
+    return times, out
+
+
 def median_time(fn, *args, repeats=7):
     """Median wall time (s) of warm calls: one call first so compilation is not timed."""
-    jax.block_until_ready(fn(*args))
-    times = []
+    return float(np.median(warm_times(fn, *args, repeats=repeats)[0]))
+
+
+def best_time(fn, *args, repeats=7):
+    """Shortest wall time (s) of warm calls: one call first so compilation is not timed."""
+    return float(min(warm_times(fn, *args, repeats=repeats)[0]))
+
+
+def spread(times) -> dict:
+    """Median, min and max (s) of a list of times, and how many."""
+    t = np.asarray(times, float)
+    return {"median_s": float(np.median(t)), "min_s": float(t.min()), "max_s": float(t.max()),
+            "repeats": int(t.size)}
+
+
+def interleaved_times(programs: dict, *args, repeats=60, calls=None, warm=True, each_round=None):
+    """({name: times in s}, {name: last output}) of the programs timed round-robin, so that machine
+    load hits all alike: `repeats` rounds, in each of which every program is called calls[name]
+    times in a row (default 1). warm: call each program once first (not timed); each_round: called
+    at the start of every round (e.g. to record the load)."""
+    outs = {k: jax.block_until_ready(f(*args)) for k, f in programs.items()} if warm else {}
+    times = {k: [] for k in programs}
     for _ in range(repeats):
-        t = time.perf_counter()
-        jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t)
-    return float(np.median(times))
+        if each_round is not None:
+            each_round()
+        for k, f in programs.items():
+            for _ in range((calls or {}).get(k, 1)):
+                dt, outs[k] = call_time(f, *args)
+                times[k].append(dt)
+    return times, outs
 
 
 def interleaved_ms(programs: dict, *args, repeats=60) -> dict:
     """Warm medians (ms), timing the programs round-robin so that machine load hits all alike."""
-    for f in programs.values():
-        jax.block_until_ready(f(*args))
-    times = {k: [] for k in programs}
-    for _ in range(repeats):
-        for k, f in programs.items():
-            t = time.perf_counter()
-            jax.block_until_ready(f(*args))
-            times[k].append(time.perf_counter() - t)
+    times, _ = interleaved_times(programs, *args, repeats=repeats)
     return {k: 1e3 * float(np.median(v)) for k, v in times.items()}
 
 

@@ -19,7 +19,6 @@ import json
 import os
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 OUT = Path(__file__).parent / "results"
@@ -55,6 +54,7 @@ def worker(config: dict, batch_options, n: int, single_calls: int, chunks) -> No
         jax.config.update(k, v)
     import jaxdamp as jd
     from jaxdamp import runtime
+    from bench_common import call_time  # this file's folder is sys.path[0]: the worker runs it
 
     if batch_options is not None:  # before the first batched program is compiled
         runtime.CPU_BATCH_OPTIONS = batch_options
@@ -78,14 +78,9 @@ def worker(config: dict, batch_options, n: int, single_calls: int, chunks) -> No
             break
         res = {}
         for c in chunks:
-            t = time.perf_counter()
-            jd.evaluate_designs(designs, chunk_size=c)
-            res["base_cycles_per_s" if c is None else f"chunk_{c}"] = n / (time.perf_counter() - t)
-        ts = []
-        for _ in range(single_calls):
-            t = time.perf_counter()
-            single()
-            ts.append(time.perf_counter() - t)
+            dt, _ = call_time(lambda: jd.evaluate_designs(designs, chunk_size=c))
+            res["base_cycles_per_s" if c is None else f"chunk_{c}"] = n / dt
+        ts = [call_time(single)[0] for _ in range(single_calls)]
         res["single_latency_us"] = 1e6 * float(np.median(ts))
         print(json.dumps(res), flush=True)
 
@@ -106,7 +101,7 @@ def compiler_options_ab(n: int = 8192, rounds: int = 10) -> dict:
     from jaxdamp.runtime import CPU_BATCH_OPTIONS
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from bench_common import random_shapes
+    from bench_common import random_shapes, warm_times
 
     designs = jax.device_put(jd.stack_designs(*random_shapes(n, seed=0)))
     few = B.take(designs, np.arange(256))
@@ -123,10 +118,7 @@ def compiler_options_ab(n: int = 8192, rounds: int = 10) -> dict:
     times = {k: [] for k in compiled}
     for _ in range(rounds):
         for k, (prog, args) in compiled.items():
-            jax.block_until_ready(prog(*args))
-            t = time.perf_counter()
-            jax.block_until_ready(prog(*args))
-            times[k].append(1e3 * (time.perf_counter() - t))
+            times[k].append(1e3 * warm_times(prog, *args, repeats=1)[0][0])  # one untimed call first
     out = {}
     for name in programs:
         a, b = times[name, "xla_default"], times[name, "jaxdamp"]

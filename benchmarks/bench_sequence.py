@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 from pathlib import Path
 
 import jax
@@ -23,7 +22,7 @@ jax.config.update("jax_enable_x64", True)
 jax.config.update("jax_cpu_enable_async_dispatch", False)
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import loadavg, machine, use_measured_xla_flags  # noqa: E402
+from bench_common import loadavg, machine, use_measured_xla_flags, warm_times  # noqa: E402
 
 use_measured_xla_flags()
 
@@ -37,12 +36,8 @@ OUT = Path(__file__).parent / "results"
 
 
 def timed(fn, repeats=3):
-    out = jax.block_until_ready(fn())
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        out = jax.block_until_ready(fn())
-        ts.append(time.perf_counter() - t)
+    """(median warm time in s, output), by bench_common's timer."""
+    ts, out = warm_times(fn, repeats=repeats)
     return float(np.median(ts)), out
 
 

@@ -26,7 +26,6 @@ import shutil
 import subprocess
 import sys
 import tempfile
-import time
 from pathlib import Path
 
 import jax
@@ -40,7 +39,7 @@ import jaxdamp as jd  # noqa: E402
 from jaxdamp import five_numbers_kernel  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import loadavg, machine  # noqa: E402
+from bench_common import call_time, interleaved_times, loadavg, machine  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 SHAPES = ("60sym", "74R", "90R")
@@ -50,15 +49,8 @@ BLOCK = 50  # calls of one form in a row: a user's loop of calls keeps its progr
 
 
 def _interleaved_us(programs: dict, repeats: int) -> dict:
-    for f in programs.values():
-        jax.block_until_ready(f())
-    times = {k: [] for k in programs}
-    for _ in range(max(repeats // BLOCK, 1)):
-        for k, f in programs.items():
-            for _ in range(BLOCK):
-                t = time.perf_counter()
-                jax.block_until_ready(f())
-                times[k].append(time.perf_counter() - t)
+    times, _ = interleaved_times(programs, repeats=max(repeats // BLOCK, 1),
+                                 calls={k: BLOCK for k in programs})
     return {k: {"median_us": 1e6 * float(np.median(v)), "p10_us": 1e6 * float(np.percentile(v, 10)),
                 "p90_us": 1e6 * float(np.percentile(v, 90))} for k, v in times.items()}
 
@@ -93,9 +85,8 @@ def second_cli_call(repeats: int, args=("cycle", "--shape", "60sym", "--mu", "0.
         env = dict(os.environ, JAXDAMP_CACHE_DIR=cache)
         times = []
         for _ in range(repeats + 1):
-            t = time.perf_counter()
-            subprocess.run(argv, env=env, check=True, capture_output=True)
-            times.append(time.perf_counter() - t)
+            times.append(call_time(lambda: subprocess.run(argv, env=env, check=True,
+                                                      capture_output=True))[0])
         n_files = len(os.listdir(cache))
         if os.path.isdir(os.path.join(cache, "exported")):
             n_files += len(os.listdir(os.path.join(cache, "exported")))

@@ -16,7 +16,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import time
 from pathlib import Path
 
 import jax
@@ -25,7 +24,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import machine  # noqa: E402
+from bench_common import call_time, machine  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 FORCES = np.array([2.0, 5.0, 20.0])
@@ -40,9 +39,8 @@ def entry_point(shape, mu):
 
 
 def timed_loop(fn, shape, mus):
-    t0 = time.perf_counter()
-    out = [jax.block_until_ready(fn(shape, m)) for m in mus]
-    return time.perf_counter() - t0, out
+    """(s, outputs) of the whole loop over the scenarios, each call waited for."""
+    return call_time(lambda: [jax.block_until_ready(fn(shape, m)) for m in mus])
 
 
 def main() -> None:
@@ -53,9 +51,7 @@ def main() -> None:
     mus = np.linspace(0.3, 0.7, args.scenarios)
     result = {}
     for name, fn in (("design_peaks", entry_point), ("peak_response(damper_stiffness)", composed)):
-        t0 = time.perf_counter()
-        jax.block_until_ready(fn(shape, 0.5))
-        first = time.perf_counter() - t0
+        first, _ = call_time(fn, shape, 0.5)
         loop_s, out = timed_loop(fn, shape, mus)
         result[name] = {"first_call_s": round(first, 3), "loop_s": round(loop_s, 4),
                         "per_scenario_ms": round(1e3 * loop_s / len(mus), 3),

@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import json
 import sys
-import time
 from pathlib import Path
 
 import jax
@@ -30,7 +29,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import loadavg, machine, use_measured_xla_flags  # noqa: E402
+from bench_common import loadavg, machine, median_time, use_measured_xla_flags  # noqa: E402
 
 use_measured_xla_flags()
 
@@ -43,13 +42,8 @@ OUT = Path(__file__).parent / "results"
 
 
 def timed(fn, repeats=5):
-    jax.block_until_ready(fn())
-    ts = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        jax.block_until_ready(fn())
-        ts.append(time.perf_counter() - t)
-    return float(np.median(ts))
+    """Median warm time (s), by bench_common's timer."""
+    return median_time(fn, repeats=repeats)
 
 
 @jax.jit

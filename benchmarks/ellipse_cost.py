@@ -17,25 +17,19 @@ batch of designs at each size; the machine is noted in the JSON).
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import jax
 import numpy as np
 
-from bench_common import machine
+from bench_common import best_time, machine
 
 RESULTS = Path(__file__).parent / "results"
 
 
 def best(f, n):
-    jax.block_until_ready(f())
-    out = np.inf
-    for _ in range(n):
-        t = time.perf_counter()
-        jax.block_until_ready(f())
-        out = min(out, time.perf_counter() - t)
-    return out
+    """Shortest of n warm calls (s), by bench_common's timer."""
+    return best_time(f, repeats=n)
 
 
 def main(out: Path = RESULTS / "ellipse_cost.json", designs=(256,)) -> dict:

@@ -16,7 +16,6 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import time
 from pathlib import Path
 
 import jax
@@ -25,7 +24,7 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from bench_common import machine, median_time  # noqa: E402
+from bench_common import call_time, machine, median_time  # noqa: E402
 from jaxdamp import fit_problem, sample_loop  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
@@ -87,9 +86,7 @@ def main():
     a = ap.parse_args()
     info = machine()
     data = loops()
-    t = time.perf_counter()
-    fit = jd.fit_loops(data, SHAPE)
-    first = time.perf_counter() - t
+    first, fit = call_time(jd.fit_loops, data, SHAPE)
     warm = median_time(lambda: jd.fit_loops(data, SHAPE), repeats=a.repeats)
     params = {}
     for i, name in enumerate(fit.names):
@@ -119,12 +116,8 @@ def main():
 
 
 def lbfgs_entry(prob):
-    t = time.perf_counter()
-    th, ox_loss, ox_steps = optax_lbfgs(prob)
-    ox_first = time.perf_counter() - t
-    t = time.perf_counter()
-    th, ox_loss, ox_steps = optax_lbfgs(prob)
-    ox_warm = time.perf_counter() - t
+    ox_first, _ = call_time(optax_lbfgs, prob)
+    ox_warm, (th, ox_loss, ox_steps) = call_time(optax_lbfgs, prob)
     ox_vals = {"mu": float(np.exp(th[0])), "kn": float(1e4 * np.exp(th[1])), "kt": float(1e4 * np.exp(th[2]))}
     return {"first_s": ox_first, "warm_s": ox_warm, "steps": ox_steps, "loss": ox_loss, **ox_vals}
 

@@ -50,7 +50,7 @@ import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines import hbm_aft_kernel, time_march_kernel  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import use_measured_xla_flags, loadavg as load_averages, machine  # noqa: E402
+from bench_common import use_measured_xla_flags, loadavg as load_averages, machine, warm_times  # noqa: E402
 
 use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 
@@ -69,12 +69,7 @@ QUICK = dict(designs=256, hbm_nt=(16, 64, 256), tm_steps=(300, 3000), tm_steps_b
 
 def timed(fn, *args, repeats=5):
     """(median warm wall time in s, (min, max), result): one call first so compilation is not timed."""
-    out = jax.block_until_ready(fn(*args))
-    times = []
-    for _ in range(repeats):
-        t = time.perf_counter()
-        out = jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t)
+    times, out = warm_times(fn, *args, repeats=repeats)
     return float(np.median(times)), (float(min(times)), float(max(times))), out
 
 

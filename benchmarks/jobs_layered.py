@@ -62,7 +62,8 @@ import numpy as np  # noqa: E402
 
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.cli import configure_runtime  # noqa: E402
-from bench_common import use_measured_xla_flags, loadavg, machine as common_machine, time_below  # noqa: E402
+from bench_common import (use_measured_xla_flags, call_time, interleaved_times, loadavg,  # noqa: E402
+                          machine as common_machine, spread, time_below)
 
 use_measured_xla_flags()  # before JAX starts: both sides of every comparison get it
 
@@ -104,29 +105,12 @@ def machine() -> dict:
                           "run, medians of repeats")
 
 
-def timed_once(fn, *args):
-    t = time.perf_counter()
-    out = jax.block_until_ready(fn(*args))
-    return time.perf_counter() - t, out
-
-
-def stats(times) -> dict:
-    t = np.asarray(times, float)
-    return {"median_s": float(np.median(t)), "min_s": float(t.min()), "max_s": float(t.max()),
-            "repeats": int(t.size)}
-
-
 def interleaved(programs: dict, repeats: int) -> tuple[dict, dict, list]:
     """`repeats` round-robin rounds of warm programs (each called once before); loadavg per round."""
-    outs = {}
-    times = {k: [] for k in programs}
     loads = []
-    for _ in range(repeats):
-        loads.append(loadavg())
-        for k, f in programs.items():
-            dt, outs[k] = timed_once(f)
-            times[k].append(dt)
-    return {k: stats(v) for k, v in times.items()}, outs, loads
+    times, outs = interleaved_times(programs, repeats=repeats, warm=False,
+                                    each_round=lambda: loads.append(loadavg()))
+    return {k: spread(v) for k, v in times.items()}, outs, loads
 
 
 def time_at_target(points, target=TARGET):
@@ -212,7 +196,7 @@ def job_curve(quick: bool) -> dict:
         programs[f"hbm_nt{nt}"] = (lambda nt=nt: hbm_curves(shapes, mu, pbc, n_time=nt))
     compile_s = {}
     for k, f in programs.items():
-        compile_s[k] = timed_once(f)[0]
+        compile_s[k] = call_time(f)[0]
     timing, outs, loads = interleaved(programs, cfg["repeats"])
     res["first_call_s_including_compile"] = compile_s
     res["loadavg_per_round"] = loads
@@ -303,29 +287,29 @@ def _response_measurements(quick: bool) -> dict:
     shapes, mu = designs(cfg["designs"], seed=1)
     X = shape_vector(shapes)
     out = {"config": cfg, "loadavg_start": loadavg()}
-    compile_s = {"direct_response": timed_once(direct_response, shapes, mu)[0],
-                 "direct_gradient": timed_once(direct_gradient, X, mu)[0]}
+    compile_s = {"direct_response": call_time(direct_response, shapes, mu)[0],
+                 "direct_gradient": call_time(direct_gradient, X, mu)[0]}
     # Coupled HBM-AFT: compile + the first run, then warm runs at each (design, force) pair,
     # interleaved with the direct job's calls.
     hbm_runs = []
     for nt in cfg["hbm_nt"]:
         d0, f0 = cfg["hbm_pairs"][0]
-        dt, _ = timed_once(lambda: hbm_peak(X[d0], mu[d0], FORCES_N[f0], nt, cfg["hbm_steps"]))
+        dt, _ = call_time(lambda: hbm_peak(X[d0], mu[d0], FORCES_N[f0], nt, cfg["hbm_steps"]))
         compile_s[f"hbm_nt{nt}_first_call"] = dt
     times = {"direct_response": [], "direct_gradient": []}
     loads = []
     direct_out = grad_out = None
     for r in range(cfg["direct_repeats"]):
         loads.append(loadavg())
-        dt, direct_out = timed_once(direct_response, shapes, mu)
+        dt, direct_out = call_time(direct_response, shapes, mu)
         times["direct_response"].append(dt)
-        dt, grad_out = timed_once(direct_gradient, X, mu)
+        dt, grad_out = call_time(direct_gradient, X, mu)
         times["direct_gradient"].append(dt)
         if r == 0:  # the HBM runs sit between the direct repeats
             for nt in cfg["hbm_nt"]:
                 for d, fi in cfg["hbm_pairs"]:
                     la = loadavg()
-                    dt, path = timed_once(lambda: hbm_peak(X[d], mu[d], FORCES_N[fi], nt,
+                    dt, path = call_time(lambda: hbm_peak(X[d], mu[d], FORCES_N[fi], nt,
                                                            cfg["hbm_steps"]))
                     hbm_runs.append({"n_time": nt, "n_steps": cfg["hbm_steps"], "design": int(d),
                                      "force_n": float(FORCES_N[fi]), "time_s": dt,
@@ -338,7 +322,7 @@ def _response_measurements(quick: bool) -> dict:
         run["layered_peak_mm"] = float(ref)
         run["rel_error"] = abs(run["peak_mm"] - ref) / ref
     out.update({"shapes": shapes, "mu": mu, "X": X, "compile_s": compile_s,
-                "direct_times": {k: stats(v) for k, v in times.items()}, "loadavg_per_round": loads,
+                "direct_times": {k: spread(v) for k, v in times.items()}, "loadavg_per_round": loads,
                 "direct_out": direct_out, "grad_out": grad_out, "hbm_runs": hbm_runs})
     _RESPONSE_CACHE[key] = out
     return out

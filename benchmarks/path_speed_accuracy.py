@@ -62,7 +62,8 @@ from jaxdamp.baselines.timemarch import assemble, respond  # noqa: E402
 from jaxdamp.baselines.timemarch import step as march_step  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).parent))
-from bench_common import loadavg, machine, time_below, use_measured_xla_flags  # noqa: E402
+from bench_common import (call_time, interleaved_times, loadavg, machine, time_below,  # noqa: E402
+                          use_measured_xla_flags)
 
 use_measured_xla_flags()  # before JAX starts its backend: both sides get it
 
@@ -120,22 +121,10 @@ def prepared(case):
     return shape, (sh, mu, c, load), motion
 
 
-def call_time(fn, *args):
-    t = time.perf_counter()
-    out = jax.block_until_ready(fn(*args))
-    return time.perf_counter() - t, out
-
-
 def interleaved(programs: dict, rounds: int, calls: dict | None = None) -> dict:
     """Warm median (s) of each program, timed round-robin: every program once per round (or
     calls[k] times), so that the machine's load hits all alike. Returns {k: (median, min, max)}."""
-    for f in programs.values():
-        jax.block_until_ready(f())
-    times = {k: [] for k in programs}
-    for _ in range(rounds):
-        for k, f in programs.items():
-            for _ in range((calls or {}).get(k, 1)):
-                times[k].append(call_time(f)[0])
+    times, _ = interleaved_times(programs, repeats=rounds, calls=calls)
     return {k: (float(np.median(v)), float(min(v)), float(max(v))) for k, v in times.items()}
 
 

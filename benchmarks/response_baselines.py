@@ -8,7 +8,6 @@ Writes benchmarks/results/response_baselines.json and .png. Run from the reposit
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import jax
@@ -17,7 +16,7 @@ import numpy as np
 
 jax.config.update("jax_enable_x64", True)
 
-from bench_common import median_time  # noqa: E402
+from bench_common import call_time, machine, median_time  # noqa: E402
 from jaxdamp import family_shape  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm, solve_at_frequency  # noqa: E402
 from jaxdamp.baselines.time_integration import start_on_harmonics, steady_state  # noqa: E402
@@ -30,6 +29,7 @@ MU = 0.5
 
 
 def main():
+    info = machine()
     shape, mode = family_shape("60sym"), BladeMode()
     peak = jax.jit(lambda f: peak_response(damper_stiffness(shape, MU, method="interpolated"), mode, f))
     curve = jax.jit(lambda f, top: frf(damper_stiffness(shape, MU, method="interpolated"), mode, f,
@@ -42,15 +42,13 @@ def main():
         row = {"force_n": force, "layered_mm": float(lay.peak_amplitude_mm),
                "layered_hz": float(lay.peak_frequency_hz), "psi_a_mrad": float(lay.psi_a_mrad)}
         for H in ((1,), (1, 3), (1, 3, 5)):
-            t = time.perf_counter()
-            path = coupled_hbm(shape, MU, mode=mode, force_n=force, harmonics=H)
-            jax.block_until_ready(path)
+            seconds, path = call_time(lambda: coupled_hbm(shape, MU, mode=mode, force_n=force, harmonics=H))
             key = f"H{max(H)}"
             row[key + "_mm"] = float(path.peak_amplitude_mm)
             row[key + "_hz"] = float(path.peak_frequency_hz)
             row[key + "_max_displacement_mm"] = float(path.peak_max_displacement_mm)
             row[key + "_status"] = int(path.status)
-            row[key + "_seconds"] = time.perf_counter() - t
+            row[key + "_seconds"] = seconds
             if H == (1, 3, 5):
                 path5 = path
         # Time integration at the H = 5 peak frequency and +-0.3 half-widths around it; the peak
@@ -63,11 +61,10 @@ def main():
         for f in freqs:
             y, res = solve_at_frequency(shape, MU, None, None, mode, force, f, path5.peak_coefficients)
             x0, v0, ph = start_on_harmonics(y, (1, 3, 5), f)
-            t = time.perf_counter()
-            ti = steady_state(shape, MU, mode=mode, force_n=force, frequency_hz=f, x0=x0, v0=v0,
-                              phase0=ph, n_periods=400)
-            jax.block_until_ready(ti)
-            t_ti.append(time.perf_counter() - t)
+            seconds, ti = call_time(lambda: steady_state(shape, MU, mode=mode, force_n=force,
+                                                         frequency_hz=f, x0=x0, v0=v0, phase0=ph,
+                                                         n_periods=400))
+            t_ti.append(seconds)
             amps.append(float(ti.amplitude_mm))
             hbm5.append(float(np.hypot(y[0], y[1])))
             changes.append(float(ti.change))
@@ -79,7 +76,7 @@ def main():
         row["TI_seconds_per_frequency"] = float(np.median(t_ti))
         rows.append(row)
         print(json.dumps(row))
-    result = {"shape": "60sym", "mu": MU, "mode": BladeMode()._asdict(),
+    result = {"machine": info, "shape": "60sym", "mu": MU, "mode": BladeMode()._asdict(),
               "layered_peak_seconds": t_peak, "layered_frf_seconds_200_amplitudes": t_frf,
               "rows": rows}
     OUT.mkdir(exist_ok=True)

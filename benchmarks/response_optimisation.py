@@ -8,7 +8,6 @@ Writes benchmarks/results/response_optimisation.json. Run from the repository ro
 from __future__ import annotations
 
 import json
-import time
 from pathlib import Path
 
 import jax
@@ -17,14 +16,14 @@ jax.config.update("jax_enable_x64", True)
 
 import jaxdamp_optimize as opt  # noqa: E402
 from jaxdamp_optimize.response_objective import optimize_response  # noqa: E402
+from bench_common import call_time, machine  # noqa: E402
 
 OUT = Path(__file__).resolve().parent / "results"
 
 
 def main():
-    t = time.perf_counter()
-    kim = opt.optimize()  # the k_Im,BC:worst optimum (mu = 0.3, 0.5, 0.7), as shipped
-    t_kim = time.perf_counter() - t
+    info = machine()
+    t_kim, kim = call_time(opt.optimize)  # the k_Im,BC:worst optimum (mu = 0.3, 0.5, 0.7), as shipped
     s = kim.shape
     k_im_vec = [float(s.get(n, d)) for n, d in (("theta_l", 60.0), ("theta_r", 60.0),
                                                 ("br_over_hr", 0.14), ("bl2_over_hl", 0.8))]
@@ -32,16 +31,16 @@ def main():
     problem = opt.make_problem(mus=(0.3, 0.4, 0.5, 0.6, 0.7))
     runs = []
     for spread in (0.0, 0.2):
-        t = time.perf_counter()
-        r = optimize_response(problem, force_n=20.0, fd_spread=spread, k_im_optimum=k_im_vec)
+        seconds, r = call_time(lambda: optimize_response(problem, force_n=20.0, fd_spread=spread,
+                                                         k_im_optimum=k_im_vec))
         runs.append({"force_n": r.force_n, "fd_spread": r.fd_spread, "mus": list(r.mus),
                      "grid_evaluations": r.grid_evaluations, "descent_evaluations": r.descent_steps,
-                     "seconds": time.perf_counter() - t,
+                     "seconds": seconds,
                      "designs": [d._asdict() for d in [r.best] + list(r.references)]})
         print(json.dumps(runs[-1]))
     OUT.mkdir(exist_ok=True)
     (OUT / "response_optimisation.json").write_text(json.dumps(
-        {"k_im_optimum": k_im_vec, "k_im_optimum_seconds": t_kim, "runs": runs}, indent=1))
+        {"machine": info, "k_im_optimum": k_im_vec, "k_im_optimum_seconds": t_kim, "runs": runs}, indent=1))
 
 
 if __name__ == "__main__":

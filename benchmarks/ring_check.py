@@ -50,7 +50,7 @@ from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family, sector_matri
 from jaxdamp.baselines.ring import ring_response  # noqa: E402
 from jaxdamp import BladeMode, path_cycle_kernel, prepare_scene  # noqa: E402
 
-from bench_common import machine  # noqa: E402
+from bench_common import call_time, machine  # noqa: E402
 
 RESULTS = Path(__file__).parent / "results"
 N_SMALL, Q_STAR_MM, H_C_MM, H_L_MM, MU = 6, 100.0, 20.0, 10.0, 0.5
@@ -80,13 +80,11 @@ class Damper:
         self.calls, self.seconds = 0, 0.0
 
     def k(self, scene, psi, initial="assembly"):
-        t = time.perf_counter()
-        k_re, k_im, status = self.cycle(*self.args, jnp.asarray(float(psi)), scene.motion,
-                                        initial=initial, loop="while")
-        out = complex(float(k_re), float(k_im)), jd.RESULTS.name_of(int(status))
+        seconds, (k_re, k_im, status) = call_time(lambda: self.cycle(
+            *self.args, jnp.asarray(float(psi)), scene.motion, initial=initial, loop="while"))
         self.calls += 1
-        self.seconds += time.perf_counter() - t
-        return out
+        self.seconds += seconds
+        return complex(float(k_re), float(k_im)), jd.RESULTS.name_of(int(status))
 
 
 def two_family(disk, phi, rho, kd, omega):
@@ -119,10 +117,9 @@ def two_family_peak(disk, phi, rho, kd, omega_guess):
 
 def reduction(family, orders, forces):
     """`jaxdamp.row_response` at every engine order and force: {(e, F): peak dict}."""
-    t = time.perf_counter()
-    row = jd.row_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(), modes=family,
-                          engine_orders=orders, force_n=forces, h_l_mm=H_L_MM)
-    seconds = time.perf_counter() - t
+    seconds, row = call_time(lambda: jd.row_response(SHAPE, MU, jd.Contacts(), jd.LoadCase(),
+                                                     modes=family, engine_orders=orders,
+                                                     force_n=forces, h_l_mm=H_L_MM))
     out = {}
     for i, e in enumerate(orders):
         for j, f in enumerate(forces):

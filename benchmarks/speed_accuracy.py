@@ -55,7 +55,7 @@ from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
 from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402
 from bench_batch import two_device_throughput  # noqa: E402
-from bench_common import time_below  # noqa: E402
+from bench_common import machine as common_machine, time_below, warm_times  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 CASES = (("60sym", 0.5), ("74R", 0.5), ("90R", 0.5))
@@ -69,8 +69,9 @@ QUICK = dict(tm_steps=(1000, 4000, 16000, 32000), hbm_nt=(16, 64, 256, 1024), hb
 
 
 def machine() -> dict:
-    info = {"platform": platform.platform(), "python": platform.python_version(), "jax": jax.__version__,
-            "devices": [str(d) for d in jax.devices()], "cpu_count": os.cpu_count()}
+    """bench_common's machine record, with lscpu's description of the CPU (and cpu_count, which
+    notebook 04 reads)."""
+    info = dict(common_machine(), cpu_count=os.cpu_count())
     try:
         out = subprocess.run(["lscpu"], capture_output=True, text=True, timeout=10).stdout
         keep = ("Model name", "CPU(s)", "Thread(s) per core", "Core(s) per socket", "CPU MHz",
@@ -85,12 +86,7 @@ def machine() -> dict:
 def timed(fn, *args, repeats=5, budget_s=0.5, max_repeats=200):
     """(median warm wall time in s, result): one call to compile, then at least `repeats` timed calls,
     more (up to max_repeats) while their total stays under budget_s (a shared machine is noisy)."""
-    out = jax.block_until_ready(fn(*args))
-    times = []
-    while len(times) < repeats or (sum(times) < budget_s and len(times) < max_repeats):
-        t = time.perf_counter()
-        out = jax.block_until_ready(fn(*args))
-        times.append(time.perf_counter() - t)
+    times, out = warm_times(fn, *args, repeats=repeats, budget_s=budget_s, max_repeats=max_repeats)
     return float(np.median(times)), out
 
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import platform
+import sys
 import time
 from pathlib import Path
 
@@ -44,6 +44,9 @@ from jaxdamp import base_cycle_kernel  # noqa: E402
 from jaxdamp.baselines.hbm import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.regularized import regularized_aft_kernel  # noqa: E402
 from jaxdamp.baselines.timemarch import time_march_kernel  # noqa: E402
+
+sys.path.insert(0, str(Path(__file__).parent))  # also when tests/test_stability_map.py loads this file
+from bench_common import machine, warm_times  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 FIVE = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
@@ -203,10 +206,9 @@ def classify(truth_lift, flagged, lifted, errs) -> str:
 
 
 def _timed(fn, *args):
-    jax.block_until_ready(fn(*args))
-    t = time.perf_counter()
-    out = jax.block_until_ready(fn(*args))
-    return time.perf_counter() - t, out
+    """(time in s, output) of one warm call, by bench_common's timer."""
+    times, out = warm_times(fn, *args, repeats=1)
+    return times[0], out
 
 
 @jax.jit
@@ -354,25 +356,15 @@ def plot(res, path):
     plt.close(fig)
 
 
-def _cpu() -> str:
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                return line.split(":", 1)[1].strip()
-    except OSError:
-        pass
-    return platform.processor()
-
-
 def main(argv=None):
     ap = argparse.ArgumentParser(description="hard cases x methods stability map")
     ap.add_argument("--out", type=Path, default=OUT)
     args = ap.parse_args(argv)
+    info = machine()
     t0 = time.perf_counter()
     res = evaluate()
     res["wall_time_s"] = time.perf_counter() - t0
-    res["machine"] = dict(platform=platform.platform(), cpu=_cpu(), cpu_count=os.cpu_count(),
-                          jax=jax.__version__, load_average=list(os.getloadavg()))
+    res["machine"] = dict(info, load_average_at_end=list(os.getloadavg()))
     args.out.mkdir(parents=True, exist_ok=True)
 
     def clean(x):
