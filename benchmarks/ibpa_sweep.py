@@ -11,7 +11,7 @@ flanks, as 60sym's left flank: R1, R2 | L1, L2). 60sym's straight paths (phi = 0
 `amplitude_cycle`, everything else on the tract engine (`elliptic_cycle`; a wedge's straight path
 as an ellipse of zero width).
 
-Run: python benchmarks/ibpa_sweep.py -> benchmarks/results/ibpa_sweep.{json,png} and the figure as
+Run: python benchmarks/ibpa_sweep.py -> benchmarks/results/ibpa_sweep.json and its figure,
 docs/ibpa_sweep_60sym.png (docs/motions.md).
 """
 
@@ -93,7 +93,6 @@ def plot(doc: dict) -> None:
         "60sym (curved-flat, solid) and the 60/60 wedge (dashed) against the interblade phase "
         f"angle: h_C = {H_C_MM:g} mm, h_L = {H_L_MM:g} mm, q* = {Q_STAR_MM:g} mm, from assembly "
         "(x: no valid cycle)"))
-    fig.savefig(RESULTS / "ibpa_sweep.png", dpi=110)
     fig.savefig(RESULTS.parent.parent / "docs" / "ibpa_sweep_60sym.png", dpi=110)
 
 

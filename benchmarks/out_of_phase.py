@@ -6,8 +6,8 @@ of the left-hand blade's platform rotation, by the direct method on the straight
 path (jaxdamp.interblade_motion(180, ...)), with the in-phase curve (phi = 0) beside it. Each
 curve's status per amplitude is kept (a pad that opens is liftoff: reported, not hidden).
 
-Run: python benchmarks/out_of_phase.py -> benchmarks/results/out_of_phase.{json,png} and the same
-figure as docs/out_of_phase_60sym.png (docs/motions.md).
+Run: python benchmarks/out_of_phase.py -> benchmarks/results/out_of_phase.json and its figure,
+docs/out_of_phase_60sym.png (docs/motions.md).
 """
 
 from __future__ import annotations
@@ -84,7 +84,6 @@ def plot(doc: dict) -> None:
             ax.grid(True, alpha=0.3)
         axes[i, 0].set_ylabel(f"{key}, N mm/mrad")
     axes[0, 0].legend(fontsize=8)
-    fig.savefig(RESULTS / "out_of_phase.png", dpi=110)
     fig.savefig(RESULTS.parent.parent / "docs" / "out_of_phase_60sym.png", dpi=110)  # docs/motions.md
 
 

@@ -5,7 +5,7 @@ and the in-phase response optimum, each re-evaluated at every nodal diameter of 
 
 The robust optima were found for the one-mode illustrative blade on the in-phase path; this asks
 how they do on a blade row whose every engine order has its own mode and platform path. Writes
-benchmarks/results/row_designs.json and .png (and docs/row_designs_example.png). From the repository root:
+benchmarks/results/row_designs.json and its figure, docs/row_designs_example.png. From the repository root:
     PYTHONPATH=$PWD python benchmarks/row_designs.py
 """
 
@@ -99,7 +99,6 @@ def main():
     fig.suptitle(f"Designs across the example disk's row (mu = {MU}, assembly history)",
                  fontsize=10)
     fig.tight_layout()
-    fig.savefig(RESULTS_DIR / "row_designs.png", dpi=120)
     fig.savefig(RESULTS_DIR.parent.parent / "docs" / "row_designs_example.png", dpi=120)
 
 
