@@ -428,6 +428,8 @@ class SweepResult(NamedTuple):
     theta_r: np.ndarray  # deg, (n_r,)
     mu: np.ndarray  # (n_mu,)
     br_over_hr: np.ndarray  # (n_l, n_r): fixed, or the centring rule's value at mu_max
+    # Masks of the grid (docs/api.md, "Statuses and masks"): where the centring rule found b_R
+    # (else the points' `status` is no_root) and where a b_R keeps the resultant inside L1-L2
     br_found: np.ndarray  # (n_l, n_r) False where the centring rule has no root (b_R meaningless)
     br_inside: np.ndarray  # (n_l, n_r) False where no b_R keeps the resultant inside L1-L2 at mu_max
     mu_max: float | None  # None when b_R is fixed
@@ -442,13 +444,15 @@ class SweepResult(NamedTuple):
         return (f"SweepResult(theta_l={number_repr(self.theta_l, 'deg')}, "
                 f"theta_r={number_repr(self.theta_r, 'deg')}, mu={number_repr(self.mu)}, "
                 f"kn={number_repr(self.kn, 'N/mm')}, kt={number_repr(self.kt, 'N/mm')}, "
-                f"status={status_repr(self.summary.status)})")
+                f"status={status_repr(self.status)})")
 
     @property
-    def valid(self) -> np.ndarray:
-        """Points that are a working damper: status ok (converged, no liftoff, well-conditioned),
-        b_R defined."""
-        return (np.asarray(self.summary.status) == RESULTS.ok) & self.br_found[None]
+    def status(self) -> np.ndarray:
+        """(n_mu, n_l, n_r) RESULTS codes of the points: no_root where the centring rule has no
+        b_R (br_found, a mask of the grid), else the design's own (summary.status); a working
+        damper is `status == RESULTS.ok`."""
+        found = np.broadcast_to(np.asarray(self.br_found)[None], np.shape(self.summary.status))
+        return np.asarray(RESULTS.first({RESULTS.no_root: ~found}, self.summary.status))
 
 
 @jax.jit

@@ -152,13 +152,13 @@ def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
     cycle = elliptic_kernel(shape, mu, contacts, load,
                             jnp.where(end["closed"] & (a_bc > 0.0), a_bc, 1.0), as_ellipse(motion),
                             initial="gross_slip", loop=loop)
-    # The first cause that applies: the history's, the halves', then the cycle's own.
-    status = RESULTS.promote(jnp.zeros((), jnp.int32), ~seated, RESULTS.unseated)
-    status = RESULTS.promote(status, ~reached, RESULTS.unreachable)
-    status = RESULTS.promote(status, end["unseated"], RESULTS.unseated)
-    status = RESULTS.promote(status, end["missed"], RESULTS.unreachable)
-    status = RESULTS.promote(status, ~end["closed"], RESULTS.not_converged)
-    status = RESULTS.promote(status, ~RESULTS.valid(cycle.status), cycle.status)
+    # The history's causes (unseated at assembly; a move that never reaches gross slip, the
+    # first one included; unseated on a later move: one at most, a bad move stops the loop),
+    # the halves' (not periodic), then the cycle's own where it has no numbers.
+    status = RESULTS.first({RESULTS.unseated: ~seated | (reached & end["unseated"]),
+                            RESULTS.unreachable: seated & (~reached | end["missed"]),
+                            RESULTS.not_converged: ~end["closed"]},
+                           status=jnp.where(RESULTS.valid(cycle.status), RESULTS.ok, cycle.status))
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return PathBaseCycle(zero(a_fs), zero(k_re_fs), zero(a_bc), zero(end["spans"]), cycle,

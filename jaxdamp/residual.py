@@ -54,4 +54,4 @@ def through_residual(cycle, psi, c):
         more, body, batched_together((jnp.array(0), psi, zeros, zeros, zeros,
                                       jnp.zeros(psi.shape, jnp.int32), jnp.zeros(psi.shape, bool))))
     k = (k_re + 1j * k_im) / (1.0 + c * (k_re + 1j * k_im))
-    return jnp.real(k), jnp.imag(k), RESULTS.promote(status, ~done, RESULTS.not_converged), p
+    return jnp.real(k), jnp.imag(k), RESULTS.first({RESULTS.not_converged: ~done}, status), p

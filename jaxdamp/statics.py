@@ -12,7 +12,7 @@ from .geometry import DamperShape, full_slip_slide_rates, pad_geometry
 from ._validate import require_x64, traced
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import check_shape_and_mu
-from .status import RESULTS, number_repr, ok_status, status_repr
+from .status import RESULTS, number_repr, status_repr
 
 
 class FullSlipState(NamedTuple):
@@ -79,8 +79,8 @@ def statics_kernel(shape: DamperShape, mu) -> FullSlipStatics:
     start = full_slip_state(shape, mu, START_FRICTION_SIGNS)
     mid = full_slip_state(shape, mu, -START_FRICTION_SIGNS)
     min_n = jnp.minimum(start.min_normal, mid.min_normal)
-    status = RESULTS.promote(ok_status(), ~start.solvable | ~mid.solvable, RESULTS.singular)
-    status = RESULTS.promote(status, min_n <= 0.0, RESULTS.liftoff)
+    solvable = start.solvable & mid.solvable  # else min_n means nothing: singular, not liftoff
+    status = RESULTS.first({RESULTS.singular: ~solvable, RESULTS.liftoff: solvable & (min_n <= 0.0)})
     return FullSlipStatics(start, mid, min_n, status)
 
 
@@ -197,8 +197,9 @@ def design_br_kernel(shape, mu_max, lo, hi) -> DesignResult:
     a, b, _ = jax.lax.fori_loop(0, 80, body, (jnp.asarray(lo, float), jnp.asarray(hi, float), g_lo))
     br = 0.5 * (a + b)
     margin = statics_kernel(shape._replace(br_over_hr=br), mu_max).start.resultant_pos_pct
-    status = RESULTS.promote(ok_status(jnp.shape(found)), ~found, RESULTS.no_root)
-    return DesignResult(br, margin, RESULTS.promote(status, margin <= 0.0, RESULTS.liftoff))
+    # Without a root br (and its margin) mean nothing: no_root, not liftoff.
+    return DesignResult(br, margin, RESULTS.first({RESULTS.no_root: ~found,
+                                                   RESULTS.liftoff: found & (margin <= 0.0)}))
 
 
 __all__ = ["FullSlipState", "FullSlipStatics", "contact_columns", "full_slip_state",

@@ -1,7 +1,10 @@
 """One status code for every result (in the style of optimistix's `RESULTS`).
 
-Inside jit/vmap a status is an int32 array; `RESULTS.promote(status, condition, code)` raises it to
-`code` where `condition` holds and it is still ok, so the first problem found is the one reported.
+Inside jit/vmap a status is an int32 array. Statuses combine in one documented order, `SEVERITY`
+(most severe first): a computation's own conditions become a status by `RESULTS.first` (the most
+severe condition that holds), and the statuses of several results (two halves, the cells of a
+grid, a batch) become one by `RESULTS.combine` / `RESULTS.worst` (the most severe of them). Nothing
+combines statuses by comparing their codes: code numbers are names, not ranks.
 Outside JAX, `RESULTS.name_of(s)` and `RESULTS.message(s)` say what a code means, and masks come
 from it (`RESULTS.valid`, `RESULTS.stopped`, `status == RESULTS.liftoff`): no public result stores a
 flag beside its status.
@@ -30,9 +33,40 @@ class RESULTS(enum.IntEnum):
     unseated = 8
 
     @staticmethod
-    def promote(status, condition, code: "RESULTS"):
-        """status where it already reports a problem (or `condition` is False), else `code`."""
-        return jnp.where((status == RESULTS.ok) & condition, jnp.int32(code), status)
+    def first(conditions, status=None):
+        """The status of a computation's problem conditions, {code: boolean array}: the most
+        severe code (`SEVERITY`) whose condition holds, else ok (the conditions' broadcast shape).
+        status: an earlier status to start from (the result combines it with the conditions)."""
+        unknown = set(conditions) - set(SEVERITY)
+        if unknown:
+            raise ValueError(f"conditions must be keyed by problem codes {[c.name for c in SEVERITY]}; "
+                             f"got {sorted(unknown)}")
+        shape = jnp.broadcast_shapes(*(jnp.shape(c) for c in conditions.values()))
+        out = ok_status(shape)
+        for code in SEVERITY:
+            if code in conditions:
+                out = jnp.where((out == RESULTS.ok) & conditions[code], jnp.int32(code), out)
+        return out if status is None else RESULTS.combine(status, out)
+
+    @staticmethod
+    def combine(*statuses):
+        """The most severe (`SEVERITY`) of several statuses, elementwise (int32; broadcast)."""
+        rank = jnp.asarray(_RANK)
+        out = jnp.asarray(statuses[0], jnp.int32)
+        for s in statuses[1:]:
+            s = jnp.asarray(s, jnp.int32)
+            out = jnp.where(rank[s] > rank[out], s, out)
+        return out
+
+    @staticmethod
+    def worst(status, axis=None):
+        """The most severe (`SEVERITY`) status along `axis` (None: of all), int32."""
+        status = jnp.asarray(status, jnp.int32)
+        ranks = jnp.asarray(_RANK)[status]
+        if axis is None:
+            return status.reshape(-1)[jnp.argmax(ranks.reshape(-1))]
+        idx = jnp.expand_dims(jnp.argmax(ranks, axis=axis), axis)
+        return jnp.squeeze(jnp.take_along_axis(status, idx, axis=axis), axis)
 
     @staticmethod
     def name_of(status) -> str:
@@ -55,6 +89,18 @@ class RESULTS(enum.IntEnum):
         return ((status == RESULTS.liftoff) | (status == RESULTS.singular)
                 | (status == RESULTS.unseated))
 
+
+# The one order in which statuses combine, most severe first. Ill-conditioning first (it makes
+# every other flag meaningless too); then the problems that stop a computation with no numbers,
+# the earliest in a computation's course first (a history that does not exist, a normal force at
+# zero, no pad set holding the damper, a failed solve); then the numbers that are not to be
+# trusted (not periodic, no root); shakedown last (its numbers are valid).
+SEVERITY = (RESULTS.ill_conditioned, RESULTS.unreachable, RESULTS.liftoff, RESULTS.unseated,
+            RESULTS.singular, RESULTS.not_converged, RESULTS.no_root, RESULTS.shakedown)
+_RANK = np.zeros(len(RESULTS), np.int32)
+for _i, _code in enumerate(SEVERITY):
+    _RANK[_code] = len(SEVERITY) - _i
+assert set(SEVERITY) | {RESULTS.ok} == set(RESULTS), "every problem code has its place in SEVERITY"
 
 _MESSAGES = {
     RESULTS.ok: "ok",
@@ -115,17 +161,6 @@ def number_repr(value, unit: str = "", fmt: str = ".6g") -> str:
     return f"<{v.shape}: {float(np.min(v)):{fmt}} to {float(np.max(v)):{fmt}}{tail}>"
 
 
-def from_flags(liftoff, failed=False, converged=True, ill_conditioned=False):
-    """The status of a solver's internal liftoff / failed / converged booleans (no result stores
-    them). Ill-conditioning
-    comes first (it makes the other flags meaningless too), then liftoff, then a singular or failed
-    solve, then non-convergence."""
-    status = RESULTS.promote(ok_status(jnp.shape(liftoff)), ill_conditioned, RESULTS.ill_conditioned)
-    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
-    return RESULTS.promote(status, ~jnp.asarray(converged), RESULTS.not_converged)
-
-
 def ok_status(shape=()):
     """An array of `ok` codes (int32)."""
     return jnp.zeros(shape, jnp.int32)
@@ -139,4 +174,4 @@ def status_of(result) -> RESULTS:
     return RESULTS(int(np.asarray(status)))
 
 
-__all__ = ["RESULTS", "status_repr", "number_repr", "from_flags", "ok_status", "status_of"]
+__all__ = ["RESULTS", "SEVERITY", "status_repr", "number_repr", "ok_status", "status_of"]

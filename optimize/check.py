@@ -98,6 +98,17 @@ def active_constraints(problem: Problem, check: DesignCheck, tol_pct=0.5, tol_no
     return out
 
 
+def design_status(check: DesignCheck) -> RESULTS:
+    """The status of a checked design: the most severe of its cycles' and statics' statuses
+    (jaxdamp.status.SEVERITY); where those are ok but the design is infeasible, liftoff (its
+    no-liftoff margins, or the vertex angle of the design rule, fail)."""
+    codes = [RESULTS[f[key]] for f in check.flags for key in ("status", "statics_status")]
+    worst = RESULTS(int(RESULTS.worst(codes)))
+    if worst == RESULTS.ok and not check.feasible:
+        return RESULTS.liftoff
+    return worst
+
+
 def violations(problem: Problem, check: DesignCheck) -> list[str]:
     """Human-readable violated constraints and failed cycle flags of a checked design."""
     out = []
@@ -160,5 +171,5 @@ def infeasibility_reason(problem: Problem, check: DesignCheck, jacobian=None) ->
     return text
 
 
-__all__ = ["DesignCheck", "check_design", "active_constraints", "violations", "conflicting_pairs",
+__all__ = ["DesignCheck", "check_design", "design_status", "active_constraints", "violations", "conflicting_pairs",
            "infeasibility_reason"]

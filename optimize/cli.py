@@ -9,6 +9,7 @@ from jaxdamp.cli import (CliError, add_contact_args, contacts_from_args, add_jso
                          check_output_file, contacts_echo, document, emit, float_list, load_echo, save_figure,
                          progress_bar)
 
+from .check import design_status
 from .design import VARIABLES
 from .robust_cli import add_robust_args
 
@@ -67,6 +68,7 @@ def payload_of(args) -> dict:
         bar.close()
     payload = {**res.shape, "objective_name": res.objective_name, "objective": res.objective,
                "units": res.units, "baseline": res.baseline, "feasible": res.feasible,
+               "status": "ok" if res.feasible else design_status(res.check).name,
                "min_margin_pct": res.min_margin_pct, "margin_pct": problem.margin_pct,
                "min_vertex_deg": problem.min_vertex_deg,
                "mu_set": list(problem.mus), "kn": problem.kn, "kt": problem.kt,
@@ -125,10 +127,10 @@ def _text(p: dict) -> str:
 
 def run(args) -> int:
     payload = payload_of(args)
-    # infeasible: no design of the box keeps every normal force positive and the left resultant
-    # inside L1-L2 (with the margin) at every mu of the set, i.e. the no-liftoff constraint fails
-    status = "ok" if payload["feasible"] else "liftoff"
-    doc = document(status, payload, contacts=contacts_echo(_contacts(args)),
+    # infeasible: the returned design's worst cycle status, or liftoff where its cycles are ok but
+    # the no-liftoff margins (every normal force positive, the left resultant inside L1-L2 with
+    # the margin, at every mu of the set) fail (optimize.check.design_status, uncertified_status)
+    doc = document(payload["status"], payload, contacts=contacts_echo(_contacts(args)),
                    load=load_echo(_load()))
     if payload["objective_name"].startswith("peak:"):
         from .robust_cli import robust_text, row_text

@@ -24,8 +24,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import (BladeMode, Contacts, LoadCase, damper_stiffness, peak_response,
-                     scaled_stiffness)
+from jaxdamp import RESULTS, BladeMode, Contacts, LoadCase, damper_stiffness, peak_response
+from jaxdamp.blocks import scaled_stiffness
 
 from .descent import feasible_descent
 from .design import VARIABLES, shape_of_vector
@@ -48,7 +48,7 @@ def _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load):
 @jax.jit
 def _worst(v, mus, fd_factors, force_n, mode, kn, kt, load):
     a, status = _peaks_one(v, mus, fd_factors, force_n, mode, kn, kt, load)
-    return jnp.max(a), jnp.max(status)
+    return jnp.max(a), RESULTS.worst(status)
 
 
 _worst_batch = jax.jit(jax.vmap(_worst, (0,) + (None,) * 7))

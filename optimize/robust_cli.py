@@ -65,6 +65,7 @@ def robust_payload(args, problem) -> dict:
         bar.close()
     designs = [res.best] + list(res.references)
     payload = {"objective_name": f"peak:{kind}", "units": "mm/N", "feasible": res.best.feasible,
+               "status": res.best.status,
                "objective": res.objective_value, "spec": res.spec._asdict(),
                "mu_set": list(problem.mus), "kn": problem.kn, "kt": problem.kt,
                "free": list(problem.space.free), "grid_evaluations": res.grid_evaluations,
@@ -114,6 +115,7 @@ def _row_payload(args, problem, spec) -> dict:
         bar.close()
     designs = [res.best] + list(res.references)
     payload = {"objective_name": "peak:worst", "units": "mm/N", "feasible": res.best.feasible,
+               "status": res.best.status,
                "objective": res.objective_value, "spec": res.spec._asdict(),
                "modes": family.name or str(args.modes), "n_blades": family.n_blades,
                "engine_orders": orders, "h_l_mm": args.h_l, "corners": res.corners,

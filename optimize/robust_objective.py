@@ -115,7 +115,7 @@ def _worst_scores(v, history, mus, corners, forces, mode, kn, kt, load):
     outs = [jax.vmap(lambda mu: jax.vmap(lambda c: one(mu, c, h))(corners))(mus)
             for h in _initials(history)]
     return (jnp.concatenate([o[0].ravel() for o in outs]),
-            jnp.max(jnp.stack([jnp.max(o[1]) for o in outs])))
+            RESULTS.worst(jnp.stack([o[1] for o in outs])))
 
 
 def _q95_scores(v, history, scenarios, forces, mode, load):
@@ -125,7 +125,7 @@ def _q95_scores(v, history, scenarios, forces, mode, load):
             for h in _initials(history)]
     m = jnp.max(jnp.stack([o[0] for o in outs]), axis=0)  # history band: the upper edge
     return (jnp.log(jnp.quantile(m, 0.95, axis=0)),
-            jnp.max(jnp.stack([jnp.max(o[1]) for o in outs])))
+            RESULTS.worst(jnp.stack([o[1] for o in outs])))
 
 
 def smooth_objective(v, objective, history, temperature, *args):
@@ -202,6 +202,7 @@ class CertifiedDesign(NamedTuple):
     band_mm_per_n: tuple
     scenarios: int
     reason: str = "ok"
+    status: str = "ok"  # RESULTS name: the worst damper status, or liftoff (margins); ok if certified
 
 
 def dense_scenarios(problem: Problem, spec: RobustSpec, n_mu: int = 9, n_k: int = 3,
@@ -238,14 +239,23 @@ def certify(name: str, v, problem: Problem, spec: RobustSpec, mode: BladeMode = 
     mc = peak_distribution(shape, mc_scen, mode, forces, load, history=hist, levels=(0.95,),
                            progress=progress)
     ok = feasible and d.n_ok == len(dense.mu) and mc.n_ok == n_mc
-    reason = "ok" if ok else uncertified_reason(feasible, np.concatenate([d.status, mc.status]))
+    statuses = np.concatenate([d.status, mc.status])
+    reason = "ok" if ok else uncertified_reason(feasible, statuses)
     band = (np.nanmin(d.magnification, axis=0), np.nanmax(d.magnification, axis=0))
     return CertifiedDesign(name, tuple(map(float, v)), ok,
                            float(np.max(d.worst)) if ok else None,
                            float(np.max(mc.worst)) if ok else None,
                            float(np.max(mc.quantiles[0])) if ok else None,
                            tuple(map(float, forces)), tuple(tuple(map(float, b)) for b in band),
-                           len(dense.mu), reason)
+                           len(dense.mu), reason,
+                           "ok" if ok else uncertified_status(feasible, statuses))
+
+
+def uncertified_status(margins_ok: bool, status) -> str:
+    """The RESULTS name of a certification: the most severe damper status among the scenarios
+    (jaxdamp.status.SEVERITY); liftoff where those are ok but the no-liftoff margins fail."""
+    worst = RESULTS(int(RESULTS.worst(np.asarray(status)))) if np.size(status) else RESULTS.ok
+    return (RESULTS.liftoff if worst == RESULTS.ok and not margins_ok else worst).name
 
 
 def uncertified_reason(margins_ok: bool, status) -> str:

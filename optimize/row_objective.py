@@ -34,7 +34,8 @@ from .design import VARIABLES, in_bounds, shape_of_vector, to_unit
 from .problem import Problem, evaluate_shapes, is_feasible, make_problem
 from .response_objective import complete_shape
 from .robust_objective import (ROBUST_MU_SET, RobustSpec, contact_corners, descent_forces,
-                               reference_shapes, uncertified_reason, validate_spec)
+                               reference_shapes, uncertified_reason, uncertified_status,
+                               validate_spec)
 
 ROW_HISTORIES = ("assembly", "band")
 CORNER_CHOICES = ("nominal", "all")
@@ -145,6 +146,7 @@ class RowCertified(NamedTuple):
     force_n: tuple
     reason: str = "ok"
     no_gross_slip: tuple = ()
+    status: str = "ok"  # RESULTS name: the worst damper status, or liftoff (margins); ok if certified
 
 
 def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask, *,
@@ -190,7 +192,8 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
                         int(task.engine_orders[w]) if ok else None, len(grid),
                         tuple(map(float, forces)),
                         "ok" if ok else uncertified_reason(margins_ok, status),
-                        tuple(int(n) for n in missing))
+                        tuple(int(n) for n in missing),
+                        "ok" if ok else uncertified_status(margins_ok, status))
 
 
 def _numbers(values) -> tuple:

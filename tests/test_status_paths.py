@@ -174,3 +174,37 @@ def test_no_root_through_the_design_rule():
     assert R.name_of(res.status) == "no_root" and not bool(res.found)
     doc = cli("design-br", "--theta-l", "10", "--theta-r", "10", "--mu-max", "0.7", "--json")
     assert doc["status"] == "no_root" and doc["br_over_hr"] is None
+
+
+# ------------------------------------------------------------ one order where problems meet
+def _statuses_on_every_path(shape, mu, contacts):
+    """The status of one design on every path kind: the Base-Cycle, a steady cycle in phase
+    (both histories), on a straight out-of-phase path, on an ellipse, and the path Base-Cycle."""
+    q = float(jd.LoadCase().q_star)
+    straight = jd.interblade_motion(180.0, 20.0, q, 10.0)
+    ellipse = jd.interblade_motion(90.0, 20.0, q, 10.0)
+    return {
+        "base_cycle": jd.base_cycle(shape, mu, contacts).status,
+        "in_phase gross_slip": jd.amplitude_cycle(shape, mu, 1.0, contacts).status,
+        "in_phase assembly": jd.amplitude_cycle(shape, mu, 1.0, contacts, initial="assembly").status,
+        "straight": jd.amplitude_cycle(shape, mu, 10.0, contacts, initial="assembly",
+                                       motion=straight).status,
+        "ellipse": jd.elliptic_cycle(shape, mu, 10.0, ellipse, contacts).status,
+        "path_base_cycle": jd.path_base_cycle(shape, mu, straight, contacts).status,
+    }
+
+
+def test_where_problems_meet_every_path_kind_reports_the_most_severe():
+    """Ill-conditioning ranks first in the one order (jaxdamp.status.SEVERITY): a design that
+    lifts off (74L at mu 0.7) or works (60sym) with a contact pair outside the validated range
+    (kt/kn = 5.6e-5 < 1e-4) is ill_conditioned on every path kind, whatever else happens there;
+    with the calibrated pair the same paths report the liftoff (or the ellipse's own problem)
+    that the ill-conditioning hid."""
+    outside = jd.Contacts(jd.REFERENCE_KN, 1.0)
+    for shape in (jd.family_shape("74L"), jd.family_shape("60sym")):
+        got = {k: R.name_of(s) for k, s in _statuses_on_every_path(shape, 0.7, outside).items()}
+        assert set(got.values()) == {"ill_conditioned"}, got
+    plain = {k: R.name_of(s) for k, s in
+             _statuses_on_every_path(jd.family_shape("74L"), 0.7, jd.Contacts()).items()}
+    assert plain["base_cycle"] == plain["in_phase gross_slip"] == "liftoff", plain
+    assert "ill_conditioned" not in plain.values(), plain

@@ -240,10 +240,8 @@ def continuation_path(force_fn, mode: BladeMode, harmonics, force_n, amp_scale_m
     om_pk = omega_peak + zpk[-1] * omega_halfwidth
     _, ok = force_fn(ypk)
     x = synthesize(ypk, harmonics, 4 * N_TIME)
-    status = jnp.int32(RESULTS.ok)
-    status = RESULTS.promote(status, ~ok, RESULTS.liftoff)
     converged = (jnp.max(jnp.abs(res_z(zpk))) <= NEWTON_TOL) & (jnp.max(resid) <= NEWTON_TOL)
-    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
+    status = RESULTS.first({RESULTS.liftoff: ~ok, RESULTS.not_converged: ~converged})
     ys = zs[:, :-1] * amp_scale_mm
     fr = mode.f0_hz * (omega_peak + zs[:, -1] * omega_halfwidth)
     return HBMPath(fr, amp, ys, resid, jnp.hypot(ypk[0], ypk[1]), mode.f0_hz * om_pk, ypk,
@@ -271,7 +269,7 @@ def _coupled(shape, mu, contacts, load, mode, force_n, harmonics, n_time, n_peri
 
     path = continuation_path(force_fn, mode, harmonics, force_n, scale, om, width,
                              n_steps=n_steps)
-    return path._replace(status=RESULTS.promote(path.status, lift0, RESULTS.liftoff))
+    return path._replace(status=RESULTS.first({RESULTS.liftoff: lift0}, path.status))
 
 
 def coupled_hbm(shape, mu, contacts=None, load=None, mode: BladeMode = BladeMode(), force_n=20.0,

@@ -24,7 +24,7 @@ import numpy as np
 from .._validate import check_int, check_range
 from ..conventions import stiffness_from_rfft, travel_mm
 from ..geometry import DamperShape
-from ..status import from_flags
+from ..status import RESULTS
 from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import MAX_NEWTON, initial_state, march, march_model
 
@@ -69,7 +69,7 @@ def hbm_aft_kernel(shape, mu, contacts, load, psi_a_mrad, n_time: int, n_periods
     fails = jnp.sum(~smp.newton_ok)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
     work = jnp.pi * psi_a_mrad ** 2 * k_im * 1e-3
-    return HBMResult(k_re, k_im, work, periodicity, fails, from_flags(liftoff, False, converged))
+    return HBMResult(k_re, k_im, work, periodicity, fails, RESULTS.first({RESULTS.liftoff: liftoff, RESULTS.not_converged: ~converged}))
 
 
 def hbm_aft(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

@@ -40,7 +40,7 @@ from .._validate import check_int, check_range
 from ..conventions import travel_mm
 from ..motion import Motion, as_ellipse, validate_motion
 from ..params import Contacts, LoadCase, prepare_inputs
-from ..status import from_flags, number_repr, status_repr
+from ..status import RESULTS, number_repr, status_repr
 from .ellipse_march import HISTORIES, path_model, path_start, path_step
 from .hbm import PERIODIC_TOL
 from .timemarch import MAX_NEWTON
@@ -121,7 +121,8 @@ def hbm_aft_path_kernel(shape, mu, contacts, load, amplitude, motion: Motion, n_
     periodic = periodicity <= PERIODIC_TOL
     return HBMPathResult(k.real, k.imag, energy, jnp.pi * amplitude ** 2 * k.imag * 1e-3,
                          slip_fraction, open_fraction, periodicity, fails,
-                         from_flags(False, fails > 0, periodic))
+                         RESULTS.first({RESULTS.singular: fails > 0,
+                                       RESULTS.not_converged: ~periodic}))
 
 
 def hbm_aft_path(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts = Contacts(),

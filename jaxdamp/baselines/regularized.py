@@ -22,7 +22,7 @@ import numpy as np
 from .._validate import check_int, check_range
 from ..conventions import CENTRIFUGAL_LOAD, MRAD_PER_RAD, travel_mm
 from ..geometry import DamperShape
-from ..status import from_flags
+from ..status import RESULTS
 from .hbm import PERIODIC_TOL, HBMResult, first_harmonic
 from ..params import Contacts, LoadCase, prepare_inputs
 from .timemarch import NEWTON_TOL, MarchModel, march_model, moment_of, newton
@@ -128,7 +128,8 @@ def regularized_aft_kernel(shape, mu, contacts, load, psi_a_mrad, eps, n_time: i
     fails = jnp.sum(~conv)
     converged = ~liftoff & (fails == 0) & (periodicity <= PERIODIC_TOL)
     return HBMResult(k_re, k_im, jnp.pi * psi_a_mrad ** 2 * k_im / MRAD_PER_RAD, periodicity,
-                     fails, from_flags(liftoff, False, converged))
+                     fails, RESULTS.first({RESULTS.liftoff: liftoff,
+                                                RESULTS.not_converged: ~converged}))
 
 
 def regularized_aft(shape: DamperShape, mu, psi_a_mrad, eps, contacts: Contacts = Contacts(),

@@ -48,7 +48,7 @@ from .._validate import check_int, check_range
 from ..conventions import MRAD_PER_RAD, platform_directions
 from ..motion import Motion, motion_moment_coefficients, pad_motion
 from ..params import prepare_inputs
-from ..status import from_flags, number_repr, status_repr
+from ..status import RESULTS, number_repr, status_repr
 from .lumped_disk import LumpedDisk, full_matrices
 from .timemarch import MAX_NEWTON, NEWTON_TOL, assemble, march_model, newton, respond
 
@@ -225,7 +225,7 @@ def _integrate(shape, mu, contacts, load, left, right, mass, stiffness, eta, for
     amp = jnp.abs(firsts[-1])
     change = jnp.max(jnp.abs(firsts[-1] - firsts[-2]) / jnp.maximum(amp, 1e-300))
     spread = (jnp.max(amp) - jnp.min(amp)) / jnp.mean(amp)
-    status = from_flags(~closed_all, False, fails == 0)
+    status = RESULTS.first({RESULTS.liftoff: ~closed_all, RESULTS.not_converged: fails != 0})
     return RingResponse(amp, jnp.angle(firsts[-1]), spread, change, firsts, xs[-1],
                         Ms[-1], fails, status, ths[-1] * MRAD_PER_RAD)
 

@@ -100,8 +100,7 @@ def _integrate(shape, mu, contacts, load, mode, force_n, frequency_hz, x0, v0, p
     init = (jnp.asarray(x0, float), jnp.asarray(v0, float), s0, M0, jnp.array(True))
     (_, _, _, _, ok), (amps, maxes) = jax.lax.scan(period, init, jnp.arange(n_periods, dtype=float))
     change = jnp.abs(amps[-1] - amps[-2]) / jnp.maximum(amps[-1], 1e-300)
-    status = jnp.int32(RESULTS.ok)
-    status = RESULTS.promote(status, lift0 | ~ok, RESULTS.liftoff)
+    status = RESULTS.first({RESULTS.liftoff: lift0 | ~ok})
     return TimeResponse(amps[-1], maxes[-1], change, amps, status)
 
 

@@ -37,7 +37,7 @@ from ..conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, START_FRICTION_SIGNS,
                            psi_mrad, travel_mm)
 from ..motion import loop_moment_coefficients, pad_motion, validate_motion
 from ..statics import contact_columns, full_slip_state
-from ..status import from_flags
+from ..status import RESULTS
 
 NEWTON_TOL = 1e-12  # equilibrium residual, units of F_D
 GROSS_TOL = 1e-9  # incremental force rate (per mm) below which the damper is in gross slip, x k/F_D
@@ -384,7 +384,8 @@ def time_march_kernel(shape, mu, contacts, load, h, n_steps: int, max_pairs: int
     return TimeMarchResult(psi_fs, k_re_fs, psi_bc, k_re_bc, k_im_bc, k_im_energy, work_c, work_m,
                            span_f, span_b, fwd.samples.N[-1], fwd.samples.T[-1], bwd.samples.N[-1],
                            bwd.samples.T[-1], 2 * out["k"], newton_fail,
-                           from_flags(liftoff, failed, out["closed"] & ~liftoff))
+                           RESULTS.first({RESULTS.liftoff: liftoff, RESULTS.singular: failed,
+                                         RESULTS.not_converged: ~(out["closed"] & ~liftoff)}))
 
 
 def time_march(shape: DamperShape, mu, contacts: Contacts = Contacts(), load: LoadCase = LoadCase(),
@@ -503,7 +504,7 @@ def _march_amplitude(shape, mu, contacts, load, psi_a_mrad, N_init, T_init, init
     fails = fails + jnp.sum(~fwd.samples.newton_ok) + jnp.sum(~bwd.samples.newton_ok)
     lift = lift | jnp.any(fwd.samples.code == 3) | jnp.any(bwd.samples.code == 3)
     return AmplitudeMarch(k_re, k_im, work_c, work_m, gaps, Ns[-1], Ts[-1], fails,
-                          fwd.samples.M, bwd.samples.M, from_flags(lift, False, fails == 0))
+                          fwd.samples.M, bwd.samples.M, RESULTS.first({RESULTS.liftoff: lift, RESULTS.not_converged: fails != 0}))
 
 
 def march_amplitude(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),

@@ -196,10 +196,8 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
     rows, worst = _row_json(res, band), _worst_json(res, band)
     statuses = [RESULTS[p["status"]] for r in rows for p in r["forces"]]
     statuses += [RESULTS[p["band"]["status"]] for r in rows for p in r["forces"] if "band" in p]
-    # The document's status: a failure if any peak failed, else shakedown if the damper sticks at
-    # some peak, else ok (codes are not ordered by severity).
-    failed = [s for s in statuses if not RESULTS.valid(s)]
-    status = (failed[0] if failed else max(statuses, default=RESULTS.ok)).name
+    # The document's status: the most severe of its peaks' (jaxdamp.status.SEVERITY).
+    status = RESULTS(int(RESULTS.worst(statuses))).name if statuses else RESULTS.ok.name
     doc = C.document(status, {
         "inputs": {"shape": C.shape_echo(shape), "mu": args.mu, "contacts": C.contacts_echo(contacts),
                    "load": C.load_echo(load), "modes_file": str(args.modes),

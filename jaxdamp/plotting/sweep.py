@@ -10,6 +10,7 @@ import numpy as np
 
 from ..batch import SweepResult
 from ..paper.files import atomic_file, save_figure, write_text
+from ..status import RESULTS
 
 HEATMAPS = (("psi_bc", "psi_BC (mrad)"), ("k_im_bc", "k_Im,BC (N mm/mrad)"), ("w_M", "w_M"))
 # The heatmaps' status classes; "not converged" also holds singular and ill-conditioned points.
@@ -20,8 +21,6 @@ FAMILY_MARKS = ("90L", "74L", "60sym", "74R", "90R", "45sym")
 def status_codes(res: SweepResult) -> np.ndarray:
     """Per point, from the status: 0 valid, 1 liftoff, 2 not converged / singular /
     ill-conditioned, 3 no centring b_R (shape (n_mu, n_l, n_r))."""
-    from ..status import RESULTS
-
     status = np.asarray(res.summary.status)
     code = np.where(status == RESULTS.ok, 0, np.where(status == RESULTS.liftoff, 1, 2))
     code[np.broadcast_to(~res.br_found, code.shape)] = 3
@@ -103,7 +102,7 @@ def heatmap_figure(res: SweepResult):
 def sweep_arrays(res: SweepResult) -> dict:
     arrays = {"theta_l": res.theta_l, "theta_r": res.theta_r, "mu": res.mu,
               "br_over_hr": res.br_over_hr, "br_found": res.br_found, "br_inside": res.br_inside,
-              "status": status_codes(res), "valid": res.valid}
+              "status": status_codes(res), "valid": res.status == RESULTS.ok}
     arrays.update({f: np.asarray(v) for f, v in res.summary._asdict().items()})
     return arrays
 

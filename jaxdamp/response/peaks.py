@@ -251,7 +251,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
              if frequencies else jnp.zeros_like(roots))
     last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
-    status = RESULTS.promote(damper.status, n_roots == 0, RESULTS.no_root)
+    status = RESULTS.first({RESULTS.no_root: n_roots == 0}, damper.status)
     peak = roots[:, 0]
     peaks = Peaks(roots, freqs, found, n_roots, peak, freqs[:, 0], mode.r * peak,
                   jnp.take_along_axis(roots, last[:, None], axis=1)[:, 0], status)

@@ -100,8 +100,7 @@ def row_band_program(n_samples: int, residual: bool = False):
             hi = jnp.where(jnp.any(up, axis=-1), table[first], top * (1.0 + 1e-9))
             lo = jnp.where(first > 0, table[jnp.maximum(first - 1, 0)], table[0])
             below = jnp.any(up, axis=-1) & (first == 0)
-            bad = jnp.where(jnp.all(st_table == RESULTS.ok), RESULTS.ok,
-                            st_table[jnp.argmax(st_table != RESULTS.ok)])
+            bad = RESULTS.worst(st_table)
 
             def halve(carry, _):
                 lo, hi, bad = carry
@@ -109,15 +108,14 @@ def row_band_program(n_samples: int, residual: bool = False):
                 k_mid, st_mid = jax.vmap(jax.vmap(band_at))(mid)  # (n_f, 2, 2), (n_f, 2)
                 rising = g(mid, jnp.stack([k_mid[:, 0, 0], k_mid[:, 1, 1]], axis=1),
                            forces[:, None]) >= 0.0
-                bad = jnp.where(bad == RESULTS.ok, st_mid, bad)
+                bad = RESULTS.combine(bad, st_mid)
                 return (jnp.where(rising, lo, mid), jnp.where(rising, mid, hi), bad), None
 
             bad = jnp.broadcast_to(bad, lo.shape)
             (lo, hi, bad), _ = jax.lax.scan(halve, (lo, hi, bad), None, length=BISECTIONS)
-            status = RESULTS.promote(jnp.broadcast_to(design_status, lo.shape), bad != RESULTS.ok,
-                                     bad)
-            status = RESULTS.promote(status, below, RESULTS.not_converged)
-            status = jnp.where(status[:, 0] == RESULTS.ok, status[:, 1], status[:, 0])
+            status = RESULTS.first({RESULTS.not_converged: below},
+                                   RESULTS.combine(design_status, bad))
+            status = RESULTS.worst(status, axis=1)
             return hi[:, 0] / mode.r, lo[:, 1] / mode.r, hi / lo - 1.0, status, table, k_table
 
         return jax.vmap(one)(modes, motions, tip_forces, *residuals)
