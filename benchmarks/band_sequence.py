@@ -134,7 +134,7 @@ def main(quick: bool):
                "reference_valid_states": nv.tolist(), "reference_bounds": np.where(
                    np.isfinite(ref), ref, np.nan).tolist()}
         for label, kw in (("sequence", OPTIONS), ("samples_only", {"refine": False})):
-            bands = jd.amplitude_bands(shape, mu, psi, CONTACTS, LOAD, **kw)
+            bands = jd.amplitude_band(shape, mu, psi, CONTACTS, LOAD, **kw)
             nar = narrower(bands, ref, nv)
             row[label] = {
                 "bounds": [b.bounds.tolist() for b in bands],
@@ -156,7 +156,7 @@ def main(quick: bool):
     grid = np.geomspace(0.05 * psi_bc, 3.0 * psi_bc, 24)
     timing = {}
     for label, kw in (("sequence", OPTIONS), ("samples_only", {"refine": False})):
-        med, spread = timed(lambda: jd.amplitude_bands(shape, mu, grid, CONTACTS, LOAD, **kw))
+        med, spread = timed(lambda: jd.amplitude_band(shape, mu, grid, CONTACTS, LOAD, **kw))
         timing[label] = {"grid_24_s": med, "min_max_s": spread, "per_amplitude_ms": 1e3 * med / 24}
     forces = jnp.asarray([5.0, 20.0, 50.0])
     med, spread = timed(lambda: jd.peak_band(shape, mu, CONTACTS, LOAD, jd.BladeMode(), forces), 3)

@@ -30,7 +30,8 @@ import jaxdamp as jd  # noqa: E402
 import jobs_layered as jl  # noqa: E402
 from jaxdamp.curves import broadcast_designs, flat_cycles  # noqa: E402
 from jaxdamp import sequence as sq  # noqa: E402
-from jaxdamp import sequence_curves, stiffness_curve  # noqa: E402
+from jaxdamp import stiffness_curve  # noqa: E402
+from jaxdamp.sequence import sequence_curves  # noqa: E402  (return_curve: the pieces too)
 
 OUT = Path(__file__).parent / "results"
 

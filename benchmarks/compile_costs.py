@@ -6,7 +6,7 @@ every tracing, lowering and XLA compilation through `jax.monitoring`'s event lis
 program's name. For each
 case the JSON has the wall time of the whole process, and per program: trace, lower and compile
 seconds and the time spent reading the persistent cache. (StableHLO module sizes are not recorded:
-the dump's file names did not match the programs' names; docs/performance.md gives the size of
+the dump's file names did not match the programs' names; docs/performance-history.md gives the size of
 the largest program, measured apart.) Python cases run without a persistent cache.
 
     PYTHONPATH=. python benchmarks/compile_costs.py [--only cycle,grad] [--out FILE]

@@ -25,7 +25,8 @@ jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
 from bench_common import call_time, machine, median_time  # noqa: E402
-from jaxdamp import fit_problem, sample_loop  # noqa: E402
+from jaxdamp import sample_loop  # noqa: E402
+from jaxdamp.blocks import fit_problem
 
 OUT = Path(__file__).parent / "results"
 # What the L-BFGS comparison gave when it was run (2026-11-24, 2 shared cores, load average 5-10):

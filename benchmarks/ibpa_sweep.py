@@ -68,7 +68,7 @@ def main() -> dict:
                 ref = rows[0]["k_im"]
                 for r in rows:
                     r["k_im_over_in_phase"] = r["k_im"] / ref if ref > 0 else None
-                curves.append(dict(damper=damper, pads=list(jd.pad_names(shape)), mu=mu,
+                curves.append(dict(damper=damper, pads=list(jd.blocks.pad_names(shape)), mu=mu,
                                    amplitude_mrad=psi, rows=rows))
     doc = dict(machine=machine(), seconds=time.perf_counter() - started,
                dampers={k: {"theta_l": float(v.theta_l), "theta_r": float(v.theta_r),

@@ -72,8 +72,8 @@ use_measured_xla_flags()  # before JAX starts: both sides of every comparison ge
 configure_runtime()
 from jaxdamp.baselines import hbm_aft_kernel  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm  # noqa: E402
-from jaxdamp import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
-                              peak_response)
+from jaxdamp import BladeMode, damper_stiffness, frf, peak_response
+from jaxdamp.blocks import frf_amplitude_grid
 
 OUT = Path(__file__).parent / "results"
 TARGET = 1e-4
@@ -123,7 +123,7 @@ def designs(n: int, seed: int = 0):
     """n 60sym-like designs: base angles 55-70 deg, b_R by the paper's centring rule, mu 0.4-0.6."""
     rng = np.random.default_rng(seed)
     tl, tr = rng.uniform(55.0, 70.0, n), rng.uniform(55.0, 70.0, n)
-    br, found, _ = jd.centred_br(tl, tr)
+    br, found, _ = jd.blocks.centred_br(tl, tr)
     assert np.all(found)
     shapes = jd.DamperShape(jnp.asarray(tl), jnp.asarray(tr), jnp.asarray(br), jnp.full(n, 0.8))
     return shapes, jnp.asarray(rng.uniform(0.4, 0.6, n))

@@ -55,7 +55,7 @@ def main(n_cases: int = 230) -> dict:
         phi = float(rng.uniform(-180.0, 180.0))
         h_c, h_l, psi = (float(v) for v in rng.uniform([10.0, 8.0, 1.0], [40.0, 14.0, 25.0]))
         motion = jd.interblade_motion(phi, h_c, 100.0, h_l)
-        row = dict(damper="wedge" if wedge else "curved-flat", pads=list(jd.pad_names(shape)),
+        row = dict(damper="wedge" if wedge else "curved-flat", pads=list(jd.blocks.pad_names(shape)),
                    theta_l=tl, theta_r=tr, br_over_hr=None if wedge else float(shape.br_over_hr),
                    br2_over_hr=float(shape.br2_over_hr) if wedge else None, bl2_over_hl=bl2,
                    mu=mu, ibpa_deg=phi, h_c_mm=h_c, h_l_mm=h_l, amplitude_mrad=psi)

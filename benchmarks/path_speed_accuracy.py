@@ -110,7 +110,7 @@ HBM_BATCH = jax.jit(jax.vmap(hbm_numbers, in_axes=(None, None, None, None, 0, No
 def prepared(case):
     """(shape, the kernels' inputs as float arrays, kn and kt per pad, the motion)."""
     shape = WEDGE if case["damper"] == "wedge" else CURVED_FLAT
-    n_pads = len(jd.pad_names(shape))
+    n_pads = len(jd.blocks.pad_names(shape))
     sh = jd.DamperShape(*(None if v is None else jnp.asarray(float(v)) for v in shape))
     c = jd.Contacts(*(jnp.full(n_pads, float(k)) for k in CONTACTS))
     load = jd.LoadCase(*(jnp.asarray(float(v)) for v in jd.LoadCase()))
@@ -177,7 +177,7 @@ def first_failure(shape, shape_args, motion, amplitude, n_time):
     s_a = float(amplitude) * float(load.q_star) / 1e3  # mm of the path parameter (travel_mm)
 
     def state(r, where, i, tau=None):
-        return dict(where=where, sample=i, tau_rad=tau, pads=list(jd.pad_names(shape)),
+        return dict(where=where, sample=i, tau_rad=tau, pads=list(jd.blocks.pad_names(shape)),
                     closed=[bool(x) for x in np.asarray(r.closed)],
                     slipping=[bool(x) for x in np.asarray(r.slip)],
                     N_over_F_D=[float(x) for x in np.asarray(r.N)],
@@ -210,7 +210,7 @@ def first_failure(shape, shape_args, motion, amplitude, n_time):
 def run_case(case, cfg, log):
     shape, args, motion = prepared(case)
     a = jnp.asarray(case["amplitude"])
-    res = dict(case, pads=list(jd.pad_names(shape)), load_average_start=loadavg())
+    res = dict(case, pads=list(jd.blocks.pad_names(shape)), load_average_start=loadavg())
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", jd.SmallRotationWarning)
         ec = jd.elliptic_cycle(shape, case["mu"], case["amplitude"],

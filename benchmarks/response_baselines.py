@@ -20,8 +20,8 @@ from bench_common import call_time, machine, median_time  # noqa: E402
 from jaxdamp import family_shape  # noqa: E402
 from jaxdamp.baselines.coupled_hbm import coupled_hbm, solve_at_frequency  # noqa: E402
 from jaxdamp.baselines.time_integration import start_on_harmonics, steady_state  # noqa: E402
-from jaxdamp import (BladeMode, damper_stiffness, frf, frf_amplitude_grid,  # noqa: E402
-                              peak_response)
+from jaxdamp import BladeMode, damper_stiffness, frf, peak_response
+from jaxdamp.blocks import frf_amplitude_grid
 
 OUT = Path(__file__).resolve().parent / "results"
 FORCES = (2.0, 5.0, 10.0, 20.0, 50.0)

@@ -36,7 +36,7 @@ def main():
     ring = json.loads((OUT / "ring_check.json").read_text())
     disk = LumpedDisk(**ring["disk"])
     d = ring["damper"]
-    family = jd.validate_family(modal_family(disk, d["q_star_mm"], d["h_c_mm"], residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, d["q_star_mm"], d["h_c_mm"], residual=True))
     shape = jd.family_shape(d["shape"])
     rows, started = [], time.perf_counter()
     for r in ring["rows"]:

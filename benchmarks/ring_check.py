@@ -49,7 +49,8 @@ import numpy as np  # noqa: E402
 import jaxdamp as jd  # noqa: E402
 from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family, sector_matrices, sector_modes  # noqa: E402
 from jaxdamp.baselines.ring import ring_response  # noqa: E402
-from jaxdamp import BladeMode, path_cycle_kernel, prepare_scene  # noqa: E402
+from jaxdamp import BladeMode, path_cycle_kernel  # noqa: E402
+from jaxdamp.blocks import prepare_scene
 
 from bench_common import call_time, machine  # noqa: E402
 
@@ -258,7 +259,7 @@ def parabola_peak(rows):
 def main() -> dict:
     started = time.perf_counter()
     disk = LumpedDisk(n_blades=N_SMALL)
-    family = jd.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM, residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM, residual=True))
     damper = Damper()
     orders = list(range(N_SMALL // 2 + 1))
     forces = sorted({f for per_nd in FORCES.values() for f in per_nd.values()})

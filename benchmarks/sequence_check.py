@@ -27,8 +27,8 @@ import numpy as np
 jax.config.update("jax_enable_x64", True)
 
 import jaxdamp as jd  # noqa: E402
-from jaxdamp import (admissible_polytope, amplitude_kernel, curve_at, polytope_vertices,  # noqa: E402
-                     stiffness_curve)
+from jaxdamp import amplitude_kernel, stiffness_curve
+from jaxdamp.blocks import admissible_polytope, curve_at, polytope_vertices
 
 sys.path.insert(0, str(Path(__file__).parent))
 from bench_common import machine  # noqa: E402

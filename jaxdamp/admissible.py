@@ -108,7 +108,7 @@ def sparse_weights(key, alpha, mask, n):
     Gamma(1 + alpha). jax.random.dirichlet's rejection-sampled Gamma is ~2000 HLO instructions a
     call: without it the band program has 28.9k instead of 33.2k and XLA compiles it in
     9.6-11.1 s instead of 12.4-12.8 s (fast-compiled, 2-core VM, two runs each;
-    docs/performance.md)."""
+    docs/performance-history.md)."""
     ke, ku = jax.random.split(key)
     shape = (n, mask.shape[0])
     log_w = jnp.log(jax.random.exponential(ke, shape)) + jnp.log(

@@ -39,12 +39,13 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_int, check_range
-from .linalg import solve3
 from .cycle import mechanics
 from .engine import TRAVEL_TOL
-from .half import Half, accelerate, empty_half, run_half
+from .half import (Half, accelerate, assemble_in_phase, empty_half, gross_slip_from_assembly,
+                   run_half)
 from .loops import repeat_until, run_by_loop, tree_where
-from .geometry import CONTACT_NAMES, DamperShape
+from .runtime import run_program
+from .geometry import DamperShape
 from .linalg import rowdot
 from .motion import Motion, loop_moment_coefficients, validate_motion
 from .fourier import half_fourier
@@ -52,7 +53,7 @@ from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .conventions import START_FRICTION_SIGNS, psi_mrad, travel_mm, warn_small_rotation
 from .statics import contact_columns, full_slip_state, statics_singular
 from .status import RESULTS, number_repr, status_repr
-from .tract import BACKSLIDE, LIMIT_TOL, SLIP, STATE_NAMES
+from .tract import BACKSLIDE, SLIP
 
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
@@ -60,15 +61,12 @@ CLOSE_TOL = 1e-9  # periodicity: forces at the forward extreme repeat within thi
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
-__all__ = ["TravelHalf", "AmplitudeCycle", "amplitude_cycle", "amplitude_kernel", "assembly_state",
-           "gross_slip_state", "gross_slip_on_path", "check_admissible", "transitions_chart",
+__all__ = ["AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
+           "gross_slip_state", "check_admissible",
            "moment_loop", "slip_fraction",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES", "PRELIMINARY_HALVES",
            "history_halves"]
 
-
-# One type for every half since the tract engine (jaxdamp.half); the old name stays for callers.
-TravelHalf = Half
 
 
 class AmplitudeCycle(NamedTuple):
@@ -115,50 +113,6 @@ def gross_slip_state(shape: DamperShape, mu):
     st = full_slip_state(shape, mu, START_FRICTION_SIGNS)
     ok = st.solvable & (st.min_normal > 0.0)
     return st.N, st.T, ok
-
-
-# Assembly candidates: per contact 0 stick, 1 slip with T = +mu N, 2 slip with T = -mu N.
-_ASM = np.array([[(c // 3 ** i) % 3 for i in range(3)] for c in range(27)])
-
-
-def assembly_state(shape: DamperShape, mu, contacts: Contacts, load: LoadCase):
-    """(N, T, ok) after applying F_D from zero with the platforms held (proportional loading).
-
-    Every contact law is positively homogeneous and the forces start at zero, so the response is
-    proportional to the load and one stick/slip set holds for the whole increment: the consistent
-    set (stick contacts inside the cone, slipping contacts sliding against their friction force)
-    that keeps the most contacts in stick. With K_S q = e_y (F_D = 1 at D, upwards):
-    K_S = sum kn a a^T + sum_stick kt c c^T - sum_slip s mu kn c a^T.
-    """
-    a, c, _ = contact_columns(shape)
-    kn, kt = contacts.per_contact()
-    kn, kt = kn / load.F_D, kt / load.F_D
-    mu = jnp.asarray(mu, float)
-    e_y = jnp.array([0.0, 1.0, 0.0])
-    cand = jnp.asarray(_ASM)
-    slip = cand > 0
-    sgn = jnp.where(cand == 2, -1.0, 1.0)
-
-    def solve(sl, s):
-        stick = jnp.where(sl, 0.0, 1.0)
-        smu = jnp.where(sl, s * mu, 0.0)
-        K = (jnp.einsum("i,ij,ik->jk", kn, a, a) + jnp.einsum("i,ij,ik->jk", stick * kt, c, c)
-             - jnp.einsum("i,ij,ik->jk", smu * kn, c, a))
-        q, ok = solve3(K, e_y)
-        N = kn * (a @ q)
-        T = jnp.where(sl, s * mu * N, -kt * (c @ q))
-        p = (c @ q) + T / kt  # slip of the damper relative to the platform, along t
-        return N, T, p, ok
-
-    N, T, p, ok = jax.vmap(solve)(slip, sgn)
-    tol = LIMIT_TOL
-    inside = jnp.all(jnp.where(slip, True, jnp.abs(T) <= mu * N + tol), axis=1)
-    sliding = jnp.all(jnp.where(slip, sgn * p <= tol, True), axis=1)
-    good = ok & inside & sliding & jnp.all(N > -tol, axis=1)
-    score = jnp.where(good, 10 + jnp.sum(~slip, axis=1), 0)
-    best = jnp.argmax(score)
-    N, T = N[best], T[best]
-    return N, jnp.where(slip[best], sgn[best] * mu * N, T), good[best] & (jnp.min(N) > 0.0)
 
 
 def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
@@ -260,7 +214,7 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
 def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pair_budget, *,
                     initial, max_tracts, max_pairs, loop) -> AmplitudeCycle:
     mech = mechanics(shape, mu, contacts, load, motion)
-    psi_ok = psi_a > 0.0
+    psi_ok = jnp.asarray(psi_a, float) > 0.0  # a Python number too (~ of a bool is an int)
     psi = jnp.where(psi_ok, psi_a, 1.0)  # a zero amplitude is invalid; keep everything finite
     a_dv = travel_mm(psi, load.q_star)
     travel = 2.0 * a_dv
@@ -269,11 +223,11 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
     if initial == "gross_slip" and motion is None:
         N0, T0, ok0 = gross_slip_state(shape, mech.mu)
     elif initial == "gross_slip":
-        N0, T0, ok0, reached = gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop)
+        N0, T0, ok0, reached = gross_slip_from_assembly(mech, max_tracts=max_tracts, loop=loop)
         unreachable = ok0 & ~reached
         ok0 = ok0 & reached
     elif initial == "assembly":
-        N0, T0, ok0 = assembly_state(shape, mech.mu, contacts, load)
+        N0, T0, ok0 = assemble_in_phase(mech)
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
         ok0 = jnp.min(N0) > 0.0
@@ -333,13 +287,11 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
     liftoff = (pre_lift & ~singular0 & ~unreachable) | jnp.any(halves == RESULTS.liftoff)
     failed = singular0 | pre_fail | jnp.any(halves == RESULTS.singular)
     slid = jnp.sum(jnp.abs(fwd.dslip) * fwd.dv[:, None]) + jnp.sum(jnp.abs(bwd.dslip) * bwd.dv[:, None])
-    status = jnp.zeros((), jnp.int32)
-    status = RESULTS.promote(status, above_validated_range(mech.kn, mech.kt), RESULTS.ill_conditioned)
-    status = RESULTS.promote(status, unreachable & ~singular0, RESULTS.unreachable)
-    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, failed | ~psi_ok, RESULTS.singular)
-    status = RESULTS.promote(status, ~closed, RESULTS.not_converged)
-    status = RESULTS.promote(status, slid <= TRAVEL_TOL * travel, RESULTS.shakedown)
+    status = RESULTS.first({RESULTS.ill_conditioned: above_validated_range(mech.kn, mech.kt),
+                            RESULTS.unreachable: unreachable & ~singular0,
+                            RESULTS.liftoff: liftoff, RESULTS.singular: failed | ~psi_ok,
+                            RESULTS.not_converged: ~closed,
+                            RESULTS.shakedown: slid <= TRAVEL_TOL * travel})
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
@@ -347,25 +299,10 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
                           gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"], motion)
 
 
-def gross_slip_on_path(mech, shape, contacts, load, max_tracts, loop):
-    """(N, T, assembled, reached) at the top of a straight path in gross slip: from assembly, the
-    platforms move up the path (s increasing) until every pad that can slip does (zero force
-    rates); the forces then stay as they are up to the top, from where the forward half starts.
-    assembled: F_D is held at assembly; reached: the move got to gross slip (on a path that turns
-    the platforms relative to each other a pad may open first: then there is no such state)."""
-    Na, Ta, ok = assembly_state(shape, mech.mu, contacts, load)
-    Na = jnp.where(ok, Na, jnp.ones(3))  # keep the masked half finite
-    up = run_half(mech, Na, jnp.where(ok, Ta, 0.0), 1.0, max_tracts=max_tracts, loop=loop)
-    return up.N_end, up.T_end, ok, (up.status == RESULTS.ok) & up.gross_slip
-
-
-_kernel = jax.jit(amplitude_kernel, static_argnames=("initial", "max_tracts", "max_pairs", "loop"))
-
-
 @functools.cache
 def _program(initial: str, max_tracts: int, max_pairs: int):
-    """The kernel with its static options bound, as a function of arrays only (what a `runner`
-    takes: the CLI saves it, `jaxdamp.cli.exported`)."""
+    """The kernel with its static options bound, as a function of arrays only: amplitude_cycle's
+    one compiled program (a `runner` takes it as it is: the CLI saves it, `jaxdamp.cli.exported`)."""
 
     def program(shape, mu, contacts, load, psi_a, N_init, T_init, motion):
         return amplitude_kernel(shape, mu, contacts, load, psi_a, N_init, T_init, initial=initial,
@@ -437,11 +374,8 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
         if motion.quadrature is not None:
             raise ValueError("motion must be a straight path for amplitude_cycle (an elliptic one: "
                              "use jaxdamp.elliptic_cycle)")
-    if runner is not None:
-        return runner(_program(mode, max_tracts, max_pairs),
-                      (shape, mu, contacts, load, psi, N_init, T_init, motion))
-    return _kernel(shape, mu, contacts, load, psi, N_init, T_init, initial=mode,
-                   max_tracts=max_tracts, max_pairs=max_pairs, motion=motion)
+    return run_program(_program(mode, max_tracts, max_pairs),
+                       (shape, mu, contacts, load, psi, N_init, T_init, motion), runner)
 
 
 def moment_loop(ac: AmplitudeCycle):
@@ -480,19 +414,3 @@ def slip_fraction(ac: AmplitudeCycle) -> np.ndarray:
     return out / (2.0 * np.pi)
 
 
-def transitions_chart(ac: AmplitudeCycle) -> list[dict]:
-    """One row per tract of the steady cycle: half, dv_mm, the state of R1, L1, L2, and
-    stretch=True for a constant-force gross-slip stretch (like `cycle.transitions_chart`)."""
-
-    names = ["0"] + [chr(ord("A") + i) for i in range(2 * MAX_TRACTS + 1)]
-    rows, k = [], 0
-    for label, half in (("forward", ac.forward), ("backward", ac.backward)):
-        active = np.asarray(half.active)
-        for i in np.nonzero(active)[0]:
-            row = dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(half.dv[i]),
-                       **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, np.asarray(half.state[i]))})
-            if bool(half.stretch[i]):
-                row["stretch"] = True
-            rows.append(row)
-            k += 1
-    return rows

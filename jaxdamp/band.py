@@ -62,9 +62,14 @@ class Band(NamedTuple):
     bounds: np.ndarray  # (4,) k_re_min, k_re_max, k_im_min, k_im_max (zero where status is not ok)
     N: np.ndarray  # (4, 3) initial normal forces attaining each bound (units of F_D)
     T: np.ndarray  # (4, 3) initial tangential forces
+    # Masks (docs/api.md, "Statuses and masks"): which bounds the optimiser improved beyond the
+    # samples, and which a plain cycle from their state confirmed; the status says whether the
+    # numbers hold.
     refined: np.ndarray  # (4,) bool: the bound was improved by the optimiser beyond the samples
     n_valid: int  # valid cycles among the samples
-    status: int  # RESULTS.ok if any admissible state gives a valid cycle, else the first problem
+    # RESULTS.ok if an admissible state gives a valid cycle and every bound is confirmed;
+    # not_converged where a bound is not confirmed; else the first real state's problem
+    status: int
     confirmed: np.ndarray = None  # (4,) bool: each state re-run as a plain cycle gives its bound
 
     def as_dict(self) -> dict:
@@ -313,6 +318,9 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
     first_bad = status[jnp.argmax(real)]
     band_status = jnp.where(any_valid, RESULTS.ok, jnp.where(jnp.any(real), first_bad,
                                                              RESULTS.singular))
+    # A bound whose state, re-run as a plain cycle, does not give it is not to be trusted.
+    band_status = RESULTS.first({RESULTS.not_converged: any_valid & ~jnp.all(confirmed)},
+                                band_status)
     zero = lambda v: jnp.where(any_valid, v, jnp.zeros_like(v))  # noqa: E731
     return BandKernel(zero(bounds), zero(T_at @ P.T + n0[None, :]), zero(T_at), refined & any_valid,
                       confirmed & any_valid, jnp.sum(valid).astype(jnp.int32),
@@ -342,11 +350,11 @@ def amplitude_bands(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
     (`bands_program`; on the CPU in chunks of CPU_CHUNK run on the cores' threads). runner(program,
     args) -> outputs runs it instead of a plain call (the CLI's saved programs; from threads)."""
     design = prepare_inputs(shape, mu, contacts, load)
-    return amplitude_bands_kernel(*design, psi_a_mrad, n_samples=n_samples, refine=refine,
+    return amplitude_bands_unchecked(*design, psi_a_mrad, n_samples=n_samples, refine=refine,
                                   steps=steps, starts=starts, seed=seed, runner=runner)
 
 
-def amplitude_bands_kernel(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad,
+def amplitude_bands_unchecked(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, psi_a_mrad,
                            *, n_samples: int = 64, refine: bool = True, steps: int = 6,
                            starts: int = 2, seed: int = 0, runner=None) -> list:
     """`amplitude_bands` on a design prepared already (`params.prepare_inputs`, or a
@@ -388,7 +396,7 @@ def _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, see
 def compile_bands_ahead(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, n_psi: int, *,
                         n_samples: int = 64, refine: bool = True, steps: int = 6, starts: int = 2,
                         seed: int = 0, runner=None) -> None:
-    """`runtime.compile_ahead` of the program `amplitude_bands_kernel` runs for n_psi amplitudes
+    """`runtime.compile_ahead` of the program `amplitude_bands_unchecked` runs for n_psi amplitudes
     with these options: for a caller whose amplitude grid waits on another result (`peak_band`'s
     on psi_BC). The counts are checked first: nothing compiles for options the call refuses."""
     check_band_options(n_samples, steps, starts)
@@ -398,9 +406,13 @@ def compile_bands_ahead(shape: DamperShape, mu, contacts: Contacts, load: LoadCa
 
 def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                    load: LoadCase = LoadCase(), *, n_samples: int = 64, refine: bool = True,
-                   steps: int = 6, starts: int = 2, seed: int = 0) -> Band:
+                   steps: int = 6, starts: int = 2, seed: int = 0, runner=None):
     """min / max of k_Re and k_Im (N mm/mrad) at psi_a (mrad) over the statically admissible
     initial states at the forward extreme, with the states that attain them.
+
+    psi_a_mrad: one amplitude (a `Band`), or a 1-D grid of them (a list of `Band`s, one per
+    amplitude, through one batched program: `amplitude_bands`). runner(program, args) -> outputs
+    runs that program instead of a plain call (the CLI's saved programs).
 
     The polytope's vertices and n_samples random admissible states (sparse random combinations of the
     vertices) are run as cycles (vmap); the best sample of each bound then starts `steps`
@@ -409,14 +421,14 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
     state is re-run as a plain cycle (`Band.confirmed`). refine=False: the samples only. States
     giving liftoff or no periodic cycle are left out; if none is valid the status says why.
     """
-    if np.ndim(psi_a_mrad) != 0:
-        raise ValueError("psi_a_mrad must be one amplitude (amplitude_bands takes a grid); got shape "
-                         f"{np.shape(psi_a_mrad)}")
-    return amplitude_bands(shape, mu, [psi_a_mrad], contacts, load, n_samples=n_samples,
-                           refine=refine, steps=steps, starts=starts, seed=seed)[0]
+    one = np.ndim(psi_a_mrad) == 0
+    bands = amplitude_bands(shape, mu, [psi_a_mrad] if one else psi_a_mrad, contacts, load,
+                            n_samples=n_samples, refine=refine, steps=steps, starts=starts,
+                            seed=seed, runner=runner)
+    return bands[0] if one else bands
 
 
-__all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_kernel",
+__all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_unchecked",
            "compile_bands_ahead", "check_band_amplitudes", "check_band_options",
            "band_kernel", "bands_program", "CONFIRM_TOL",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

@@ -23,7 +23,7 @@ from .runtime import batch_jit, map_in_parts, padded_size, run_program
 from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
-__all__ = ["StiffnessCurves", "amplitude_curves", "curves_kernel", "prepare_curves_inputs",
+__all__ = ["StiffnessCurves", "cycle_curves", "curves_kernel", "prepare_curves_inputs",
            "batch_size", "broadcast_designs", "flat_cycles", "stretched_curves", "padded_index",
            "STRETCH_MARGIN", "FLAT_CPU_CHUNK"]
 
@@ -201,11 +201,12 @@ def prepare_curves_inputs(shapes, mu, contacts, load, psi_a_mrad, initial, stack
     return broadcast_designs(args, size, np), np.broadcast_to(psi, (size, psi.shape[-1]))
 
 
-def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
-                     load: LoadCase = LoadCase(), *, initial="gross_slip",
-                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
-                     runner=None) -> StiffnessCurves:
-    """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
+def cycle_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                 load: LoadCase = LoadCase(), *, initial="gross_slip",
+                 max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
+                 runner=None) -> StiffnessCurves:
+    """`jaxdamp.amplitude_curves` by one steady cycle per (design, amplitude) (method "cycles"):
+    k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
     batched call. shapes / mu / contacts / load: every leaf with a leading design axis or a scalar
     shared by all (as `cycle.base_cycles`; a per-contact (3,) stiffness of a batch of 3 designs is
     read as one value per design). psi_a_mrad: (amplitudes,) shared or (designs, amplitudes), > 0.

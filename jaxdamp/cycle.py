@@ -7,17 +7,15 @@ the periodic cycle is a bounded loop over (forward, backward) pairs until the en
 
 from __future__ import annotations
 
-import string
 from functools import partial
 from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
-import numpy as np
 
 from .design import Design, as_design
-from .geometry import CONTACT_NAMES, DamperShape
-from .status import RESULTS, number_repr, ok_status, status_repr
+from .geometry import DamperShape
+from .status import RESULTS, number_repr, status_repr
 from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
@@ -25,10 +23,7 @@ from .linalg import vecmat
 from .half import Half, accelerate, empty_half, run_half
 from .loops import repeat_until, run_by_loop, tree_where
 from .motion import pad_motion
-from .tract import STATE_NAMES, Mechanics, make_mechanics
-
-# One type for every half since the tract engine (jaxdamp.half); the old name stays for callers.
-HalfCycle = Half
+from .tract import Mechanics, make_mechanics
 
 MAX_TRACTS = 6  # per half-cycle; the paper's cases need at most 4, random designs at most 5
 MAX_PAIRS = 4  # forward+backward iterations: 1 usually; frozen mechanisms need 3 with Aitken
@@ -105,7 +100,11 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     else:
         fwd, bwd, conv, nhalf = _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop)
     halves = jnp.stack([fwd.status, bwd.status])
-    liftoff = (liftoff0 & ~singular0) | jnp.any(halves == RESULTS.liftoff)
+    # A pair runs both halves: a backward half that continues from a failed forward one may lift
+    # off spuriously, so its liftoff counts only after a forward half that finished (the two-stage
+    # batch reruns `singular` and keeps `liftoff`).
+    liftoff = ((liftoff0 & ~singular0) | (fwd.status == RESULTS.liftoff)
+               | ((bwd.status == RESULTS.liftoff) & (fwd.status != RESULTS.singular)))
     failed = singular0 | (~liftoff0 & jnp.any(halves == RESULTS.singular))
     converged = conv & ~liftoff
     residual = jnp.maximum(equilibrium_residual(mech, fwd), equilibrium_residual(mech, bwd))
@@ -114,12 +113,8 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
     rigid = ~liftoff & (jnp.maximum(fwd.span, bwd.span) <= 0.0)
     ill = ~liftoff0 & ((residual > EQUILIBRIUM_TOL) | rigid)
     ill = ill | above_validated_range(mech.kn, mech.kt)
-    # A failed half-cycle comes before liftoff: a half that continues from an unfinished one may
-    # lift off spuriously (so the two-stage batch reruns `singular`, and keeps `liftoff`).
-    status = RESULTS.promote(ok_status(), ill, RESULTS.ill_conditioned)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
-    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, ~converged, RESULTS.not_converged)
+    status = RESULTS.first({RESULTS.ill_conditioned: ill, RESULTS.liftoff: liftoff,
+                            RESULTS.singular: failed, RESULTS.not_converged: ~converged})
     return BaseCycle(shape, mech.mu, contacts, load, fwd, bwd, nhalf, status)
 
 
@@ -129,7 +124,7 @@ def _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop):
     # One loop over half-cycles (forward, backward, forward, ...), so that the program holds one
     # compiled half instead of a pair's two (as the amplitude kernel does): the reverse-mode
     # program of the five numbers traced in 6 s instead of 10 and compiled in 11 s instead of
-    # 14 (the value program's compile stayed at 3.4 s; docs/performance.md). A pair always runs
+    # 14 (the value program's compile stayed at 3.4 s; docs/performance-history.md). A pair always runs
     # both halves, and the cycle stops after a backward half that closed it or after a pair with
     # a failed half.
     def next_half(c, j):
@@ -163,7 +158,7 @@ def _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop):
     """`_pairs` with max_pairs 1 (the batch's first stage, `batch.first_stage_summary`), the pair
     written out: no loop over halves, so the directions are constants and no half record is
     selected per half. The loop's form cost that stage a fifth more work per design (XLA's flops
-    27 248 -> 33 094) and its Base-Cycles/s as much (docs/performance.md); the same numbers."""
+    27 248 -> 33 094) and its Base-Cycles/s as much (docs/performance-history.md); the same numbers."""
     fwd = run_half(mech, N0, T0, -1.0, max_tracts=max_tracts, loop=loop)
     bwd = run_half(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts=max_tracts, loop=loop)
     bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
@@ -205,39 +200,6 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
     return base_cycle_kernel(*design.prepared(), max_tracts=max_tracts, max_pairs=max_pairs)
 
 
-def _letters():
-    return ["0"] + list(string.ascii_uppercase[: 26])
-
-
-def transitions_chart(bc: BaseCycle) -> list[dict]:
-    """The paper's Table 2 form: one row per tract with its contacts in stick / slip / back-slide.
-
-    Rows carry the tract name (0-A, A-B, ...), dv_mm, and a state per contact. A constant-force
-    gross-slip stretch that completes the shorter half is a row with every contact in slip
-    ('C-C′' at mid-cycle or 'F-0' at the end, as in the paper).
-    """
-    names = _letters()
-    rows, k = [], 0
-    longest = max(float(bc.forward.span), float(bc.backward.span))
-    for label, half in (("forward", bc.forward), ("backward", bc.backward)):
-        active = np.asarray(half.active)
-        states = np.asarray(half.state)
-        dvs = np.asarray(half.dv)
-        for i in np.nonzero(active)[0]:
-            rows.append(dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(dvs[i]),
-                             **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, states[i])}))
-            k += 1
-        stretch = longest - float(half.span)
-        if stretch > 1e-12 * max(longest, 1e-300):
-            end = names[k]
-            tail = "0" if label == "backward" else f"{end}\u2032"  # the paper's C′
-            rows.append(dict(half=label, tract=f"{end}-{tail}", dv_mm=stretch, stretch=True,
-                             **{c: "slip" for c in CONTACT_NAMES}))
-            if label == "forward":
-                names[k] = f"{end}\u2032"
-    return rows
-
-
-__all__ = ["MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "EQUILIBRIUM_TOL", "HalfCycle", "mechanics",
+__all__ = ["MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "EQUILIBRIUM_TOL", "mechanics",
            "BaseCycle", "base_cycle_kernel",
-           "equilibrium_residual", "base_cycle", "transitions_chart"]
+           "equilibrium_residual", "base_cycle"]

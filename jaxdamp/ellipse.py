@@ -43,7 +43,7 @@ from ._validate import check_int, check_range, check_scalar, check_values
 from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
-from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts
+from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts, to_gross_slip
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
 from .half import accelerate
@@ -55,15 +55,14 @@ from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .runtime import run_program
 from .statics import contact_columns
 from .status import RESULTS, number_repr, status_repr
-from .tract import OPEN, SLIP, STATE_NAMES
+from .tract import OPEN, SLIP
 
 MAX_TRACTS = 32  # per period: each pad may stick and slip twice per turn of the ellipse
 MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
 CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 INITIAL_STATES = ("assembly", "gross_slip")
 
-__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "sweep_program",
-           "elliptic_transitions_chart", "path_pads", "period_fourier",
+__all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "sweep_program", "path_pads", "period_fourier",
            "gross_slip_amplitude_kernel", "along_line",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
@@ -195,7 +194,7 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     along_r, along_i = path_parts(motion)
     pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
     n_pads = pads.kn.shape[0]
-    a_ok = amplitude > 0.0
+    a_ok = jnp.asarray(amplitude, float) > 0.0  # a Python number too (~ of a bool is an int)
     a = jnp.where(a_ok, amplitude, 1.0)
     s_a = travel_mm(a, load.q_star)
     path = Ellipse(s_a)
@@ -216,9 +215,8 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         pre = to_start.status[None]
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
-        up = run_tracts(along_line(pads, 1.0), Line(), Na, Ta, 0.0, None, max_tracts=max_tracts,
-                        loop=loop)
-        reached = (up.status == RESULTS.ok) & up.gross_slip
+        up, reached = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,
+                                    loop=loop)
         unreachable = ok0 & ~reached
         ok0 = ok0 & reached
         N0, T0 = up.N_end, up.T_end
@@ -267,20 +265,16 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     # No consistent state set at assembly (open pads included): nothing holds the damper.
     unseated = jnp.any(runs == RESULTS.unseated) | (~ok0 & ~unreachable & (initial != "explicit"))
     failed = jnp.any(runs == RESULTS.singular) | ~a_ok
-    status = jnp.zeros((), jnp.int32)
-    status = RESULTS.promote(status, above_validated_range(pads.kn * load.F_D, pads.kt * load.F_D),
-                             RESULTS.ill_conditioned)
-    status = RESULTS.promote(status, unreachable, RESULTS.unreachable)
-    status = RESULTS.promote(status, liftoff, RESULTS.liftoff)
-    status = RESULTS.promote(status, unseated, RESULTS.unseated)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
-    status = RESULTS.promote(status, ~end["closed"], RESULTS.not_converged)
     # Elastic (shakedown) where the pads' sliding over the period is rounding: bounded by
     # sum dtau s_a (|dslip_r| + |dslip_i|) against the path's length 2 pi s_a (the straight
     # engine's rule, TRAVEL_TOL of the travel).
     slid = jnp.sum(jnp.where(arc.active[:, None], arc.dp[:, None]
                              * (jnp.abs(arc.dslip[:, 0]) + jnp.abs(arc.dslip[:, 1])), 0.0))
-    status = RESULTS.promote(status, slid <= TRAVEL_TOL * two_pi, RESULTS.shakedown)
+    status = RESULTS.first({
+        RESULTS.ill_conditioned: above_validated_range(pads.kn * load.F_D, pads.kt * load.F_D),
+        RESULTS.unreachable: unreachable, RESULTS.liftoff: liftoff, RESULTS.unseated: unseated,
+        RESULTS.singular: failed, RESULTS.not_converged: ~end["closed"],
+        RESULTS.shakedown: slid <= TRAVEL_TOL * two_pi})
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return EllipticCycle(shape, pads.mu, contacts, load, motion, jnp.asarray(amplitude, float),
@@ -298,17 +292,21 @@ def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,
     Unchecked, traceable."""
     pads = path_pads(shape, mu, contacts, load, (Motion(motion.direction, motion.h_l),))
     Na, Ta, ok0 = assemble(pads, CENTRIFUGAL_LOAD)
-    Na = jnp.where(ok0, Na, jnp.ones_like(Na))  # keep the masked run finite
-    Ta = jnp.where(ok0, Ta, 0.0)
-    up = run_tracts(pads, Line(), Na, Ta, 0.0, None, max_tracts=max_tracts, loop=loop)
+    up, reached = to_gross_slip(pads, Na, Ta, ok0, max_tracts=max_tracts, loop=loop)
     travel = jnp.sum(jnp.where(up.active, up.dp, 0.0))
-    reached = (up.status == RESULTS.ok) & up.gross_slip
-    status = RESULTS.promote(jnp.zeros((), jnp.int32), ok0 & ~reached, RESULTS.unreachable)
-    status = RESULTS.promote(status, ~ok0, RESULTS.unseated)
+    status = RESULTS.first({RESULTS.unreachable: ok0 & ~reached, RESULTS.unseated: ~ok0})
     return travel * MRAD_PER_RAD / load.q_star, status
 
 
-_kernel = jax.jit(elliptic_kernel, static_argnames=("initial", "max_tracts", "max_periods", "loop"))
+@functools.cache
+def _program(initial: str, max_tracts: int, max_periods: int):
+    """elliptic_cycle's one compiled program: the kernel with its static options bound."""
+
+    def program(shape, mu, contacts, load, amplitude, motion, N_init, T_init):
+        return elliptic_kernel(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
+                               initial=initial, max_tracts=max_tracts, max_periods=max_periods)
+
+    return jax.jit(program)
 
 
 def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
@@ -362,8 +360,8 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
             raise ValueError("initial (N, T) must be admissible: in equilibrium with F_D (residual "
                              "<= 1e-6 F_D), N >= 0 and |T| <= mu N")
         mode = "explicit"
-    return _kernel(shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion, N_init,
-                   T_init, initial=mode, max_tracts=max_tracts, max_periods=max_periods)
+    return _program(mode, max_tracts, max_periods)(
+        shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion, N_init, T_init)
 
 
 
@@ -410,20 +408,3 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     return run_program(program, args, runner)
 
 
-def elliptic_transitions_chart(ec: EllipticCycle) -> list[dict]:
-    """The contact-state chart of a steady elliptic cycle: one row per tract of its period,
-    tau_start_deg and tau_end_deg (degrees of the period) and the state of every pad
-    (`geometry.pad_names`: stick, slip or open), so that the intervals in which a pad is open
-    read off directly (like `cycle.transitions_chart`). Empty for a result without valid
-    numbers."""
-    if not bool(RESULTS.valid(ec.status)):
-        return []
-    period = ec.period
-    rows = []
-    for k in np.flatnonzero(np.asarray(period.active)):
-        t0 = float(period.p0[k])
-        rows.append(dict(tau_start_deg=float(np.rad2deg(t0)),
-                         tau_end_deg=float(np.rad2deg(t0 + float(period.dp[k]))),
-                         **{name: STATE_NAMES[int(s)] for name, s in
-                            zip(pad_names(ec.shape), np.asarray(period.state[k]))}))
-    return rows

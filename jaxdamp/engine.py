@@ -421,9 +421,8 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
 
     end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis))
     failed = end["failed"] | ~end["done"]
-    status = RESULTS.promote(jnp.zeros((), jnp.int32), end["liftoff"], RESULTS.liftoff)
-    status = RESULTS.promote(status, failed & end["unseated"], RESULTS.unseated)
-    status = RESULTS.promote(status, failed, RESULTS.singular)
+    status = RESULTS.first({RESULTS.liftoff: end["liftoff"], RESULTS.unseated: failed & end["unseated"],
+                            RESULTS.singular: failed})
     return Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"], gross_slip=end["gross"],
                   gross_dslip=end["gross_dslip"], status=status)
 
@@ -436,5 +435,18 @@ def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
                   gross_dslip=jnp.zeros((n_basis, n_pads)), status=jnp.zeros((), jnp.int32))
 
 
+def to_gross_slip(pads: Pads, N, T, start_ok, *, max_tracts: int, loop: str = "scan",
+                  closed: Mechanics | None = None):
+    """(run, reached): the one move to gross slip, a straight run along the pads' one direction
+    (B = 1) from (N, T) until every pad that can slip does (`run` with no end: the gross-slip
+    history's move from assembly); reached: it got there (ok, gross slip; a pad that opens or
+    lifts off first leaves no gross-slip state). Where start_ok is False the start is masked
+    (N = 1, T = 0), which keeps the masked run finite. closed: as `run`'s."""
+    N = jnp.where(start_ok, N, jnp.ones_like(N))
+    T = jnp.where(start_ok, T, 0.0)
+    up = run(pads, Line(), N, T, 0.0, None, max_tracts=max_tracts, loop=loop, closed=closed)
+    return up, (up.status == RESULTS.ok) & up.gross_slip
+
+
 __all__ = ["Pads", "Rates", "Choice", "Tracts", "candidate_table", "choose", "choose_closed",
-           "assemble", "run", "empty_tracts", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]
+           "assemble", "run", "to_gross_slip", "empty_tracts", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

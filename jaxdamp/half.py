@@ -20,7 +20,8 @@ from typing import NamedTuple
 
 import jax.numpy as jnp
 
-from .engine import Pads, Tracts, empty_tracts
+from .conventions import CENTRIFUGAL_LOAD
+from .engine import Pads, Tracts, assemble, empty_tracts, to_gross_slip
 from .engine import run as run_tracts
 from .paths import Line
 from .status import number_repr, status_repr
@@ -77,6 +78,32 @@ def empty_half(max_tracts: int) -> Half:
     return _as_half(empty, empty.state)
 
 
+def _pads(mech: Mechanics, moving: Mechanics) -> Pads:
+    """The engine's pad constants of the in-phase pads, moving as `moving` says (`tract.along`)."""
+    return Pads(mech.a, mech.c, mech.kn, mech.kt, mech.mu, moving.nw[None], moving.tw[None])
+
+
+def assemble_in_phase(mech: Mechanics):
+    """(N, T, ok): the forces after F_D is applied from zero with the platforms held, by the
+    engine's one assembly (`engine.assemble`). The in-phase model's three pads may not open: a
+    state with an open pad or a normal force at zero is not ok (the cycle's liftoff). Unchecked,
+    traceable."""
+    N, T, consistent = assemble(_pads(mech, mech), CENTRIFUGAL_LOAD)
+    return N, T, consistent & (jnp.min(N) > 0.0)
+
+
+def gross_slip_from_assembly(mech: Mechanics, *, max_tracts: int, loop: str = "scan"):
+    """(N, T, assembled, reached) at the end of the gross-slip history's move in phase: from
+    assembly (`assemble_in_phase`) the platforms move up (dv increasing) until every pad slips
+    (`engine.to_gross_slip`). assembled: F_D is held at assembly; reached: the move got to gross
+    slip. Unchecked, traceable."""
+    Na, Ta, assembled = assemble_in_phase(mech)
+    moving = along(mech, 1.0)
+    up, reached = to_gross_slip(_pads(mech, moving), Na, Ta, assembled, max_tracts=max_tracts,
+                                loop=loop, closed=moving)
+    return up.N_end, up.T_end, assembled, reached
+
+
 def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
              loop: str = "scan") -> Half:
     """Tracts from a reversal at (N, T) (units of F_D) with the platforms moving in `direction`
@@ -87,8 +114,7 @@ def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
     the half is done (the same numbers; values and forward mode only). Unchecked, traceable.
     """
     moving = along(mech, direction)
-    pads = Pads(mech.a, mech.c, mech.kn, mech.kt, mech.mu, moving.nw[None], moving.tw[None])
-    tr = run_tracts(pads, Line(), N, T, 0.0, travel, max_tracts=max_tracts, loop=loop,
+    tr = run_tracts(_pads(mech, moving), Line(), N, T, 0.0, travel, max_tracts=max_tracts, loop=loop,
                     closed=moving)
     # Back-slide (Appendix A): a contact still sliding on the limit line it had at the reversal,
     # tract after tract (named here: the engine's states are stick, slip and open).

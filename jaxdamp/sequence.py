@@ -5,9 +5,9 @@ included) each tract's length is a closed-form event or the travel budget, and e
 linearly with travel, so the steady cycle's corners (the tract lengths dv and the platform moments
 M0 at the tract starts; the moment rates dM are constant) are affine in psi_a on an interval of
 amplitudes. k_Re and k_Im there are the first harmonic of a piecewise-linear loop whose corners
-move linearly: a closed form of psi_a (`fourier.half_fourier`). benchmarks/sequence_hypothesis.py
-measures it (second differences of the corners ~1e-15 of their scale within an interval of equal
-sequence).
+move linearly: a closed form of psi_a (`fourier.half_fourier`). Measured by a one-off script
+(benchmarks/sequence_hypothesis.py, last in fc93a89; benchmarks/results/sequence_hypothesis.json):
+second differences of the corners ~1e-15 of their scale within an interval of equal sequence.
 
 `stiffness_curve` builds the curve of a batch of designs and one history from a few exact cycles
 (probes), each with its derivative in psi_a by forward mode (`jax.jvp` through the per-amplitude
@@ -36,10 +36,10 @@ import jax.numpy as jnp
 import numpy as np
 
 from .amplitude import INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, amplitude_kernel
-from .curves import (StiffnessCurves, flat_cycles, padded_index, prepare_curves_inputs,
-                     stretched_curves)
+from .curves import (StiffnessCurves, cycle_curves, flat_cycles, padded_index,
+                     prepare_curves_inputs, stretched_curves)
 from ._validate import check_int, check_range, require_x64
-from .geometry import validate_shape
+from .geometry import DamperShape, validate_shape
 from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
 from .conventions import travel_mm
 from .fourier import half_fourier
@@ -48,8 +48,8 @@ from .runtime import batch_jit
 from .status import RESULTS, number_repr, status_repr
 from .tract import NO_EVENT
 
-__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "stiffness_curve_kernel",
-           "sequence_curves", "curve_at", "loop_stiffness", "corner_rows",
+__all__ = ["StiffnessCurve", "CurvePoint", "stiffness_curve", "stiffness_curve_unchecked",
+           "amplitude_curves", "CURVE_METHODS", "sequence_curves", "curve_at", "loop_stiffness", "corner_rows",
            "probe_kernel", "refit_kernel", "SAME_TOL", "MAX_ROUNDS"]
 
 SAME_TOL = 1e-10  # k (relative to the larger |k| of two probes) within which two models agree
@@ -236,7 +236,7 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
     count).
 
     Every input is checked here (ValueError naming the parameter and its range; Float64Required
-    in float32); `stiffness_curve_kernel` takes inputs checked already."""
+    in float32); `stiffness_curve_unchecked` takes inputs checked already."""
     require_x64()
     if initial not in INITIAL_STATES + ("explicit",):
         raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}, explicit; "
@@ -258,14 +258,14 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
     check_int("n_probes", n_probes, 1)
     check_int("max_rounds", max_rounds, 0)
     check_int("max_probes", max_probes, 2)
-    return stiffness_curve_kernel(designs, psi_lo, psi_hi, grid=grid, initial=initial,
+    return stiffness_curve_unchecked(designs, psi_lo, psi_hi, grid=grid, initial=initial,
                                   N_init=N_init, T_init=T_init, n_probes=n_probes,
                                   max_rounds=max_rounds, max_probes=max_probes,
                                   max_tracts=max_tracts, max_pairs=max_pairs)
 
 
 class _Prober(NamedTuple):
-    """The batched probes of one `stiffness_curve_kernel` call: the designs (numpy, leading design
+    """The batched probes of one `stiffness_curve_unchecked` call: the designs (numpy, leading design
     axis), their start states and q*, and the cycle options."""
 
     designs: tuple
@@ -299,7 +299,7 @@ class _Prober(NamedTuple):
         return np.asarray(k_re)[: which.size], np.asarray(k_im)[: which.size]
 
 
-def stiffness_curve_kernel(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gross_slip",
+def stiffness_curve_unchecked(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gross_slip",
                            N_init=None, T_init=None, n_probes: int = 5,
                            max_rounds: int = MAX_ROUNDS, max_probes: int = 64,
                            max_tracts: int = MAX_TRACTS,
@@ -498,6 +498,35 @@ def _evaluate(cur: StiffnessCurve, grid):
     return curve_at(cur, grid), j
 
 
+CURVE_METHODS = ("cycles", "sequence")
+
+
+def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contacts(),
+                     load: LoadCase = LoadCase(), *, method: str = "cycles", initial="gross_slip",
+                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS, runner=None,
+                     n_probes: int = 5) -> StiffnessCurves:
+    """k_Re, k_Im (N mm/mrad) of the steady cycles of many designs over an amplitude grid, in one
+    batched call: StiffnessCurves with (designs, amplitudes) arrays. shapes / mu / contacts /
+    load: every leaf with a leading design axis or a scalar shared by all; psi_a_mrad:
+    (amplitudes,) shared or (designs, amplitudes), > 0; initial: "gross_slip" or "assembly".
+
+    method: "cycles" (default) runs a steady cycle per (design, amplitude) by the direct method
+    (`curves.cycle_curves`; traced inputs run `curves_kernel`; runner: the CLI's saved programs);
+    "sequence" builds each design's piecewise closed form from n_probes exact cycles and reads k
+    off it (`sequence_curves`: the same numbers to ~1e-12 of the k scale, fewer cycles on a fine
+    grid; concrete inputs only)."""
+    if method not in CURVE_METHODS:
+        raise ValueError(f"method must be one of {', '.join(CURVE_METHODS)}; got {method!r}")
+    if method == "sequence":
+        if runner is not None:
+            raise ValueError("runner: method 'sequence' runs host-driven rounds, not one program "
+                             "(give runner=None, or method='cycles')")
+        return sequence_curves(shapes, mu, psi_a_mrad, contacts, load, initial=initial,
+                               max_tracts=max_tracts, max_pairs=max_pairs, n_probes=n_probes)
+    return cycle_curves(shapes, mu, psi_a_mrad, contacts, load, initial=initial,
+                        max_tracts=max_tracts, max_pairs=max_pairs, runner=runner)
+
+
 def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
                     load: LoadCase = LoadCase(), *, initial="gross_slip",
                     max_tracts: int = MAX_TRACTS, max_pairs: int = MAX_PAIRS,
@@ -525,7 +554,7 @@ def sequence_curves(shapes, mu, psi_a_mrad, contacts: Contacts = Contacts(),
         last = np.maximum(np.sum(~use_s, axis=1) - 1, 0)
         cap = np.take_along_axis(grid, last[:, None], axis=1)
         grid = np.where(use_s, cap, grid)
-    cur = stiffness_curve_kernel(designs, grid=grid, initial=initial, n_probes=n_probes,
+    cur = stiffness_curve_unchecked(designs, grid=grid, initial=initial, n_probes=n_probes,
                                  max_tracts=max_tracts, max_pairs=max_pairs)
     pt, j = _evaluate(cur, jnp.asarray(grid))
     pairs = np.take_along_axis(np.asarray(cur.pairs), np.asarray(j), axis=1)

@@ -104,31 +104,19 @@ def _rates(mech: Mechanics, m, signs, y, ok, direction) -> TractRates:
 
 
 def _slip_system(mech: Mechanics, signs, direction):
-    """A = I - W and g of the reduced system A_SS y_S = g_S (see `tract_rates`)."""
+    """A = I - W and g of the reduced system A_SS y_S = g_S of a slipping set S.
+
+    With S, K_S = K0 - C_S U_S^T, so dq = dq0 + Z_S y_S with (I - W_SS) y_S = g_S,
+    W_ij = u_i . z_j and g_i = u_i . dq0 - (rhs change)_i (`candidate_rates` solves it for every
+    S in closed form)."""
     smu_kn = signs * mech.mu * mech.kn
     W = mech.kt[:, None] * mech.P + smu_kn[:, None] * mech.Q
     g = direction * (mech.kt * mech.gt0 + smu_kn * mech.gn0)
     return jnp.eye(3) - W, g
 
 
-def tract_rates(mech: Mechanics, slipping, signs, direction) -> TractRates:
-    """Solve one tract's incremental equilibrium for fixed contact states.
-
-    slipping: (3,) bool; signs: (3,) friction direction s_i (T = s_i mu N) of slipping contacts;
-    direction: +1 when dv increases, -1 when it decreases.
-
-    With the slipping set S, K_S = K0 - C_S U_S^T, so dq = dq0 + Z_S y_S with
-    (I - W_SS) y_S = g_S, W_ij = u_i . z_j and g_i = u_i . dq0 - (rhs change)_i; rows of stick
-    contacts are the identity, so one 3x3 solve covers every S and y vanishes off S.
-    """
-    m = slipping.astype(float)
-    A, g = _slip_system(mech, signs, direction)
-    y, ok = solve3(jnp.eye(3) + m[:, None] * m[None, :] * (A - jnp.eye(3)), m * g)
-    return _rates(mech, m, signs, y, ok, direction)
-
-
 def plain_tract_rates(mech: Mechanics, slipping, signs, direction, solve=solve3) -> TractRates:
-    """`tract_rates` without the reduction: K_S and its load built contact by contact (the module
+    """One state set's rates without the reduction: K_S and its load built contact by contact (the module
     docstring's equations) and solved by `solve(K, rhs) -> (x, ok)`. The reference that the reduced
     solve is tested against (tests/test_tract.py) and benchmarked against (benchmarks/bench_core.py).
     """
@@ -183,11 +171,12 @@ def _slip_solutions(A, g, rel_tol=1e-12):
 
 
 def candidate_rates(mech: Mechanics, signs, direction) -> TractRates:
-    """`tract_rates` of all 8 candidate state sets at once (leading axis in `CANDIDATE_SETS` order)."""
+    """The rates of all 8 candidate state sets at once (leading axis in `CANDIDATE_SETS` order),
+    by the all-stick reduction (`_slip_system`): the engine's fast path for three closed pads."""
     A, g = _slip_system(mech, signs, direction)
     y, ok = _slip_solutions(A, g)
     return _rates(mech, CANDIDATE_SETS.astype(float), signs, y, ok, direction)
 
 
 __all__ = ["STATE_NAMES", "CANDIDATE_SETS", "LIMIT_TOL", "RATE_TOL", "NO_EVENT", "Mechanics",
-           "make_mechanics", "along", "TractRates", "tract_rates", "plain_tract_rates", "candidate_rates"]
+           "make_mechanics", "along", "TractRates", "plain_tract_rates", "candidate_rates"]

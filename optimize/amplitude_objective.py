@@ -13,8 +13,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from jaxdamp import (RESULTS, Contacts, LoadCase, amplitude_band, amplitude_kernel, check_design,
-                     validate_mu)
+from jaxdamp import RESULTS, Contacts, LoadCase, amplitude_band, amplitude_kernel, check_design
+from jaxdamp.blocks import validate_mu
 
 
 def k_im_at_amplitude(shape, mus, psi_a_mrad, contacts=Contacts(), load=LoadCase(), *,

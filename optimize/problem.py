@@ -17,7 +17,8 @@ import numpy as np
 
 from jaxdamp import (REFERENCE_KN, REFERENCE_KT, Contacts, Design, LoadCase, base_cycle_kernel,
                      five_numbers, full_slip_work_shape_factors, map_batched, statics_kernel)
-from jaxdamp import RESULTS, check_design, family_shape, validate_contacts, validate_mu
+from jaxdamp import RESULTS, check_design, family_shape
+from jaxdamp.blocks import validate_contacts, validate_mu
 
 from .constraints import Margins, margins
 from .design import DesignSpace, design_from_vector, design_space, embed, free_columns, from_unit

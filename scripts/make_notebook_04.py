@@ -127,7 +127,7 @@ A k(ψ_a) curve below ψ_BC costs one steady cycle per amplitude; above ψ_BC it
 Base-Cycle's closed form. The tract-sequence structure (the loop's corners are affine in ψ_a and in
 the initial state for a fixed sequence of tracts) gives the curve as pieces from a few probes
 (`jaxdamp.stiffness_curve`) and the band over histories as a small quadratic program per sequence
-(`jaxdamp.amplitude_bands`). The numbers below are read from the committed benchmark results:
+(`jaxdamp.amplitude_band` on a grid). The numbers below are read from the committed benchmark results:
 `curve_costs.json` says which part of job 2's curve costs what, `band_sequence.json` how the band
 compares with 10⁴ random admissible states and what it costs."""),
     new_code_cell("""\

@@ -8,8 +8,10 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.amplitude import (amplitude_cycle, assembly_state, check_admissible,
-                               gross_slip_state, moment_loop, transitions_chart)
+from jaxdamp.amplitude import amplitude_cycle, check_admissible, gross_slip_state, moment_loop
+from jaxdamp.cycle import mechanics
+from jaxdamp.half import assemble_in_phase
+from jaxdamp.charts import transitions_chart
 from jaxdamp.baselines import hbm_aft
 from jaxdamp.status import RESULTS
 from jaxdamp.baselines.timemarch import assemble, march_amplitude, march_model
@@ -134,12 +136,18 @@ def test_agrees_with_time_marcher(name, mu, regime, initial, steps, tol):
                          atol=10 * tol * scale * psi**2 * 1e-3)
 
 
+def _assembly_state(shape, mu):
+    """(N, T, ok) after F_D from zero, the platforms held: the engine's assembly of the pads."""
+    args = jd.params.prepare_inputs(shape, mu, CONTACTS, jd.LoadCase())
+    return assemble_in_phase(mechanics(*args))
+
+
 def test_explicit_state_agrees_with_time_marcher():
     """An explicit admissible state (the mid-cycle full slip of the other direction, tilted inside
     the cone) run by both methods."""
     shape, mu, psi = jd.family_shape("60sym"), 0.5, 1.0
     N0, T0, _ = gross_slip_state(shape, mu)
-    Na, Ta, _ = assembly_state(shape, mu, CONTACTS, jd.LoadCase())
+    Na, Ta, _ = _assembly_state(shape, mu)
     N, T = 0.5 * (N0 + Na), 0.5 * (T0 + Ta)  # the admissible set is convex
     ac = amplitude_cycle(shape, mu, psi, CONTACTS, initial=(N, T))
     tm = march_amplitude(shape, mu, psi, CONTACTS, initial=(N, T), n_steps=4000, max_pairs=4)
@@ -153,7 +161,7 @@ def test_assembly_state_matches_marcher_load_steps():
     mapping (16 steps), including a design whose all-stick friction demand exceeds mu at a contact."""
     for shape, mu in ((jd.family_shape("60sym"), 0.5), (jd.family_shape("74R"), 0.2),
                       (jd.family_shape("90R"), 0.3)):
-        N, T, ok = assembly_state(shape, mu, CONTACTS, jd.LoadCase())
+        N, T, ok = _assembly_state(shape, mu)
         args = jd.params.prepare_inputs(shape, mu, CONTACTS, jd.LoadCase())
         m, _ = march_model(*args)
         _, s, conv = assemble(m, 16)
@@ -216,7 +224,7 @@ def test_curves_match_single_cycles():
     shapes = jd.DamperShape(rng.uniform(50, 75, 4), rng.uniform(50, 75, 4), rng.uniform(0.0, 0.15, 4))
     mu = rng.uniform(0.3, 0.7, 4)
     psi = np.array([0.3, 1.1, 2.5, 7.0])
-    cv = jd.curves.amplitude_curves(shapes, mu, psi, CONTACTS, initial="assembly")
+    cv = jd.curves.cycle_curves(shapes, mu, psi, CONTACTS, initial="assembly")
     assert cv.k_re.shape == (4, 4)
     for d in range(4):
         for j in (1, 3):

@@ -250,8 +250,8 @@ except jd.Float64Required as exc:
 
 # The public surfaces other layers on top may use: the package's top level and its public
 # subpackages. optimize/ and benchmarks/ use only these (docs/architecture.md).
-PUBLIC = {"jaxdamp", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting", "jaxdamp.cli",
-          "jaxdamp.modal_file"}
+PUBLIC = {"jaxdamp", "jaxdamp.blocks", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting",
+          "jaxdamp.cli", "jaxdamp.modal_file"}
 # Benchmarks that measure an internal choice import the module that makes it: the solve forms
 # (linalg, tract, cycle, and engine, whose `candidate_rates` bench_core.py swaps for the variants
 # it times), the compiler options (runtime), the two-stage batching (batch) and the Jacobian

@@ -24,7 +24,7 @@ def test_polytope_vertices_are_admissible_and_include_full_slip():
         assert float(res) < 1e-12 and float(cone) < 1e-12 and float(n_min) > -1e-12
     # Both full-slip states of the Base-Cycle (all three contacts on their limits) are vertices.
     for signs in (jd.statics.START_FRICTION_SIGNS, -jd.statics.START_FRICTION_SIGNS):
-        st = jd.full_slip_state(shape, mu, signs)
+        st = jd.blocks.full_slip_state(shape, mu, signs)
         assert np.min(np.max(np.abs(V[ok] - np.asarray(st.T)), axis=1)) < 1e-12
 
 
@@ -69,7 +69,7 @@ def test_self_locked_state_keeps_the_band_open_above_psi_bc():
 
     shape, mu, psi = jd.family_shape("74R"), 0.7, 3.5
     assert float(jd.five_numbers(jd.base_cycle(shape, mu, CONTACTS)).psi_bc) < psi
-    st = jd.full_slip_state(shape, mu, jnp.array([1.0, 1.0, -1.0]))
+    st = jd.blocks.full_slip_state(shape, mu, jnp.array([1.0, 1.0, -1.0]))
     N, T = np.asarray(st.N), np.asarray(st.T)
     assert np.min(N) > 1.0 and float(check_admissible(shape, mu, N, T)[0]) < 1e-12
     ac = amplitude_cycle(shape, mu, psi, CONTACTS, initial=(N, T))
@@ -146,7 +146,7 @@ def test_band_grid_is_the_bands_one_by_one():
 
     shape, mu, grid = jd.family_shape("60sym"), 0.5, [0.8, 1.2, 1.6, 2.0]
     assert CPU_CHUNK < len(grid) < 2 * CPU_CHUNK
-    bands = jd.amplitude_bands(shape, mu, grid, CONTACTS)
+    bands = jd.amplitude_band(shape, mu, grid, CONTACTS)
     for psi, b in zip(grid, bands):
         one = amplitude_band(shape, mu, psi, CONTACTS)
         assert b.psi_a == psi and b.status == one.status

@@ -55,7 +55,7 @@ def test_family_fields_and_the_one_mode_reduction():
     """Frequencies are the first family's; the modal stiffness at the tip is omega^2 / Phi_tip^2;
     the tip force per unit excitation is 1 (the force acts at the response point)."""
     disk = LumpedDisk()
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0))
     assert family.n_blades == 24
     assert family.nodal_diameter.tolist() == list(range(13))
     for nd in (0, 3, 12):
@@ -74,7 +74,7 @@ def test_nodal_diameter_zero_gives_the_in_phase_path():
     """Fig. 4 kinematics at phi = 0: the damper sees (0, q* theta, 0), and r is the mode's
     root rotation per tip motion (mrad/mm)."""
     disk = LumpedDisk(n_blades=6)
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0))
     scene = jd.nodal_scene(family, 0, 100.0, 10.0)
     assert scene.straight
     inphase = jd.in_phase_motion(100.0)
@@ -87,7 +87,7 @@ def test_nodal_diameter_zero_gives_the_in_phase_path():
 
 def test_other_nodal_diameters_give_the_interblade_path():
     """At phi the damper's path is interblade_motion(phi)'s direction up to scale and phase."""
-    family = jd.validate_family(modal_family(LumpedDisk(n_blades=6), 100.0, 20.0))
+    family = jd.blocks.validate_family(modal_family(LumpedDisk(n_blades=6), 100.0, 20.0))
     for e in (1, 2, 3):
         scene = jd.nodal_scene(family, e, 100.0, 10.0)
         ref = jd.interblade_motion(60.0 * e, 20.0, 100.0, 10.0)
@@ -135,7 +135,7 @@ def test_residual_is_the_sectors_flexibility_without_the_first_mode(nd):
     from jaxdamp.conventions import platform_directions
 
     disk = LumpedDisk(n_blades=6)
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
     phi = 2 * np.pi * nd / 6
     M, K = sector_matrices(disk, phi)
     lam, modes = sector_modes(disk, phi)
@@ -145,4 +145,4 @@ def test_residual_is_the_sectors_flexibility_without_the_first_mode(nd):
                  for w2 in lam[0] * (1.0 + np.array([-1e-4, 1e-4]))])
     d = np.concatenate(platform_directions(100.0, 20.0))
     assert_tree_allclose(family.platform_residual[nd], g * np.outer(d, d) + 0j, rtol=1e-6, atol=0.0)
-    assert not np.any(jd.validate_family(modal_family(disk, 100.0, 20.0)).platform_residual)
+    assert not np.any(jd.blocks.validate_family(modal_family(disk, 100.0, 20.0)).platform_residual)

@@ -63,7 +63,7 @@ def test_bare_ring_at_resonance_is_the_one_mode_closed_form():
     |F_tip| / |k_b (1 - w^2/w0^2 + i eta)| = F / (eta k_b) of the reduced one-mode blade
     (`nodal_scene`) within 1e-3 (the second family adds ~eta (w1/w2)^2 of that)."""
     disk = LumpedDisk(n_blades=6, eta=0.05)
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0))
     for e in range(4):
         scene = jd.nodal_scene(family, e, 100.0, 10.0)
         f0 = scene.mode.f0_hz

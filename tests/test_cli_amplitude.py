@@ -38,13 +38,13 @@ def test_json_contract(capsys):
 def test_an_amplitude_above_the_small_rotation_limit_warns(capsys):
     """10 rad is a number of the linearised model, not of a damper: the output says so."""
     code, out, _ = run(capsys, "amplitude", "--shape", "60sym", "--mu", "0.5", "--psi-a",
-                       f"1,{2 * jd.SMALL_ROTATION_MRAD:g}", "--json")
+                       f"1,{2 * jd.blocks.SMALL_ROTATION_MRAD:g}", "--json")
     assert code == 0
     d = json.loads(out)
     assert len(d["warnings"]) == 1 and "small-rotation limit" in d["warnings"][0]
     assert "psi_a = 100 mrad" in d["warnings"][0]
     with pytest.warns(jd.SmallRotationWarning, match="psi_a"):
-        amplitude_cycle(jd.family_shape("60sym"), 0.5, 2 * jd.SMALL_ROTATION_MRAD)
+        amplitude_cycle(jd.family_shape("60sym"), 0.5, 2 * jd.blocks.SMALL_ROTATION_MRAD)
 
 
 def test_liftoff_gives_nulls(capsys):
@@ -102,6 +102,13 @@ def test_out_of_phase_path_json(capsys):
         assert row["status"] == "ok"
         assert row["k_im"] == pytest.approx(float(ref.k_im), rel=1e-12)
         assert row["k_re"] == pytest.approx(float(ref.k_re), rel=1e-12)
+        # every path carries the per-pad fields (issue 62): on a straight path the curved-flat
+        # damper's pads never open in a valid cycle, and its chart covers each half's travel
+        assert row["open_fraction"] == {"R1": 0.0, "L1": 0.0, "L2": 0.0}
+        assert list(row["slip_fraction"]) == ["R1", "L1", "L2"]
+        for half in ("forward", "backward"):
+            travel = sum(t["dv_mm"] for t in row["tracts"] if t["half"] == half)
+            assert travel == pytest.approx(2.0 * psi * 100.0 / 1e3, rel=1e-9)
 
 
 @pytest.mark.parametrize("extra, message", [

@@ -167,7 +167,7 @@ def test_a_residual_file_gives_the_row_response_of_its_family(capsys, tmp_path):
                           force_n=[2.0, 20.0], h_l_mm=10.0)
     got = np.array([[p["peak_amplitude_mm"] for p in r["forces"]] for r in rows])
     assert_tree_allclose(got, np.asarray(row.peaks.peak_amplitude_mm), rtol=1e-12, atol=0.0)
-    c = [jd.nodal_scene(jd.validate_family(family), e, 100.0, 10.0).residual_mrad_per_nmm
+    c = [jd.nodal_scene(jd.blocks.validate_family(family), e, 100.0, 10.0).residual_mrad_per_nmm
          for e in (0, 3)]
     assert_tree_allclose(np.array([r["residual_mrad_per_nmm"] for r in rows]), np.array(c),
                          rtol=1e-12, atol=0.0)

@@ -68,7 +68,7 @@ def test_validated_range_keeps_the_energy_identity():
 def test_large_rotation_warns_and_small_does_not():
     with pytest.warns(jd.SmallRotationWarning, match="small-rotation"):
         nums = jd.five_numbers(jd.base_cycle(S60, 0.5, jd.Contacts(20246.3, 1.0)))
-    assert float(nums.psi_bc) > jd.SMALL_ROTATION_MRAD
+    assert float(nums.psi_bc) > jd.blocks.SMALL_ROTATION_MRAD
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         jd.five_numbers(jd.base_cycle(S60, 0.5))

@@ -117,7 +117,7 @@ def test_small_rotation_warns_like_five_numbers():
     soft = jd.Contacts(20.0, 3.0)
     with pytest.warns(jd.SmallRotationWarning):
         got = jd.cycle_numbers(shape, 0.5, soft)
-    assert got.psi_bc > jd.SMALL_ROTATION_MRAD
+    assert got.psi_bc > jd.blocks.SMALL_ROTATION_MRAD
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         jd.cycle_numbers(shape, 0.5)

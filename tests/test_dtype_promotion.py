@@ -47,6 +47,6 @@ def test_the_peak_search_runs_under_strict_promotion():
 
     mode = jd.BladeMode()
     with jax.numpy_dtype_promotion("strict"):
-        peaks = jd.peak_response(jd.stuck_damper(1e4), mode, np.array([2.0, 5.0]))
+        peaks = jd.peak_response(jd.blocks.stuck_damper(1e4), mode, np.array([2.0, 5.0]))
     assert_tree_allclose(np.asarray(peaks.peak_amplitude_mm),
                          np.array([2.0, 5.0]) / (mode.eta * mode.k_b), rtol=1e-9, atol=0.0)

@@ -74,7 +74,7 @@ def test_standard_errors_are_those_of_a_finite_difference_jacobian():
     `fit_problem`'s residuals at the optimum gives the same numbers."""
     loops = _noisy_loops(seed=3)
     fit = jd.fit_loops(loops, SHAPE, robust=False)
-    prob = jd.fit_problem(loops, SHAPE)
+    prob = jd.blocks.fit_problem(loops, SHAPE)
     n_phys = prob.n_phys
     assert all(fit.identifiable) and n_phys == 3
     theta = np.concatenate([np.log(fit.value[:1]), np.log(fit.value[1:3] / K_REF),

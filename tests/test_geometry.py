@@ -20,7 +20,7 @@ def test_family_angles_follow_vertex_steps():
 
 
 def test_pads_lie_on_flanks_and_reference_points_align():
-    g = jd.section_geometry(jd.family_shape("60sym"))
+    g = jd.blocks.section_geometry(jd.family_shape("60sym"))
     # L, D and R on one horizontal line (the paper's reference line through L).
     assert_tree_allclose(np.array([g.L[1], g.D[1], g.R[1]]), np.full(3, 0.5), rtol=1e-5, atol=1e-8)
     # L1 above L2 on the left flank, 2 b_L = 0.8 h_L apart.
@@ -37,15 +37,15 @@ def test_pads_lie_on_flanks_and_reference_points_align():
 
 def test_centroid_default_and_override():
     s = jd.family_shape("74R")
-    g = jd.section_geometry(s)
+    g = jd.blocks.section_geometry(s)
     assert np.isclose(g.D[0], (g.A[0] + g.B[0] + g.V[0]) / 3)
-    g2 = jd.section_geometry(s._replace(x_d=0.3))
+    g2 = jd.blocks.section_geometry(s._replace(x_d=0.3))
     assert np.isclose(g2.D[0], 0.3)
 
 
 def test_vertical_flank_is_finite_and_differentiable():
     def f(tl):
-        return jnp.sum(jd.section_geometry(jd.DamperShape(tl, 40.9, 0.15)).points)
+        return jnp.sum(jd.blocks.section_geometry(jd.DamperShape(tl, 40.9, 0.15)).points)
 
     assert np.isfinite(f(90.0))
     assert np.isfinite(jax.grad(f)(90.0))

@@ -38,7 +38,7 @@ def test_converges_to_direct_above_psi_bc(name):
     assert errs[1] < errs[0] / 10
     assert errs[1] < 1e-4
     # k_Im > 0: the loop dissipates (W = pi psi_a^2 k_Im matches the direct cycle work).
-    w = float(jd.cycle_work(bc, psi))
+    w = float(jd.blocks.cycle_work(bc, psi))
     assert abs(float(r.work) / w - 1.0) < 1e-4
 
 

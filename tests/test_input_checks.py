@@ -22,8 +22,8 @@ from helpers import assert_tree_allclose, count_compiles
 CHECKED = {
     "family_shape", "validate_mu", "validate_contacts", "validate_load", "validate_mode",
     "full_slip_statics", "design_br", "full_slip_work_shape_factors", "base_cycle",
-    "cycle_numbers", "amplitude_cycle", "amplitude_curves", "amplitude_band", "amplitude_bands",
-    "sequence_curves", "stiffness_curve", "stack_designs", "base_cycles", "sweep", "centred_br",
+    "cycle_numbers", "amplitude_cycle", "amplitude_curves", "amplitude_band",
+    "stiffness_curve", "stack_designs", "base_cycles", "sweep", "centred_br",
     "five_numbers_jacobian", "k_im_gradient_at", "batch_jacobian", "damper_stiffness",
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
@@ -36,8 +36,7 @@ CHECKED = {
     "sector_matrices", "full_matrices", "ring_response",
 }
 # Take a result made (and checked) by a checked function: a BaseCycle, an EllipticCycle.
-TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness",
-                  "elliptic_transitions_chart"}
+TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness"}
 # Unchecked, traceable helpers (building blocks of the kernels, used inside jit/vmap/grad): their
 # docstrings say "unchecked" and "traceable".
 UNCHECKED = {
@@ -56,7 +55,7 @@ NO_MODEL_INPUTS = {"enable_x64", "paper_tables", "no_damper", "map_batched", "de
 
 def exported_functions():
     out = {}
-    for module in (jd, jb):
+    for module in (jd, jd.blocks, jb):
         for name in module.__all__:
             obj = getattr(module, name)
             if callable(obj) and not inspect.isclass(obj) and not name.endswith("_kernel"):
@@ -109,12 +108,12 @@ def test_a_bad_input_names_its_parameter_before_any_compile(call, message):
 FLOAT32_REFUSED = [
     lambda: jd.sample_scenarios(KEY, 4),
     lambda: jd.full_slip_work_shape_factors(SHAPE, 0.5),
-    lambda: jd.centred_br([60.0], [60.0]),
+    lambda: jd.blocks.centred_br([60.0], [60.0]),
     lambda: check_sweep_inputs([60.0], [60.0], [0.5]),
     lambda: jd.sweep([60.0], [60.0], [0.5]),
     lambda: jd.base_cycles(SHAPE, np.array([0.4, 0.5])),
     lambda: jd.amplitude_curves(SHAPE, 0.5, [1e-3]),
-    lambda: jd.sequence_curves(SHAPE, 0.5, [1e-3]),
+    lambda: jd.amplitude_curves(SHAPE, 0.5, [1e-3], method="sequence"),
     lambda: jd.path_base_cycle(SHAPE, 0.5, IN_PHASE),
     lambda: prepare_curves_inputs(SHAPE, 0.5, jd.Contacts(), jd.LoadCase(), [1e-3], "gross_slip"),
 ]

@@ -168,7 +168,15 @@ def _loop():
 
 
 def _jd(name):
-    return getattr(jd, name)
+    """A public function: jaxdamp's top level, its building blocks, or (the batched forms behind a
+    top-level function: amplitude_bands, sequence_curves) the module that defines it."""
+    import jaxdamp.band
+    import jaxdamp.sequence
+
+    for space in (jd, jd.blocks, jaxdamp.band, jaxdamp.sequence):
+        if name in getattr(space, "__all__", ()):
+            return getattr(space, name)
+    raise AttributeError(name)
 
 
 # name -> (function, the valid call's arguments (a function: some are built once), the kind of

@@ -85,7 +85,7 @@ def test_force_track_starts_and_turns_at_the_full_slip_statics(cycles):
     bc = cycles[("60sym", 0.7)]
     track, sec, labels = P.force_track(bc)
     st = jd.full_slip_statics(jd.family_shape("60sym"), 0.7)
-    geo = jd.section_geometry(jd.family_shape("60sym"))
+    geo = jd.blocks.section_geometry(jd.family_shape("60sym"))
     n, t = np.asarray(geo.normals), np.asarray(geo.tangents)
 
     def minus_left(state):

@@ -82,7 +82,7 @@ def test_peak_of_a_linear_spring_matches_the_two_mode_sector(nd):
     root's stiffness there); with it, what is left is the second family's own tip motion and its
     frequency dependence near the first (a few 1e-4)."""
     disk = LumpedDisk(n_blades=6)
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
     scene = jd.nodal_scene(family, nd, 100.0, 10.0)
     mode, c = scene.mode, scene.residual_mrad_per_nmm
     phi = 2 * np.pi * nd / 6
@@ -117,13 +117,13 @@ def test_row_with_residual_matches_the_two_mode_sector_with_the_cycle():
     force is F. Same bound as the linear spring's (measured 0.03 % and 0.11 %); the free-platform
     reduction is 27 % and 23 % under it."""
     disk = LumpedDisk(n_blades=6)
-    family = jd.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0, residual=True))
     shape, forces = jd.family_shape("60sym"), np.array([2.0, 20.0])
     row = jd.row_response(shape, 0.5, modes=family, engine_orders=[0], force_n=forces, h_l_mm=10.0)
     scene = jd.nodal_scene(family, 0, 100.0, 10.0)
     lam, modes = sector_modes(disk, 0.0)
     rho = scene.mode.r * abs(modes[1, 0] / modes[0, 0])
-    design = jd.prepare_scene(shape, 0.5, jd.Contacts(), jd.LoadCase(), jd.BladeMode())[:4]
+    design = jd.blocks.prepare_scene(shape, 0.5, jd.Contacts(), jd.LoadCase(), jd.BladeMode())[:4]
     cycle = jax.jit(lambda p: jd.path_cycle_kernel(*design, p, scene.motion, "assembly", "while"))
 
     def peak_at(psi):  # (the force whose two-mode peak has the damper at psi, |x| per N, f)

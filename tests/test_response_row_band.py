@@ -115,7 +115,7 @@ def test_row_band_with_residual_flexibility_holds_every_history():
     histories' peaks with the residual (`row_response`) lie inside the band, at nodal diameter 0
     of the lumped disk, where the residual matters most."""
     disk = LumpedDisk(n_blades=6)
-    family = jd.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+    family = jd.blocks.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
     kw = dict(modes=family, engine_orders=[0], force_n=[2.0, 20.0], h_l_mm=H_L)
     band = jd.row_band(SHAPE, MU, n_samples=8, **kw)
     assert np.all(band.status == 0)

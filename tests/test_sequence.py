@@ -155,7 +155,7 @@ def test_gradients_psi_and_design_match_finite_differences():
 ])
 def test_stiffness_curve_checks_its_inputs(change, says):
     """The exported builder checks every input before any work (one-line ValueError naming the
-    parameter and its range); stiffness_curve_kernel is the unchecked one."""
+    parameter and its range); stiffness_curve_unchecked is the unchecked one."""
     shape, mu = _stack(["60sym"], [change.get("mu", 0.5)])
     contacts = jd.Contacts(np.array([change.get("kn", 2e4)]), np.array([3.5e3]))
     load = jd.LoadCase(np.array([1000.0]), np.array([100.0]), np.array([0.0]))

@@ -40,7 +40,7 @@ def test_60sym_full_slip_energy_split(mu):
 def test_full_slip_forces_balance_F_D():
     shape = jd.family_shape("74R")
     st = jd.full_slip_statics(shape, 0.5)
-    g = jd.section_geometry(shape)
+    g = jd.blocks.section_geometry(shape)
     for end in (st.start, st.mid):
         f = -end.N[:, None] * g.normals + end.T[:, None] * g.tangents
         total = np.asarray(jnp.sum(f, 0)) + np.array([0.0, 1.0])

@@ -5,14 +5,56 @@ import numpy as np
 import pytest
 
 import jaxdamp as jd
-from jaxdamp.status import RESULTS, ok_status
+from jaxdamp.status import RESULTS
 
 
-def test_promote_keeps_the_first_problem():
-    s = ok_status((3,))
-    s = RESULTS.promote(s, jnp.array([True, False, False]), RESULTS.liftoff)
-    s = RESULTS.promote(s, jnp.array([True, True, False]), RESULTS.not_converged)
-    assert list(np.asarray(s)) == [RESULTS.liftoff, RESULTS.not_converged, RESULTS.ok]
+def test_conditions_become_the_most_severe_status_in_the_one_order():
+    """RESULTS.first: the most severe condition that holds (SEVERITY), whatever order the
+    conditions are written in."""
+    from jaxdamp.status import SEVERITY
+
+    lift, stuck = jnp.array([True, False, False]), jnp.array([True, True, False])
+    for conditions in ({RESULTS.liftoff: lift, RESULTS.not_converged: stuck},
+                       {RESULTS.not_converged: stuck, RESULTS.liftoff: lift}):
+        s = RESULTS.first(conditions)
+        assert list(np.asarray(s)) == [RESULTS.liftoff, RESULTS.not_converged, RESULTS.ok]
+    assert SEVERITY.index(RESULTS.liftoff) < SEVERITY.index(RESULTS.not_converged)
+    with pytest.raises(ValueError, match="problem codes"):
+        RESULTS.first({RESULTS.ok: lift})
+
+
+def test_statuses_combine_by_severity_not_by_code():
+    """Combining statuses (two halves, a grid, a batch) keeps the most severe by SEVERITY, which is
+    not the order of the codes: shakedown (5, valid numbers) ranks below liftoff (1); the
+    optimiser's worst status used to be the largest code (issue 62)."""
+    from jaxdamp.status import SEVERITY
+
+    assert set(SEVERITY) == set(RESULTS) - {RESULTS.ok}
+    for i, a in enumerate(SEVERITY):
+        for b in SEVERITY[i:]:
+            assert int(RESULTS.combine(a, b)) == a and int(RESULTS.combine(b, a)) == a
+            assert int(RESULTS.combine(RESULTS.ok, b)) == b
+    grid = jnp.array([[RESULTS.shakedown, RESULTS.liftoff], [RESULTS.ok, RESULTS.not_converged]])
+    assert int(RESULTS.worst(grid)) == RESULTS.liftoff
+    assert list(np.asarray(RESULTS.worst(grid, axis=1))) == [RESULTS.liftoff, RESULTS.not_converged]
+    assert list(np.asarray(RESULTS.worst(grid, axis=0))) == [RESULTS.shakedown, RESULTS.liftoff]
+
+
+def test_nothing_combines_statuses_by_their_codes():
+    """No module ranks statuses by comparing codes (jnp.max / max of statuses): they combine
+    through RESULTS.first / combine / worst only, in the one order."""
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    pattern = re.compile(r"\b(?:jnp\.|np\.)?max\((?:[^()]|\([^()]*\))*status", re.S)
+    bad = [f"{path.relative_to(root)}: {m.group(0)[:60]!r}"
+           for folder in ("jaxdamp", "optimize")
+           for path in sorted((root / folder).rglob("*.py"))
+           for m in pattern.finditer(path.read_text())]
+    promote = [str(p.relative_to(root)) for folder in ("jaxdamp", "optimize")
+               for p in sorted((root / folder).rglob("*.py")) if "RESULTS.promote(" in p.read_text()]
+    assert not bad and not promote, bad + promote
 
 
 def test_every_code_has_a_name_and_a_message():
@@ -32,20 +74,34 @@ def test_solver_statuses():
 
 
 def test_no_public_result_stores_a_flag_beside_its_status():
-    """Status is the one truth: no exported result type has a converged / liftoff / failed field
-    or property (issue 33)."""
+    """Status is the one truth: no exported result type has a field or property that says whether
+    its numbers hold (converged, liftoff, failed, valid, ok, ...; issue 33), and every other
+    boolean-like field (found, covered, confirmed, solvable, inside, ...) is a mask listed in
+    docs/api.md's "Statuses and masks" (issue 62)."""
     import inspect
+    from pathlib import Path
 
     import jaxdamp.baselines as baselines
 
-    flags = {"converged", "liftoff", "failed"}
-    modules = (jd, baselines)
-    types = {obj for m in modules for name in m.__all__
+    forbidden = {"converged", "liftoff", "failed", "valid", "ok", "success", "feasible", "usable"}
+    mask_words = {"found", "covered", "confirmed", "refined", "solvable", "inside", "gross_slip",
+                  "reached", "seated", "closed", "exists", "unseated", "stopped"}
+    table = (Path(__file__).resolve().parents[1] / "docs" / "api.md").read_text()
+    table = table[table.index("## Statuses and masks"):]
+    types = {obj for m in (jd, jd.blocks, baselines) for name in m.__all__
              if inspect.isclass(obj := getattr(m, name)) and hasattr(obj, "_fields")}
     assert len(types) > 10
+    bad = []
     for t in types:
-        fields = set(t._fields) | {n for n, v in vars(t).items() if isinstance(v, property)}
-        assert not fields & flags, (t.__name__, fields & flags)
+        fields = {f for f in set(t._fields) | {n for n, v in vars(t).items()
+                                                 if isinstance(v, property)}
+                  if not f.startswith("n_")}  # counts (n_valid, n_ok) are numbers, not flags
+        bad += [f"{t.__name__}.{f} stores a flag beside the status" for f in fields
+                if f in forbidden or f.split("_")[-1] in forbidden]
+        bad += [f"{t.__name__}.{f} is not in docs/api.md's masks" for f in fields
+                if (f in mask_words or f.split("_")[-1] in mask_words)
+                and f"`{t.__name__}.{f}`" not in table]
+    assert not bad, "\n".join(sorted(bad))
 
 
 @pytest.mark.slow  # 12 worker-s (run of 2026-11-25)
@@ -87,7 +143,7 @@ def test_reprs_do_not_force_tracers():
 # ---------------------------------------------------------------- every result prints in a line
 # Status-free NamedTuples of jaxdamp.__all__ that are not results: inputs and settings (printed as
 # given), geometry, and parts of a result whose own repr summarises them (FullSlipState inside
-# FullSlipStatics, HalfCycle inside BaseCycle), sampled inputs (Scenarios) and an optimiser's state.
+# FullSlipStatics, Half inside BaseCycle), sampled inputs (Scenarios) and an optimiser's state.
 INPUTS_AND_PARTS = {"Design", "DamperShape", "SectionGeometry", "Contacts", "LoadCase", "BladeMode",
                     "Uncertainty", "FullSlipState", "Scenarios", "Motion", "ModalFamily",
                     "NodalScene"}
@@ -97,8 +153,9 @@ STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult"}
 
 
 def _namedtuples():
-    return {n: getattr(jd, n) for n in jd.__all__ if isinstance(getattr(jd, n), type)
-            and issubclass(getattr(jd, n), tuple) and hasattr(getattr(jd, n), "_fields")}
+    spaces = [(m, n) for m in (jd, jd.blocks) for n in m.__all__]
+    return {n: getattr(m, n) for m, n in spaces if isinstance(getattr(m, n), type)
+            and issubclass(getattr(m, n), tuple) and hasattr(getattr(m, n), "_fields")}
 
 
 def test_every_exported_result_defines_its_repr():

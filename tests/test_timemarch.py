@@ -157,8 +157,8 @@ def test_gross_slip_end_is_the_full_slip_statics(fine):
     for label in ("60sym@0.5", "74R@0.3", "60sym@0.7"):
         i = fine["labels"].index(label)
         shape, mu = fine["shapes"][i], fine["mus"][i]
-        start = jd.full_slip_state(shape, mu, START_FRICTION_SIGNS)
-        mid = jd.full_slip_state(shape, mu, -START_FRICTION_SIGNS)
+        start = jd.blocks.full_slip_state(shape, mu, START_FRICTION_SIGNS)
+        mid = jd.blocks.full_slip_state(shape, mu, -START_FRICTION_SIGNS)
         for got, want in ((tm.N_C[i], mid.N), (tm.T_C[i], mid.T), (tm.N_F[i], start.N),
                           (tm.T_F[i], start.T)):
             assert_tree_allclose(got, want, rtol=0, atol=1e-10)

@@ -54,8 +54,7 @@ def test_reduced_solve_matches_plain_solve(shape, mu, kt_over_kn):
         every = tract.candidate_rates(mech, signs, direction)
         for k, slipping in enumerate(tract.CANDIDATE_SETS):
             dN, dT, dslip, cond = plain_rates(mech, slipping, signs, direction)
-            one = tract.tract_rates(mech, slipping, signs, direction)
-            assert bool(one.ok) and bool(every.ok[k])
+            assert bool(every.ok[k])
             # Round-off from the problem's magnitudes. The rates are forces per mm of travel
             # (units of F_D), each the difference of contact-stiffness terms k * (platform travel
             # - damper motion): their scale before cancellation is the stiffest contact's k_max
@@ -68,10 +67,10 @@ def test_reduced_solve_matches_plain_solve(shape, mu, kt_over_kn):
             unit = ROUNDOFF_UNITS * np.finfo(float).eps * float(cond)
             tol = unit * k_max
             slip_tol = unit * (1.0 + float(jnp.max(jnp.abs(dslip))) + k_max / float(np.min(mech.kt)))
-            for got in (one, jax.tree_util.tree_map(lambda x, k=k: x[k], every)):
-                assert_tree_allclose(got.dN, dN, rtol=0, atol=tol)
-                assert_tree_allclose(got.dT, dT, rtol=0, atol=tol)
-                assert_tree_allclose(got.dslip, dslip, rtol=0, atol=slip_tol)
+            got = jax.tree_util.tree_map(lambda x, k=k: x[k], every)
+            assert_tree_allclose(got.dN, dN, rtol=0, atol=tol)
+            assert_tree_allclose(got.dT, dT, rtol=0, atol=tol)
+            assert_tree_allclose(got.dslip, dslip, rtol=0, atol=slip_tol)
 
 
 def test_singular_set_is_flagged_not_nan():

@@ -24,11 +24,12 @@ import jax
 import jax.numpy as jnp
 from .._validate import check_int, check_range
 from ..conventions import travel_mm
-from ..ellipse import path_pads
 from ..geometry import is_wedge
-from ..motion import Motion, as_ellipse, motion_moment_coefficients, path_parts, validate_motion
+from ..motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
+                      validate_motion)
 from ..params import Contacts, LoadCase, prepare_inputs
-from ..status import from_flags, number_repr, status_repr
+from ..statics import contact_columns
+from ..status import RESULTS, number_repr, status_repr
 from .timemarch import MAX_NEWTON, NEWTON_TOL, MarchModel, assemble, newton, respond, step
 
 
@@ -77,11 +78,15 @@ def path_model(shape, mu, contacts, load, motion: Motion) -> PathModel:
     """The marcher's constants of one design on an elliptic (or zero-width) path. Unchecked,
     traceable."""
     along_r, along_i = path_parts(motion)
-    # The model's platform motion is set per step below; its pads are the damper's (any pad set).
-    pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
-    nw_r, tw_r, nw_i, tw_i = pads.nw[0], pads.tw[0], pads.nw[1], pads.tw[1]
-    zero = jnp.zeros_like(pads.kn)
-    m = MarchModel(pads.a, pads.c, nw_r, tw_r, pads.kn, pads.kt, pads.mu, zero, zero, zero, zero,
+    # The model's platform motion is set per step below; its pads are the damper's (any pad set),
+    # from the section's geometry and the motion's kinematics (MODEL.md), not from the engine's
+    # constants (`ellipse.path_pads`) that this marcher checks.
+    a, c, _ = contact_columns(shape)
+    (nw_r, tw_r), (nw_i, tw_i) = (pad_motion(shape, m, load.q_star) for m in (along_r, along_i))
+    per_pad = lambda k: jnp.broadcast_to(jnp.asarray(k, float), (a.shape[0],)) / load.F_D  # noqa: E731
+    kn, kt = per_pad(contacts.kn), per_pad(contacts.kt)
+    zero = jnp.zeros_like(kn)
+    m = MarchModel(a, c, nw_r, tw_r, kn, kt, jnp.asarray(mu, float), zero, zero, zero, zero,
                    jnp.asarray(load.q_star, float), jnp.asarray(load.F_D, float))
     return PathModel(m, nw_r, tw_r, nw_i, tw_i, *motion_moment_coefficients(nw_r, tw_r, load),
                      *motion_moment_coefficients(nw_i, tw_i, load))
@@ -170,7 +175,7 @@ def _march_ellipse(shape, mu, contacts, load, amplitude, motion, n_steps: int, p
     closure = jnp.maximum(jnp.max(jnp.abs(N_end[-1] - N_end[-2])), jnp.max(jnp.abs(T_end[-1] - T_end[-2])))
     return EllipseMarch(jnp.real(k), jnp.imag(k), energy, jnp.mean(slipping.astype(float), axis=0),
                         jnp.mean(opened.astype(float), axis=0), closure, fails,
-                        from_flags(False, fails > 0))
+                        RESULTS.first({RESULTS.singular: fails > 0}))
 
 
 def march_ellipse(shape, mu, amplitude_mrad, motion: Motion, contacts: Contacts = Contacts(),

@@ -10,12 +10,12 @@ blade's platform rotation; 180 is out-of-phase, a straight path, any other angle
 ellipse), `--motion du,dv,dtheta` any path (mm, mm, mrad per mrad of --psi-a; complex entries as
 re+imj: an ellipse unless real up to one common phase). Both need the damper's size --h-l (its
 left flank's length, mm) where the platforms turn; k is then that of the modal force
-(jaxdamp.motion), and each row adds energy_nmm and slip_fraction per pad and
-dissipated_energy_nmm, and with --h-l force_harmonic: the first harmonic of the damper's generalised force on
-the right platform, {"F_u_n", "F_v_n", "M_nmm"} each {"re", "im"} (jaxdamp.platform_force); on
-the tract engine (an ellipse, or a wedge) also open_fraction per pad and
-tracts, the contact-state chart (tau_start_deg, tau_end_deg, each pad's state), whose open
-intervals the text lists. On an ellipse the default history is assembly; its gross slip is a straight
+(jaxdamp.motion), and each row adds energy_nmm, slip_fraction and open_fraction per pad (zero on
+a straight path, whose pads stay closed), dissipated_energy_nmm, tracts (the contact-state chart,
+jaxdamp.transitions_chart; on an ellipse tau_start_deg, tau_end_deg and each pad's state, whose
+open intervals the text lists), and with --h-l force_harmonic: the first harmonic of the damper's
+generalised force on the right platform, {"F_u_n", "F_v_n", "M_nmm"} each {"re", "im"}
+(jaxdamp.platform_force). On an ellipse the default history is assembly; its gross slip is a straight
 move along the path's tau = 0 direction until every pad slips (docs/motions.md).
 
 k_Re, k_Im in N mm/mrad (the Base-Cycle's sign and units), psi_a in mrad. JSON:

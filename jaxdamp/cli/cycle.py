@@ -53,7 +53,7 @@ def cycle_payload(bc, nums, energy, factors) -> dict:
     """The numbers of a BaseCycle (with its five numbers, contact energies and work shape factors,
     as `_cycle_numbers` computes them); those that do not exist (liftoff, singular) are None."""
     from ..conventions import warn_small_rotation
-    from ..cycle import transitions_chart
+    from ..charts import transitions_chart
 
     status = C.status_name(bc)
     # Ill-conditioned numbers are wrong numbers: they are not shown (null), only the status.

@@ -83,12 +83,13 @@ def motion_text(echo: dict | None) -> str:
 def pad_fields(shape, cycle, valid: bool, slip_fraction=None) -> dict:
     """The per-pad numbers of a cycle on a path for the JSON (each an object keyed by pad name:
     R1, L1, L2 or R1, R2, L1, L2; null where the cycle has no valid numbers):
-    dissipated_energy_nmm, energy_nmm, slip_fraction, and for an `EllipticCycle` (any pad set,
-    pads that open) open_fraction and its contact-state chart `tracts`. slip_fraction: the
-    fractions where the cycle does not carry them (`amplitude.slip_fraction`)."""
+    dissipated_energy_nmm, energy_nmm, slip_fraction, open_fraction and the contact-state chart
+    `tracts` (`transitions_chart`), on every path. slip_fraction: the fractions where the cycle
+    does not carry them (`amplitude.slip_fraction`)."""
     import numpy as np
 
-    from ..ellipse import EllipticCycle, elliptic_transitions_chart
+    from ..charts import transitions_chart
+    from ..ellipse import EllipticCycle
     from ..geometry import pad_names
     from .common import number
 
@@ -99,7 +100,8 @@ def pad_fields(shape, cycle, valid: bool, slip_fraction=None) -> dict:
     fractions = cycle.slip_fraction if slip_fraction is None else slip_fraction
     out = dict(dissipated_energy_nmm=number(np.sum(cycle.energy)) if valid else None,
                energy_nmm=per_pad(cycle.energy), slip_fraction=per_pad(fractions))
-    if elliptic:
-        out.update(open_fraction=per_pad(cycle.open_fraction),
-                   tracts=elliptic_transitions_chart(cycle))
+    # A straight path's solver keeps the curved-flat damper's three pads closed: a pad whose
+    # normal force reaches zero ends the cycle as liftoff, so in a valid cycle none is ever open.
+    opened = cycle.open_fraction if elliptic else np.zeros(len(pad_names(shape)))
+    out.update(open_fraction=per_pad(opened), tracts=transitions_chart(cycle) if valid else [])
     return out

@@ -25,7 +25,7 @@ import numpy as np
 from ..params import check_param
 from ..runtime import side_by_side
 from ..response import (BladeMode, curves_program, designer_diagram, path_curves_program,
-                        peak_band_kernel, prepare_scene)
+                        peak_band_unchecked, prepare_scene)
 from ..status import RESULTS
 from . import common as C
 from . import motion_flags as M
@@ -198,7 +198,7 @@ def compute(args, scene, forces, bar, motion=None) -> Computed:
         return jax.device_get(res)
 
     def peak_band():
-        highest, lowest, _, _ = peak_band_kernel(
+        highest, lowest, _, _ = peak_band_unchecked(
             scene, jnp.asarray(forces), runner=exported.Runner("band_grid"))
         return highest, lowest
 

@@ -123,7 +123,8 @@ def paper_values(tables=None):
 
 def compute_cases(shapes, mus, contacts, load, progress=None):
     """BaseCycles and their summaries for every shape x mu (the jitted solver compiles once)."""
-    from ..cycle import base_cycle, transitions_chart
+    from ..charts import transitions_chart
+    from ..cycle import base_cycle
     from ..geometry import family_shape
     from ..summary import analyse_cycle, section_data
 
@@ -270,7 +271,7 @@ def exact_curves(shapes, mus, psi, contacts, load, runner=None) -> dict:
     passes its saved-program cache); so in every function below."""
     import jax
 
-    from ..curves import amplitude_curves
+    from ..sequence import amplitude_curves
 
     stacked = jax.tree_util.tree_map(lambda *x: np.stack([np.asarray(v, float) for v in x]), *shapes)
     out = {}

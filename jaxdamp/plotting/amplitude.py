@@ -13,7 +13,7 @@ def amplitude_stiffness_data(shape, mu, contacts=None, load=None, psi_a_mrad=Non
     gross_slip and assembly on psi_a_mrad (default: 96 points up to 2.5 psi_BC), the paper's
     interpolation, psi_fs and psi_BC, and the band at `band_points` amplitudes (0: none)."""
     import jaxdamp as jd
-    from jaxdamp.curves import amplitude_curves
+    from jaxdamp.sequence import amplitude_curves
     from jaxdamp.band import amplitude_band
     from jaxdamp.status import RESULTS
 

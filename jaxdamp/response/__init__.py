@@ -60,7 +60,7 @@ from .peaks import path_peaks as path_peaks
 from .peaks import path_curves_program as path_curves_program
 from .peaks import path_response_curves as path_response_curves
 from .peak_band import peak_band as peak_band
-from .peak_band import peak_band_kernel as peak_band_kernel
+from .peak_band import peak_band_unchecked as peak_band_unchecked
 from .diagram import DIAGRAM_MUS as DIAGRAM_MUS
 from .diagram import DesignerDiagram as DesignerDiagram
 from .diagram import designer_diagram as designer_diagram
@@ -87,7 +87,7 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "peak_frequency_hz",
            "peak_response", "design_peaks", "designer_diagram", "validate_mode", "DIAGRAM_MUS",
            "damper_stiffness_kernel", "linear_frf", "ResponseCurves", "curves_program",
-           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band", "peak_band_kernel",
+           "response_curves", "diagram_program", "peak_program", "prepare_scene", "peak_band", "peak_band_unchecked",
            "tabulated_stiffness", "path_damper", "path_cycle_kernel", "ModalFamily", "NodalScene",
            "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",

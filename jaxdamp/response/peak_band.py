@@ -7,7 +7,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..band import amplitude_bands_kernel, check_band_amplitudes, compile_bands_ahead
+from ..band import amplitude_bands_unchecked, check_band_amplitudes, compile_bands_ahead
 from .._validate import check_values
 from ..runtime import batch_jit, compile_ahead, run_program
 from ..status import RESULTS
@@ -15,7 +15,7 @@ from .peaks import peak_response
 from .scene import BladeMode, Scene, prepare_scene
 from .stiffness import DamperStiffness, interpolated_damper, tabulated_stiffness
 
-__all__ = ["peak_band", "peak_band_kernel", "GRID_POINTS"]
+__all__ = ["peak_band", "peak_band_unchecked", "GRID_POINTS"]
 
 # The band's default amplitude grid: this many points from 0.05 psi_BC to 3 psi_BC.
 GRID_POINTS = 24
@@ -37,10 +37,10 @@ def peak_band(shape, mu=None, contacts=None, load=None, mode: BladeMode | None =
     checked = isinstance(shape, Scene)
     scene = prepare_scene(shape, mu, contacts, load, mode)
     force = jnp.asarray(force_n if checked else check_values("force_n", force_n), float)
-    return peak_band_kernel(scene, force, psi_grid_mrad, n_samples, steps, runner)
+    return peak_band_unchecked(scene, force, psi_grid_mrad, n_samples, steps, runner)
 
 
-def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int = 64,
+def peak_band_unchecked(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int = 64,
                      steps: int = 6, runner=None):
     """`peak_band` of a Scene (`prepare_scene`) at forces checked already: neither is checked
     here (the amplitude grid and the counts are)."""
@@ -61,7 +61,7 @@ def peak_band_kernel(scene: Scene, force_n, psi_grid_mrad=None, n_samples: int =
         psi_grid_mrad = np.geomspace(0.05 * psi_ref, 3.0 * psi_ref, GRID_POINTS)
     grid = np.asarray(psi_grid_mrad, float)
     # every amplitude's band through one program (sampling plus the trust-region refinement)
-    bands = amplitude_bands_kernel(shape, mu, contacts, load, grid, n_samples=n_samples,
+    bands = amplitude_bands_unchecked(shape, mu, contacts, load, grid, n_samples=n_samples,
                                    steps=steps, runner=runner)
     # (n, 4): k_re_min, k_re_max, k_im_min, k_im_max; zero where no history gives a valid cycle
     k = np.array([b.bounds if b.status == RESULTS.ok else np.zeros(4) for b in bands])
