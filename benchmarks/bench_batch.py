@@ -7,7 +7,7 @@ measured in the same run. Compile times are lower().compile() of each program.
 
     python benchmarks/bench_batch.py [--quick]
 
-Writes benchmarks/results/batch.json and batch.png.
+Writes benchmarks/results/batch.json and its figure, docs/batch.png.
 """
 
 from __future__ import annotations
@@ -214,7 +214,7 @@ def plot(res):
     m = res["machine"]
     fig.suptitle(f"jaxdamp batch & gradients - {m['cpu']}, {m['cores']} cores, jax {m['jax']}, "
                  f"load avg {m['load_average_1min_at_start']:.1f}", fontsize=10)
-    fig.savefig(OUT / "batch.png", dpi=110)
+    fig.savefig(OUT.parent.parent / "docs" / "batch.png", dpi=110)  # docs/performance.md
 
 
 if __name__ == "__main__":

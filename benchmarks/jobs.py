@@ -20,15 +20,15 @@ Job 1, "one amplitude": k_Im at psi_BC.
   direct method's time for the same batch.
 
 Jobs 2-4 (whole curve, forced response, gradient of the peak) are `benchmarks/jobs_layered.py`
-(its full run writes results/jobs_layered.json and the Pareto charts jobs_curve.png,
-jobs_response.png, jobs_gradient.png); this script reports their summaries.
+(its full run writes results/jobs_layered.json and the Pareto charts docs/jobs_curve.png,
+docs/jobs_response.png, docs/jobs_gradient.png); this script reports their summaries.
 
 All calls run with JAX's async dispatch off (`jax_cpu_enable_async_dispatch = False`, both sides
 alike): on CPU the default hands every call to a worker thread, a fixed cost that would dominate
 sub-millisecond calls (benchmarks/results/cpu_runtime_options.json measures it).
 
     python benchmarks/jobs.py --quick --json   # reduced sizes (< 5 min), prints the summary
-    python benchmarks/jobs.py                  # full: results/jobs.json, results/jobs_one_amplitude.png
+    python benchmarks/jobs.py                  # full: results/jobs.json, docs/jobs_one_amplitude.png
 """
 
 from __future__ import annotations
@@ -353,7 +353,7 @@ def main(argv=None) -> int:
         full = dict(summary, details={"one_amplitude": job1, "base_cycles": tp, "single": lat},
                     config={k: list(v) if isinstance(v, tuple) else v for k, v in cfg.items()})
         (OUT / "jobs.json").write_text(json.dumps(full, indent=1) + "\n")
-        plot(job1, OUT / "jobs_one_amplitude.png")
+        plot(job1, OUT.parent.parent / "docs" / "jobs_one_amplitude.png")  # docs/performance.md
     if args.json:
         print(json.dumps(summary, indent=1))
     else:

@@ -1,6 +1,6 @@
 """Issue 15, jobs 2-4: the amplitude-layered direct method against HBM-AFT on the jobs users run.
 
-    python benchmarks/jobs_layered.py            # full: results/jobs_layered.json + jobs_*.png
+    python benchmarks/jobs_layered.py            # full: results/jobs_layered.json + docs/jobs_*.png
     python benchmarks/jobs_layered.py --quick    # reduced sizes, same outputs
 
 Runtime on the shared 2-core machine (load 3-7): full 12 min; quick 3.7 min with a cold
@@ -514,11 +514,12 @@ def main(quick: bool = False) -> dict:
     out = _clean(out)
     OUT.mkdir(exist_ok=True)
     (OUT / "jobs_layered.json").write_text(json.dumps(out, indent=1, allow_nan=False))
-    pareto_chart(out["curve"], OUT / "jobs_curve.png", "Job 2, whole curve")
+    docs = OUT.parent.parent / "docs"  # the charts are the docs' copies (docs/performance.md)
+    pareto_chart(out["curve"], docs / "jobs_curve.png", "Job 2, whole curve")
     n_f = len(out["response"]["forces_n"])
     M = out["response"]["designs_run_direct"]
-    pareto_chart(out["response"], OUT / "jobs_response.png", "Job 3, forced response", n_f * M)
-    pareto_chart(out["gradient"], OUT / "jobs_gradient.png", "Job 4, gradient of the peak",
+    pareto_chart(out["response"], docs / "jobs_response.png", "Job 3, forced response", n_f * M)
+    pareto_chart(out["gradient"], docs / "jobs_gradient.png", "Job 4, gradient of the peak",
                  2 * len(SHAPE_VARS) * n_f * M)
     return out
 

@@ -35,8 +35,9 @@ round, so that the machine's load hits all alike), JAX's CPU calls on the callin
 (jax_cpu_enable_async_dispatch = False, both sides), the measured XLA flags (bench_common); the
 load average is recorded per case.
 
-    python benchmarks/path_speed_accuracy.py            # full: results/path_speed_accuracy.{json,png}
-    python benchmarks/path_speed_accuracy.py --quick    # reduced (< 3 min), writes *_quick.*
+    python benchmarks/path_speed_accuracy.py            # full: results/path_speed_accuracy.json and
+                                                        # docs/path_speed_accuracy.png
+    python benchmarks/path_speed_accuracy.py --quick    # reduced (< 3 min), writes results/*_quick.*
 """
 
 from __future__ import annotations
@@ -68,6 +69,7 @@ from bench_common import (call_time, interleaved_times, loadavg, machine, time_b
 use_measured_xla_flags()  # before JAX starts its backend: both sides get it
 
 OUT = Path(__file__).parent / "results"
+DOCS = Path(__file__).resolve().parent.parent / "docs"  # the full run's figure (docs/motions.md)
 TARGETS = (1e-3, 1e-4, 1e-6)
 MAIN = 1e-4  # the issue's accuracy: the periods of the batch, the ratios in the chart
 H_C_MM, Q_STAR_MM, H_L_MM = 20.0, 100.0, 10.0
@@ -430,9 +432,10 @@ def main(argv=None) -> int:
     stem = "path_speed_accuracy_quick" if args.quick else "path_speed_accuracy"
     OUT.mkdir(exist_ok=True)
     (OUT / f"{stem}.json").write_text(json.dumps(res, indent=1) + "\n")
-    plot(res, OUT / f"{stem}.png")
+    png = (OUT if args.quick else DOCS) / f"{stem}.png"  # a quick run's figure stays beside its JSON
+    plot(res, png)
     print(json.dumps(res["summary"], indent=1))
-    print(f"wrote {OUT / stem}.json/.png in {res['wall_time_s']:.0f} s")
+    print(f"wrote {OUT / stem}.json and {png} in {res['wall_time_s']:.0f} s")
     return 0
 
 

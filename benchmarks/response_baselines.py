@@ -1,7 +1,8 @@
 """Blade peak response: amplitude-layered (first harmonic) against coupled HBM-AFT (H = 1, 3, 5)
 and time integration, 60sym at mu = 0.5 with the default BladeMode; timings of each.
 
-Writes benchmarks/results/response_baselines.json and .png. Run from the repository root:
+Writes benchmarks/results/response_baselines.json and its figure, docs/response_baselines.png. Run
+from the repository root:
     PYTHONPATH=$PWD python benchmarks/response_baselines.py
 """
 
@@ -98,7 +99,7 @@ def figure(result):
                                 {"H=3": [r["H3_mm"] for r in rows],
                                  "H=5": [r["H5_mm"] for r in rows],
                                  "time integration": [r["TI_at_H5_frequencies_mm"][1] for r in rows]})
-    fig.savefig(OUT / "response_baselines.png", dpi=120)
+    fig.savefig(OUT.parent.parent / "docs" / "response_baselines.png", dpi=120)
 
 
 if __name__ == "__main__":

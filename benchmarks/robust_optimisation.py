@@ -3,7 +3,9 @@
 certification of the optimum, 60sym and the earlier optima; and the cost per design of 10^4 Monte
 Carlo samples of the peak distribution.
 
-Writes benchmarks/results/robust_optimisation.json and .png. From the repository root:
+Writes benchmarks/results/robust_optimisation.json and its figure, docs/robust_optimisation.png
+(with --history band: robust_optimisation_band.json and docs/robust_optimisation_band.png). From the
+repository root:
     PYTHONPATH=$PWD python benchmarks/robust_optimisation.py [--history band]
 """
 
@@ -75,7 +77,7 @@ def main():
     stem = "robust_optimisation" + ("" if a.history == "gross_slip" else f"_{a.history}")
     (OUT / f"{stem}.json").write_text(json.dumps(doc, indent=1))
     ax = plot_robust(designs)
-    ax.figure.savefig(OUT / f"{stem}.png", dpi=120, bbox_inches="tight")
+    ax.figure.savefig(OUT.parent.parent / "docs" / f"{stem}.png", dpi=120, bbox_inches="tight")
     plt.close(ax.figure)
     print(json.dumps({k: doc[k] for k in ("seconds_total", "stages_seconds", "monte_carlo")}))
 

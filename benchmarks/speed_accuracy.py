@@ -17,7 +17,8 @@ itself). A method's "time to 1e-4" is the log-log interpolated wall time at whic
 falls below 1e-4 and stays below for every finer setting of the sweep; the speedup is that time
 over the direct method's single-design time.
 
-    python benchmarks/speed_accuracy.py            # full run: results/speed_accuracy.{json,png}
+    python benchmarks/speed_accuracy.py            # full run: results/speed_accuracy.json and
+                                                   # docs/speed_accuracy.png
     python benchmarks/speed_accuracy.py --quick --json   # reduced (< 5 min), prints the summary
 
 The machine is described in the JSON (lscpu, platform, load average before and after the run).
@@ -58,6 +59,7 @@ from bench_batch import two_device_throughput  # noqa: E402
 from bench_common import machine as common_machine, time_below, warm_times  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
+DOCS = Path(__file__).resolve().parent.parent / "docs"  # the full run's figure (docs/performance.md)
 CASES = (("60sym", 0.5), ("74R", 0.5), ("90R", 0.5))
 TARGET = 1e-4
 
@@ -338,12 +340,15 @@ def main(argv=None):
     stem = "speed_accuracy_quick" if args.quick else "speed_accuracy"
     args.out.mkdir(parents=True, exist_ok=True)
     (args.out / f"{stem}.json").write_text(json.dumps(res, indent=2))
-    plot(res, args.out / f"{stem}.png")
+    # the full run's figure is the docs' copy; a quick run's, or one with --out, stays beside its JSON
+    to_docs = args.out.resolve() == OUT.resolve() and not args.quick
+    png = (DOCS if to_docs else args.out) / f"{stem}.png"
+    plot(res, png)
     if args.json:
         print(json.dumps(res["summary"], indent=2))
     else:
         print(json.dumps(res["summary"], indent=2))
-        print(f"wrote {args.out / stem}.json/.png in {res['wall_time_s']:.0f} s")
+        print(f"wrote {args.out / stem}.json and {png} in {res['wall_time_s']:.0f} s")
 
 
 if __name__ == "__main__":

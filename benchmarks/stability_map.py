@@ -21,7 +21,8 @@ step/sample/eps knob, so accuracy costs time), wrong (error > 1e-2 with no flag,
 flagged), flagged (the method reports liftoff, failure or non-convergence), fails (non-finite output
 without a flag). Errors are relative; k_Im is measured relative to k_Re where |k_Im| < 1e-3 k_Re.
 
-    python benchmarks/stability_map.py     # writes results/stability_map.{json,png}, prints a table
+    python benchmarks/stability_map.py     # writes results/stability_map.json and docs/stability_map.png,
+                                           # prints a table
 """
 
 from __future__ import annotations
@@ -49,6 +50,7 @@ sys.path.insert(0, str(Path(__file__).parent))  # also when tests/test_stability
 from bench_common import machine, warm_times  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
+DOCS = Path(__file__).resolve().parent.parent / "docs"  # the figure (docs/performance.md, notebook 04)
 FIVE = ("psi_fs", "k_re_fs", "psi_bc", "k_re_bc", "k_im_bc")
 LOAD = jd.LoadCase(*(jnp.asarray(v, float) for v in (1000.0, 100.0, 0.0)))
 METHODS = ("direct", "time marching", "HBM-AFT", "tanh-regularised")
@@ -377,7 +379,8 @@ def main(argv=None):
         return x
 
     (args.out / "stability_map.json").write_text(json.dumps(clean(res), indent=2))
-    plot(res, args.out / "stability_map.png")
+    # the figure is the docs' copy; with --out it stays beside the JSON
+    plot(res, (DOCS if args.out.resolve() == OUT.resolve() else args.out) / "stability_map.png")
     print(markdown(res))
 
 

@@ -47,7 +47,7 @@ Each point is a warm (already compiled) call, median of repeats. The direct meth
 form), so it sits at the bottom of each panel. The dotted line is the 1e-4 target on k_Im; a
 method's "time to 1e-4" is interpolated where its error falls below the line for good."""),
     new_markdown_cell("""\
-![Error versus warm wall time per method and case](../benchmarks/results/speed_accuracy.png)"""),
+![Error versus warm wall time per method and case](../docs/speed_accuracy.png)"""),
     new_code_cell("""\
 print(f"{'case':10} {'direct (ms)':>12} {'time marching':>16} {'HBM-AFT':>12} {'tanh-reg.':>12}   speedups at 1e-4 on k_Im")
 for key, case in bench["cases"].items():
@@ -112,7 +112,7 @@ liftoff not reported; *flagged*: the method reports liftoff, failure or a non-pe
 cycle. The direct method's numbers are checked on every row against the independent time marcher
 with error bounds that do not depend on the direct method (`tests/test_stability_map.py`)."""),
     new_markdown_cell("""\
-![Stability map: hard cases by method](../benchmarks/results/stability_map.png)"""),
+![Stability map: hard cases by method](../docs/stability_map.png)"""),
     new_code_cell("""\
 for row in smap["rows"]:
     c = row["case"]

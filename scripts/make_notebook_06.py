@@ -97,7 +97,7 @@ else:
     robust = shapes["response optimum (20 N, interpolated)"]"""),
     new_code_cell("""\
 from IPython.display import Image
-png = Path("..") / "benchmarks" / "results" / "robust_optimisation.png"
+png = Path("..") / "docs" / "robust_optimisation.png"
 Image(filename=str(png), width=640) if png.exists() else print("no figure yet")"""),
     new_markdown_cell("""\
 ## The peak distribution (Monte Carlo by vmap)
