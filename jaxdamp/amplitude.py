@@ -41,9 +41,9 @@ import numpy as np
 from ._validate import check_int, check_range
 from .cycle import mechanics
 from .engine import TRAVEL_TOL
-from .half import (Half, accelerate, assemble_in_phase, empty_half, gross_slip_from_assembly,
-                   run_half)
-from .loops import repeat_until, run_by_loop, tree_where
+from .half import (Half, assemble_in_phase, empty_half, gross_slip_from_assembly, run_half)
+from .periodic import CLOSE_TOL, iterate_to_periodic
+from .loops import run_by_loop, tree_where
 from .runtime import run_program
 from .geometry import DamperShape
 from .linalg import rowdot
@@ -57,7 +57,6 @@ from .tract import BACKSLIDE, SLIP
 
 MAX_TRACTS = 8  # per half, the constant-force stretch included (Base-Cycle halves need at most 5+1)
 MAX_PAIRS = 12  # (forward, backward) pairs of the iteration to a periodic cycle
-CLOSE_TOL = 1e-9  # periodicity: forces at the forward extreme repeat within this (units of F_D)
 ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone tolerance (units of F_D)
 INITIAL_STATES = ("gross_slip", "assembly")
 
@@ -236,50 +235,34 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
     N0 = jnp.where(ok0, N0, jnp.ones(3))  # keep the masked iteration finite
     T0 = jnp.where(ok0, T0, 0.0)
 
-    # One scan over half-cycles (a single compiled half: the program stays small under grad):
-    # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat.
+    # One loop over half-cycles (a single compiled half: the program stays small under grad):
+    # n_pre preliminary halves, then (forward, backward) pairs until the forces repeat
+    # (`periodic.iterate_to_periodic`).
     n_halves = history_halves(initial, max_pairs)
 
-    def next_half(c, j):
-        k = j - n_pre  # index within the pair iteration (negative: preliminary)
-        forward = (k % 2 == 0) | (k == -2)
+    def leg(r, N, T, j, k):
+        forward = (k % 2 == 0) | (k == -2)  # k: index within the pair iteration (< 0: preliminary)
         direction = jnp.where(forward, -1.0, 1.0)
         length = jnp.where(k == -2, a_dv, travel)
-        half = run_half(mech, c["N"], c["T"], direction, length, max_tracts=max_tracts, loop=loop)
-        bad = half.status != RESULTS.ok
+        half = run_half(mech, N, T, direction, length, max_tracts=max_tracts, loop=loop)
         in_pairs = k >= 0
-        is_fwd = in_pairs & forward
-        is_bwd = in_pairs & ~forward
-        top = jnp.where(is_fwd, jnp.concatenate([c["N"], c["T"]]), c["top"])
-        there = jnp.concatenate([half.N_end, half.T_end])
-        gap = jnp.max(jnp.abs(there - top))
-        closed = is_bwd & (gap <= CLOSE_TOL)
-        nxt = accelerate(mech.mu, c["prev"], top, there, k >= 2)
-        nxt = jnp.where(is_bwd, nxt, there)
-        return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(is_bwd, top, c["prev"]),
-                    fwd=tree_where(is_fwd, half, c["fwd"]),
-                    bwd=tree_where(is_bwd, half, c["bwd"]),
-                    gap=jnp.where(is_bwd, gap, c["gap"]), closed=closed & ~bad,
-                    stop=closed | bad, bad=c["bad"] | bad,
-                    liftoff=c["liftoff"] | (half.status == RESULTS.liftoff),
-                    failed=c["failed"] | (half.status == RESULTS.singular),
-                    pairs=c["pairs"] + is_bwd.astype(jnp.int32),
-                    hist=c["hist"].at[j].set(half.dv), slack=c["slack"].at[j].set(half.slack))
+        r = dict(fwd=tree_where(in_pairs & forward, half, r["fwd"]),
+                 bwd=tree_where(in_pairs & ~forward, half, r["bwd"]),
+                 liftoff=r["liftoff"] | (half.status == RESULTS.liftoff),
+                 failed=r["failed"] | (half.status == RESULTS.singular),
+                 hist=r["hist"].at[j].set(half.dv), slack=r["slack"].at[j].set(half.slack))
+        return half.N_end, half.T_end, half.status != RESULTS.ok, r
 
     empty = empty_half(max_tracts)
-    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
-                bwd=empty, gap=jnp.asarray(jnp.inf), closed=jnp.array(False),
-                stop=~ok0 | ~psi_ok, bad=jnp.array(False), liftoff=~ok0, failed=jnp.array(False),
-                pairs=jnp.array(0, jnp.int32), hist=jnp.zeros((n_halves, max_tracts)),
-                slack=jnp.zeros((n_halves, max_tracts)))
-    if pair_budget is None:
-        stopped = lambda c: c["stop"]  # noqa: E731
-    else:
-        stopped = lambda c: c["stop"] | (c["pairs"] >= pair_budget)  # noqa: E731
-    end = repeat_until(next_half, init, n_halves, loop, stopped)
-    fwd, bwd, closed, gap, npairs, start = (end["fwd"], end["bwd"], end["closed"], end["gap"],
-                                            end["pairs"], end["top"])
-    pre_lift, pre_fail = end["liftoff"], end["failed"]
+    records = dict(fwd=empty, bwd=empty, liftoff=~ok0, failed=jnp.array(False),
+                   hist=jnp.zeros((n_halves, max_tracts)), slack=jnp.zeros((n_halves, max_tracts)))
+    end = iterate_to_periodic(leg, N0, T0, mech.mu, records, legs_per_round=2, pre_legs=n_pre,
+                              max_rounds=max_pairs, loop=loop, stop0=~ok0 | ~psi_ok,
+                              round_budget=pair_budget)
+    r = end["records"]
+    fwd, bwd, closed, gap, npairs, start = (r["fwd"], r["bwd"], end["closed"], end["gap"],
+                                            end["rounds"], end["top"])
+    pre_lift, pre_fail = r["liftoff"], r["failed"]
 
     k_re, k_im, energy, work = _loop_numbers(shape, load, psi, fwd, bwd, motion)
     singular0 = statics_singular(shape, mech.mu)  # no full-slip statics: as the Base-Cycle says
@@ -296,7 +279,7 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return AmplitudeCycle(shape, mech.mu, contacts, load, jnp.asarray(psi_a, float), start[:3],
                           start[3:], fwd, bwd, zero(k_re), zero(k_im), zero(energy), zero(work),
-                          gap, npairs.astype(jnp.int32), status, end["hist"], end["slack"], motion)
+                          gap, npairs.astype(jnp.int32), status, r["hist"], r["slack"], motion)
 
 
 @functools.cache

@@ -20,14 +20,14 @@ from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .statics import contact_columns, full_slip_state, statics_singular
 from .linalg import vecmat
-from .half import Half, accelerate, empty_half, run_half
-from .loops import repeat_until, run_by_loop, tree_where
+from .half import Half, empty_half, run_half
+from .periodic import CLOSE_TOL, closure_gap, iterate_to_periodic
+from .loops import run_by_loop, tree_where
 from .motion import pad_motion
 from .tract import Mechanics, make_mechanics
 
 MAX_TRACTS = 6  # per half-cycle; the paper's cases need at most 4, random designs at most 5
 MAX_PAIRS = 4  # forward+backward iterations: 1 usually; frozen mechanisms need 3 with Aitken
-CLOSE_TOL = 1e-9  # end-state repeat tolerance on forces (units of F_D)
 # Equilibrium residual (forces in units of F_D; rates relative to the largest rate) above which a
 # cycle is reported ill-conditioned. A well-posed cycle has residuals of 1e-15; stiffness pairs far
 # outside the validated range (docs/model.md) give 5e-8 (kn = 1e12 N/mm) to 1 (kn = 1e30 N/mm).
@@ -120,38 +120,27 @@ def _cycle_impl(shape, mu, contacts, load, max_tracts, max_pairs, loop):
 
 def _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop):
     """(forward half, backward half, converged, half-cycles run) of the iteration to the periodic
-    cycle from (N0, T0), up to max_pairs pairs (none where liftoff0)."""
+    cycle from (N0, T0), up to max_pairs pairs (none where liftoff0): `periodic.iterate_to_periodic`
+    with rounds of two halves."""
     # One loop over half-cycles (forward, backward, forward, ...), so that the program holds one
     # compiled half instead of a pair's two (as the amplitude kernel does): the reverse-mode
     # program of the five numbers traced in 6 s instead of 10 and compiled in 11 s instead of
-    # 14 (the value program's compile stayed at 3.4 s; docs/performance-history.md). A pair always runs
-    # both halves, and the cycle stops after a backward half that closed it or after a pair with
-    # a failed half.
-    def next_half(c, j):
+    # 14 (the value program's compile stayed at 3.4 s; docs/performance-history.md). A pair
+    # always runs both halves (whole_rounds), and the cycle stops after a backward half that
+    # closed it or after a pair with a failed half.
+    def leg(records, N, T, j, k):
         forward = j % 2 == 0
-        half = run_half(mech, c["N"], c["T"], jnp.where(forward, -1.0, 1.0),
-                        max_tracts=max_tracts, loop=loop)
-        bad = c["bad"] | (half.status != RESULTS.ok)
-        top = jnp.where(forward, jnp.concatenate([c["N"], c["T"]]), c["top"])
-        closed = (jnp.max(jnp.abs(half.N_end - top[:3]))
-                  + jnp.max(jnp.abs(half.T_end - top[3:]))) <= CLOSE_TOL
-        there = jnp.concatenate([half.N_end, half.T_end])
-        nxt = accelerate(mech.mu, c["prev"], top, there, j > 1)
-        nxt = jnp.where(forward, there, nxt)
-        pair_end = ~forward
-        return dict(N=nxt[:3], T=nxt[3:], top=top, prev=jnp.where(pair_end, top, c["prev"]),
-                    fwd=tree_where(forward, half, c["fwd"]),
-                    bwd=tree_where(pair_end, half, c["bwd"]),
-                    bad=jnp.where(pair_end, False, bad), conv=pair_end & closed & ~bad,
-                    stop=pair_end & (closed | bad), nhalf=j + 1)
+        half = run_half(mech, N, T, jnp.where(forward, -1.0, 1.0), max_tracts=max_tracts,
+                        loop=loop)
+        records = dict(fwd=tree_where(forward, half, records["fwd"]),
+                       bwd=tree_where(~forward, half, records["bwd"]), nhalf=j + 1)
+        return half.N_end, half.T_end, half.status != RESULTS.ok, records
 
-    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(6), fwd=empty,
-                bwd=empty, bad=jnp.array(False), conv=jnp.array(False), stop=liftoff0,
-                nhalf=jnp.array(0))
-    # Once the cycle has closed (or failed) the remaining halves change nothing.
-    end = repeat_until(next_half, init, 2 * max_pairs, loop, lambda c: c["stop"])
-    conv, fwd, bwd, nhalf = end["conv"], end["fwd"], end["bwd"], end["nhalf"]
-    return fwd, bwd, conv, nhalf
+    end = iterate_to_periodic(leg, N0, T0, mech.mu, dict(fwd=empty, bwd=empty, nhalf=jnp.array(0)),
+                              legs_per_round=2, pre_legs=0, max_rounds=max_pairs, loop=loop,
+                              stop0=liftoff0, whole_rounds=True)
+    r = end["records"]
+    return r["fwd"], r["bwd"], end["closed"], r["nhalf"]
 
 
 def _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop):
@@ -162,7 +151,7 @@ def _one_pair(mech, N0, T0, liftoff0, empty, max_tracts, loop):
     fwd = run_half(mech, N0, T0, -1.0, max_tracts=max_tracts, loop=loop)
     bwd = run_half(mech, fwd.N_end, fwd.T_end, 1.0, max_tracts=max_tracts, loop=loop)
     bad = (fwd.status != RESULTS.ok) | (bwd.status != RESULTS.ok)
-    closed = (jnp.max(jnp.abs(bwd.N_end - N0)) + jnp.max(jnp.abs(bwd.T_end - T0))) <= CLOSE_TOL
+    closed = closure_gap(jnp.concatenate([N0, T0]), jnp.concatenate([bwd.N_end, bwd.T_end])) <= CLOSE_TOL
     ran = ~liftoff0
     return (tree_where(ran, fwd, empty), tree_where(ran, bwd, empty), ran & closed & ~bad,
             jnp.where(ran, 2, 0).astype(int))

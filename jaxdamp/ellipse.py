@@ -46,9 +46,9 @@ from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, 
 from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts, to_gross_slip
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
-from .half import accelerate
-from .loops import repeat_until, run_by_loop
+from .loops import run_by_loop
 from .paths import Ellipse, Line, sinusoid
+from .periodic import iterate_to_periodic
 from .motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
@@ -59,7 +59,6 @@ from .tract import OPEN, SLIP
 
 MAX_TRACTS = 32  # per period: each pad may stick and slip twice per turn of the ellipse
 MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
-CLOSE_TOL = 1e-9  # periodicity of the forces at tau = 0 (units of F_D)
 INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "sweep_program", "path_pads", "period_fourier",
@@ -231,27 +230,19 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     N0 = jnp.where(bad0, jnp.ones(n_pads), N0)  # keep the masked iteration finite
     T0 = jnp.where(bad0, 0.0, T0)
 
-    def run_period(c, k):
-        whole = k >= half_first  # else assembly's half period, tau from pi to 2 pi
+    def leg(arc, N, T, j, k):
+        whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
         start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
-        arc = run_tracts(pads, path, c["N"], c["T"], start, two_pi, max_tracts=max_tracts,
-                         loop=loop)
-        here = jnp.concatenate([c["N"], c["T"]])
-        there = jnp.concatenate([arc.N_end, arc.T_end])
-        gap = jnp.where(whole, jnp.max(jnp.abs(there - here)), jnp.inf)
-        bad = arc.status != RESULTS.ok
-        # The period map is affine within one pattern of events: where the iterates converge
-        # along one direction, the extrapolated fixed point is exact (`half.accelerate`).
-        nxt = accelerate(pads.mu, c["prev"], here, there, k >= 1 + half_first)
-        return dict(N=nxt[:n_pads], T=nxt[n_pads:], prev=here, arc=arc, gap=gap,
-                    closed=(gap <= CLOSE_TOL) & ~bad, stop=(gap <= CLOSE_TOL) | bad,
-                    periods=c["periods"] + whole.astype(jnp.int32))
+        arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop)
+        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, arc
 
-    init = dict(N=N0, T=T0, prev=jnp.zeros(2 * n_pads), arc=empty_tracts(n_pads, 2, max_tracts),
-                gap=jnp.asarray(jnp.inf), closed=jnp.array(False), stop=bad0 | ~a_ok,
-                periods=jnp.array(0, jnp.int32))
-    end = repeat_until(run_period, init, max_periods + half_first, loop, lambda c: c["stop"])
-    arc = end["arc"]
+    # Rounds of one period; the period map is affine within one pattern of events: where the
+    # iterates converge along one direction, the extrapolated fixed point is exact
+    # (`periodic.accelerate`).
+    end = iterate_to_periodic(leg, N0, T0, pads.mu, empty_tracts(n_pads, 2, max_tracts),
+                              legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
+                              loop=loop, stop0=bad0 | ~a_ok)
+    arc = end["records"]
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)
@@ -279,7 +270,7 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
     return EllipticCycle(shape, pads.mu, contacts, load, motion, jnp.asarray(amplitude, float),
                          arc, zero(jnp.real(k)), zero(jnp.imag(k)), zero(energy), zero(work),
-                         zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["periods"], status)
+                         zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["rounds"], status)
 
 
 def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,

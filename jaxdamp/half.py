@@ -125,30 +125,4 @@ def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
     return _as_half(tr, jnp.where(back & (tr.state == SLIP), BACKSLIDE, tr.state))
 
 
-def accelerate(mu, s0, s1, s2, have_history):
-    """Next start state (N, T) of an iteration over pairs of halves, accelerated where the iteration
-    is geometric.
-
-    Within a fixed pattern of events the pair map is affine, so where its contracting part has one
-    direction the iterates satisfy s2 - s1 = rho (s1 - s0) and the fixed point
-    s2 + rho/(1-rho)(s2-s1) is exact (e.g. when gross slip freezes a partial-slip mechanism: vertical
-    flanks, 90R). It is used only where that structure is verified and the state is admissible; the
-    following pair then checks closure as usual. Otherwise the plain iterate s2 is returned.
-    """
-    d1, d2 = s1 - s0, s2 - s1
-    n1 = jnp.dot(d1, d1)
-    ok = have_history & (n1 > 1e-30)
-    rho = jnp.where(ok, jnp.dot(d2, d1) / jnp.where(ok, n1, 1.0), 0.0)
-    off = d2 - rho * d1
-    # Squared norms: no square root, whose derivative at zero is NaN.
-    collinear = jnp.dot(off, off) <= 1e-12 * jnp.dot(d2, d2) + 1e-30
-    ok = ok & collinear & (rho > -0.95) & (rho < 0.95)
-    step = jnp.where(ok, rho / jnp.where(ok, 1.0 - rho, 1.0), 0.0)
-    guess = s2 + step * d2
-    n_pads = s2.shape[0] // 2
-    N, T = guess[:n_pads], guess[n_pads:]
-    admissible = jnp.all(N > 0.0) & jnp.all(jnp.abs(T) <= mu * N + LIMIT_TOL)
-    return jnp.where(ok & admissible, guess, s2)
-
-
-__all__ = ["Half", "run_half", "empty_half", "accelerate"]
+__all__ = ["Half", "run_half", "empty_half", "assemble_in_phase", "gross_slip_from_assembly"]

@@ -41,8 +41,8 @@ from .ellipse import EllipticCycle, along_line, elliptic_kernel, path_pads
 from .engine import assemble
 from .engine import run as run_tracts
 from .geometry import DamperShape
-from .half import accelerate
-from .loops import repeat_until, run_by_loop
+from .loops import run_by_loop
+from .periodic import iterate_to_periodic
 from .motion import Motion, as_ellipse, motion_moment_coefficients, validate_motion
 from .params import Contacts, LoadCase, prepare_inputs
 from .paths import Line
@@ -50,7 +50,6 @@ from .status import RESULTS, number_repr, status_repr
 
 MAX_TRACTS = 8  # per half: a wedge's halves see at most 6 events on the cases of the tests
 MAX_PAIRS = 4  # forward + backward pairs until the end state repeats (1 usually)
-CLOSE_TOL = 1e-9  # end-state repeat tolerance (units of F_D)
 
 __all__ = ["PathBaseCycle", "path_base_cycle", "path_base_cycle_kernel", "path_base_cycle_inputs"]
 
@@ -108,41 +107,35 @@ def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
 
     # One loop over moves to gross slip, so that the program holds one compiled run: move 0 from
     # assembly along +X_r, then pairs of halves, forward (-X_r) and backward (+X_r), until the
-    # state at the start of a pair repeats.
-    def next_move(c, j):
+    # state at the start of a pair repeats (`periodic.iterate_to_periodic`).
+    def leg(r, N, T, j, k):
         forward = j % 2 == 1
-        run = run_tracts(along_line(pads, jnp.where(forward, -1.0, 1.0)), Line(), c["N"], c["T"],
+        run = run_tracts(along_line(pads, jnp.where(forward, -1.0, 1.0)), Line(), N, T,
                          0.0, None, max_tracts=max_tracts, loop=loop)
         # A run that ends anywhere but in gross slip (its tracts ran out, e.g. two pads taking
         # turns to stick and slip) leaves no gross-slip state, and no Base-Cycle.
         unseated = run.status == RESULTS.unseated
         missed = ~unseated & ~(run.gross_slip & (run.status == RESULTS.ok))
-        top = jnp.where(forward, jnp.concatenate([c["N"], c["T"]]), c["top"])
-        there = jnp.concatenate([run.N_end, run.T_end])
         pair_end = ~forward & (j > 0)
-        closed = pair_end & (jnp.max(jnp.abs(there - top)) <= CLOSE_TOL)
-        nxt = jnp.where(pair_end, accelerate(pads.mu, c["prev"], top, there, j > 2), there)
         span = jnp.sum(jnp.where(run.active, run.dp, 0.0))
         # The modal force's rate over the forward half's first tract, per mm along -X_r.
         rate = jnp.sum(fn * run.dN[0, 0] + ft * run.dT[0, 0])
         bad = unseated | missed
-        return dict(N=nxt[:n_pads], T=nxt[n_pads:], top=top,
-                    prev=jnp.where(pair_end, top, c["prev"]),
-                    spans=jnp.where(forward, c["spans"].at[0].set(span),
-                                    jnp.where(pair_end, c["spans"].at[1].set(span), c["spans"])),
-                    first_tract=jnp.where(forward, run.dp[0], c["first_tract"]),
-                    rate=jnp.where(forward, rate, c["rate"]),
-                    unseated=c["unseated"] | unseated, missed=c["missed"] | missed,
-                    reached=jnp.where(j == 0, ~bad, c["reached"]), closed=closed & ~bad,
-                    stop=closed | bad, pairs=c["pairs"] + pair_end.astype(jnp.int32))
+        r = dict(spans=jnp.where(forward, r["spans"].at[0].set(span),
+                                 jnp.where(pair_end, r["spans"].at[1].set(span), r["spans"])),
+                 first_tract=jnp.where(forward, run.dp[0], r["first_tract"]),
+                 rate=jnp.where(forward, rate, r["rate"]),
+                 unseated=r["unseated"] | unseated, missed=r["missed"] | missed,
+                 reached=jnp.where(j == 0, ~bad, r["reached"]))
+        return run.N_end, run.T_end, bad, r
 
     no = jnp.array(False)
-    init = dict(N=jnp.where(seated, Na, jnp.ones(n_pads)),  # keep the masked runs finite
-                T=jnp.where(seated, Ta, 0.0), top=jnp.zeros(2 * n_pads),
-                prev=jnp.zeros(2 * n_pads), spans=jnp.zeros(2), first_tract=jnp.array(0.0),
-                rate=jnp.array(0.0), unseated=no, missed=no, reached=no, closed=no,
-                stop=~seated, pairs=jnp.array(0, jnp.int32))
-    end = repeat_until(next_move, init, 1 + 2 * max_pairs, loop, lambda c: c["stop"])
+    records = dict(spans=jnp.zeros(2), first_tract=jnp.array(0.0), rate=jnp.array(0.0),
+                   unseated=no, missed=no, reached=no)
+    loop_end = iterate_to_periodic(leg, jnp.where(seated, Na, jnp.ones(n_pads)),  # finite if masked
+                                   jnp.where(seated, Ta, 0.0), pads.mu, records, legs_per_round=2,
+                                   pre_legs=1, max_rounds=max_pairs, loop=loop, stop0=~seated)
+    end = dict(loop_end["records"], closed=loop_end["closed"], pairs=loop_end["rounds"])
     reached = end["reached"]
     to_mrad = MRAD_PER_RAD / load.q_star
     a_bc = 0.5 * jnp.max(end["spans"]) * to_mrad

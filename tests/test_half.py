@@ -16,7 +16,7 @@ import jaxdamp as jd
 from jaxdamp import tract
 from jaxdamp.amplitude import gross_slip_state
 from jaxdamp.cycle import equilibrium_residual, mechanics
-from jaxdamp.half import accelerate, run_half
+from jaxdamp.half import run_half
 from jaxdamp.params import Contacts, LoadCase
 
 from helpers import assert_tree_allclose
@@ -134,18 +134,3 @@ def test_an_open_start_is_liftoff_with_no_tract():
         assert jd.RESULTS.name_of(half.status) == "liftoff"
         assert not np.any(half.active) and float(half.span) == 0.0
     assert "status=liftoff" in repr(half)
-
-
-def test_acceleration_lands_on_the_fixed_point_of_a_geometric_iteration():
-    fixed = jnp.array([1.0, 0.8, 0.6, 0.2, -0.1, 0.3])  # N > 0, |T| <= 0.5 N: admissible
-    d = jnp.array([0.01, -0.02, 0.005, 0.003, 0.001, -0.002])
-    rho = 0.6
-    s0, s1, s2 = (fixed + rho ** k * d for k in range(3))
-    assert_tree_allclose(np.asarray(np.asarray(accelerate(0.5, s0, s1, s2, True)), float),
-                         np.asarray(np.asarray(fixed), float),
-                         rtol=1e-12, atol=1e-14)
-    # Not geometric along one direction, no history, or an inadmissible guess: the plain iterate.
-    bent = s2.at[0].add(1e-3)
-    assert np.array_equal(np.asarray(accelerate(0.5, s0, s1, bent, True)), np.asarray(bent))
-    assert np.array_equal(np.asarray(accelerate(0.5, s0, s1, s2, False)), np.asarray(s2))
-    assert np.array_equal(np.asarray(accelerate(0.05, s0, s1, s2, True)), np.asarray(s2))
