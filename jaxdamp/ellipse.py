@@ -62,7 +62,7 @@ MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
 INITIAL_STATES = ("assembly", "gross_slip")
 
 __all__ = ["EllipticCycle", "elliptic_cycle", "elliptic_kernel", "interblade_sweep", "sweep_program", "path_pads", "period_fourier",
-           "gross_slip_amplitude_kernel", "along_line",
+           "GrossSlipAmplitude", "gross_slip_amplitude_kernel", "along_line",
            "MAX_TRACTS", "MAX_PERIODS", "INITIAL_STATES"]
 
 
@@ -273,6 +273,17 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
                          zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["rounds"], status)
 
 
+class GrossSlipAmplitude(NamedTuple):
+    """Where a straight move from assembly reaches gross slip (a pytree; unpacks as a pair)."""
+
+    amplitude_mrad: jnp.ndarray  # of the path's parameter
+    status: jnp.ndarray  # ok, unseated or unreachable
+
+    def __repr__(self) -> str:
+        return (f"GrossSlipAmplitude(status={status_repr(self.status)}, "
+                f"amplitude_mrad={number_repr(self.amplitude_mrad, 'mrad')})")
+
+
 def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,
                                 max_tracts: int = MAX_TRACTS, loop: str = "while"):
     """(a_gs, status): the amplitude (mrad of the path's parameter) of a straight move from
@@ -286,7 +297,7 @@ def gross_slip_amplitude_kernel(shape, mu, contacts, load, motion: Motion,
     up, reached = to_gross_slip(pads, Na, Ta, ok0, max_tracts=max_tracts, loop=loop)
     travel = jnp.sum(jnp.where(up.active, up.dp, 0.0))
     status = RESULTS.first({RESULTS.unreachable: ok0 & ~reached, RESULTS.unseated: ~ok0})
-    return travel * MRAD_PER_RAD / load.q_star, status
+    return GrossSlipAmplitude(travel * MRAD_PER_RAD / load.q_star, status)
 
 
 @functools.cache

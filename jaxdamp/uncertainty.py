@@ -135,15 +135,26 @@ def sample_scenarios(key, n: int, uncertainty: Uncertainty = Uncertainty(),
                      fd)
 
 
+class Magnification(NamedTuple):
+    """A*/F of one scenario per force, and its damper's status (a pytree; unpacks as a pair)."""
+
+    mm_per_n: jnp.ndarray  # (n_force,) peak amplitude over force, mm/N
+    status: jnp.ndarray  # the damper's RESULTS code
+
+    def __repr__(self) -> str:
+        return (f"Magnification(status={status_repr(self.status)}, "
+                f"mm_per_n={number_repr(self.mm_per_n, 'mm/N')})")
+
+
 def magnification_kernel(shape, scenario: Scenarios, load: LoadCase, mode: BladeMode, force_n,
-                         initial: str = "gross_slip"):
-    """(A*/F per force (n_force,) in mm/N, damper status) of one scenario (unbatched fields), on
+                         initial: str = "gross_slip") -> Magnification:
+    """`Magnification` (A*/F per force (n_force,) in mm/N, damper status) of one scenario (unbatched fields), on
     the exact curve from `initial`. Pure JAX: vmap over scenarios, differentiate in the shape."""
     load = LoadCase(scenario.fd_n, load.q_star, load.r_sin_beta)
     d = damper_stiffness_kernel(shape, scenario.mu, Contacts(scenario.kn, scenario.kt), load,
                                 "exact", initial=initial)
     forces = jnp.asarray(force_n, float).reshape(-1)
-    return peak_response(d, mode, forces).peak_amplitude_mm / forces, d.status
+    return Magnification(peak_response(d, mode, forces).peak_amplitude_mm / forces, d.status)
 
 
 def _gross_slip(scenario, shape, load, mode, forces):
@@ -195,5 +206,5 @@ def peak_distribution(shape, scenarios: Scenarios, mode: BladeMode | None = None
     return PeakDistribution(forces, mag, status, lev, q, worst, exc, n_ok)
 
 
-__all__ = ["Uncertainty", "Scenarios", "PeakDistribution", "HISTORIES", "validate_uncertainty",
+__all__ = ["Uncertainty", "Scenarios", "PeakDistribution", "Magnification", "HISTORIES", "validate_uncertainty",
            "sample_scenarios", "magnification_kernel", "peak_distribution"]

@@ -27,7 +27,7 @@ from ..status import RESULTS, number_repr, status_repr
 __all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
            "interpolated_damper", "exact_damper", "register_stiffness_method",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
-           "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "path_cycle_kernel",
+           "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "PathStiffness", "path_cycle_kernel",
            "path_damper", "STUCK_FRACTION", "through_residual", "with_residual"]
 
 
@@ -109,9 +109,23 @@ PATH_HISTORIES = ("assembly", "gross_slip")
 STUCK_FRACTION = 1e-6  # of psi_ref: an amplitude at which every pad sticks (the stuck limit)
 
 
+class PathStiffness(NamedTuple):
+    """The complex stiffness of one steady cycle on a platform path (a pytree; unpacks as
+    (k_re, k_im, status))."""
+
+    k_re: jnp.ndarray  # N mm/mrad of the path's parameter (zero where the status has no numbers)
+    k_im: jnp.ndarray
+    status: jnp.ndarray  # RESULTS code of the cycle
+
+    def __repr__(self) -> str:
+        return (f"PathStiffness(status={status_repr(self.status)}, "
+                f"k_re={number_repr(self.k_re, 'N mm/mrad')}, "
+                f"k_im={number_repr(self.k_im, 'N mm/mrad')})")
+
+
 def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str = "assembly",
-                      loop: str = "auto", repeats: int | None = None):
-    """(k_re, k_im, status) of the steady cycle at `amplitude` (mrad of the path's parameter) on
+                      loop: str = "auto", repeats: int | None = None) -> PathStiffness:
+    """`PathStiffness` (k_re, k_im, status) of the steady cycle at `amplitude` (mrad of the path's parameter) on
     a platform path: motion None is the paper's in-phase motion (`amplitude_kernel`), a straight
     Motion runs `amplitude_kernel(..., motion=)`, an elliptic one `elliptic_kernel` (its gross
     slip: a straight move along the ellipse's tau = 0 direction to gross slip, `jaxdamp.ellipse`).
@@ -130,7 +144,7 @@ def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str
     else:
         c = amplitude_kernel(shape, mu, contacts, load, amplitude, initial=initial, motion=motion,
                              loop=loop, **bound)
-    return c.k_re, c.k_im, c.status
+    return PathStiffness(c.k_re, c.k_im, c.status)
 
 
 def _engine_path(motion, load) -> Motion:
