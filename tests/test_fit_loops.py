@@ -68,6 +68,7 @@ def test_synthetic_loops_recovered_inside_intervals(noisy_fit):
     assert fit.sigma == pytest.approx(np.mean([0.005 * np.ptp(m) for _, m in _noisy_loops()]), rel=0.3)
 
 
+@pytest.mark.slow  # 18.5 worker-s (run of 2026-11-28)
 def test_standard_errors_are_those_of_a_finite_difference_jacobian():
     """The solver's Jacobian of the residuals (forward mode through the kernel, once per point it
     visits) gives the fit's standard errors; the same formula on central differences of

@@ -479,6 +479,7 @@ def test_complex_stiffness_beyond_the_small_rotation_limit_says_so():
         jd.complex_stiffness(_base_cycle(), [1e6], method="interpolated")
 
 
+@pytest.mark.slow  # 13.5 worker-s (run of 2026-11-28)
 def test_a_batch_of_three_is_three_designs_not_three_pads():
     """stack_designs' (n,) stiffness is one per design at n = 3 as at n = 4 (it was read as per
     pad at 3 and refused at 4): the batch's values equal the designs' one by one."""
