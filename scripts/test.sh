@@ -9,18 +9,18 @@ bash scripts/setup.sh
 # its own programs (no persistent compilation cache: tests/conftest.py says why), a whole test file
 # at a time (--dist loadfile), so that a file's programs compile in one worker, not in both. No
 # reruns: a worker that crashes fails the run (docs/performance.md, "Worker crashes").
-# Every test not marked slow, and one third of those marked slow (over 10 worker-seconds each,
+# Every test not marked slow, and one quarter of those marked slow (over 10 worker-seconds each,
 # nearly all XLA compilation of long end-to-end programs): the shard is the commit count of the
-# checkout modulo 3 (tests/conftest.py, tests/slow_shards.json), so consecutive landings rotate
+# checkout modulo 4 (tests/conftest.py, tests/slow_shards.json), so consecutive landings rotate
 # through the slow tier (README). `--shard K` picks shard K; `--full` runs every test and prints
 # the time it took.
-shard=$(( $(git rev-list --count HEAD 2>/dev/null || echo 0) % 3 ))
+shard=$(( $(git rev-list --count HEAD 2>/dev/null || echo 0) % 4 ))
 tier=(--slow-shard "$shard")
 full=0
 if [[ "${1:-}" == "--full" ]]; then tier=(); full=1; shift
-elif [[ "${1:-}" == "--shard" ]]; then tier=(--slow-shard "${2:?--shard needs K in 0..2}"); shift 2
+elif [[ "${1:-}" == "--shard" ]]; then tier=(--slow-shard "${2:?--shard needs K in 0..3}"); shift 2
 fi
-[[ $full == 1 ]] && echo "test.sh: every test, the slow tier whole" || echo "test.sh: slow shard ${tier[1]} of 3"
+[[ $full == 1 ]] && echo "test.sh: every test, the slow tier whole" || echo "test.sh: slow shard ${tier[1]} of 4"
 start=$SECONDS
 # --durations: every run lists its 25 slowest tests, where the next cut of the suite starts.
 .venv/bin/python -m pytest -n 2 --dist loadfile --durations=25 "${tier[@]}" "$@"

@@ -73,7 +73,7 @@ HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
 # runs them all. tests/slow_shards.json assigns each slow test to a shard, balanced by measured
 # worker-seconds (scripts/slow_shards.py writes it from a `--durations=0` run of the slow tier); a
 # slow test it does not name yet goes to the shard of a stable hash of its id.
-SLOW_SHARDS = 3
+SLOW_SHARDS = 4
 SHARDS_FILE = Path(__file__).with_name("slow_shards.json")
 
 
