@@ -7,7 +7,7 @@ import string
 
 import numpy as np
 
-from .amplitude import MAX_TRACTS, AmplitudeCycle
+from .amplitude import AmplitudeCycle
 from .cycle import BaseCycle
 from .ellipse import EllipticCycle
 from .geometry import CONTACT_NAMES, pad_names
@@ -39,7 +39,14 @@ def transitions_chart(cycle) -> list[dict]:
 
 
 def _letters():
-    return ["0"] + list(string.ascii_uppercase[: 26])
+    """The points between tracts, named as in the paper: 0, A, B, ..."""
+    return ["0"] + list(string.ascii_uppercase)
+
+
+def _tract_row(half: str, names, k: int, dv_mm: float, states) -> dict:
+    """One row of an in-phase chart: the tract from point k to k + 1 and each contact's state."""
+    return dict(half=half, tract=f"{names[k]}-{names[k + 1]}", dv_mm=dv_mm,
+                **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, states)})
 
 
 def _base_cycle_chart(bc: BaseCycle) -> list[dict]:
@@ -57,8 +64,7 @@ def _base_cycle_chart(bc: BaseCycle) -> list[dict]:
         states = np.asarray(half.state)
         dvs = np.asarray(half.dv)
         for i in np.nonzero(active)[0]:
-            rows.append(dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(dvs[i]),
-                             **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, states[i])}))
+            rows.append(_tract_row(label, names, k, float(dvs[i]), states[i]))
             k += 1
         stretch = longest - float(half.span)
         if stretch > 1e-12 * max(longest, 1e-300):
@@ -73,15 +79,13 @@ def _base_cycle_chart(bc: BaseCycle) -> list[dict]:
 
 def _amplitude_chart(ac: AmplitudeCycle) -> list[dict]:
     """One row per tract of the steady cycle: half, dv_mm, the state of R1, L1, L2, and
-    stretch=True for a constant-force gross-slip stretch (like `cycle.transitions_chart`)."""
-
-    names = ["0"] + [chr(ord("A") + i) for i in range(2 * MAX_TRACTS + 1)]
+    stretch=True for a constant-force gross-slip stretch (as the Base-Cycle's chart)."""
+    names = _letters()
     rows, k = [], 0
     for label, half in (("forward", ac.forward), ("backward", ac.backward)):
         active = np.asarray(half.active)
         for i in np.nonzero(active)[0]:
-            row = dict(half=label, tract=f"{names[k]}-{names[k + 1]}", dv_mm=float(half.dv[i]),
-                       **{c: STATE_NAMES[int(s)] for c, s in zip(CONTACT_NAMES, np.asarray(half.state[i]))})
+            row = _tract_row(label, names, k, float(half.dv[i]), np.asarray(half.state[i]))
             if bool(half.stretch[i]):
                 row["stretch"] = True
             rows.append(row)
@@ -93,7 +97,7 @@ def _elliptic_chart(ec: EllipticCycle) -> list[dict]:
     """The contact-state chart of a steady elliptic cycle: one row per tract of its period,
     tau_start_deg and tau_end_deg (degrees of the period) and the state of every pad
     (`geometry.pad_names`: stick, slip or open), so that the intervals in which a pad is open
-    read off directly (like `cycle.transitions_chart`). Empty for a result without valid
+    read off directly (as the in-phase charts' tracts). Empty for a result without valid
     numbers."""
     if not bool(RESULTS.valid(ec.status)):
         return []

@@ -132,30 +132,30 @@ def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
     no = jnp.array(False)
     records = dict(spans=jnp.zeros(2), first_tract=jnp.array(0.0), rate=jnp.array(0.0),
                    unseated=no, missed=no, reached=no)
-    loop_end = iterate_to_periodic(leg, jnp.where(seated, Na, jnp.ones(n_pads)),  # finite if masked
-                                   jnp.where(seated, Ta, 0.0), pads.mu, records, legs_per_round=2,
-                                   pre_legs=1, max_rounds=max_pairs, loop=loop, stop0=~seated)
-    end = dict(loop_end["records"], closed=loop_end["closed"], pairs=loop_end["rounds"])
-    reached = end["reached"]
+    end = iterate_to_periodic(leg, jnp.where(seated, Na, jnp.ones(n_pads)),  # finite if masked
+                              jnp.where(seated, Ta, 0.0), pads.mu, records, legs_per_round=2,
+                              pre_legs=1, max_rounds=max_pairs, loop=loop, stop0=~seated)
+    r = end["records"]
+    reached = r["reached"]
     to_mrad = MRAD_PER_RAD / load.q_star
-    a_bc = 0.5 * jnp.max(end["spans"]) * to_mrad
-    a_fs = 0.5 * end["first_tract"] * to_mrad
+    a_bc = 0.5 * jnp.max(r["spans"]) * to_mrad
+    a_fs = 0.5 * r["first_tract"] * to_mrad
     # The forward half runs along -X_r: the slope along +X_r per mrad of the path parameter.
-    k_re_fs = -end["rate"] * travel_mm(1.0, load.q_star)
+    k_re_fs = -r["rate"] * travel_mm(1.0, load.q_star)
     cycle = elliptic_kernel(shape, mu, contacts, load,
                             jnp.where(end["closed"] & (a_bc > 0.0), a_bc, 1.0), as_ellipse(motion),
                             initial="gross_slip", loop=loop)
     # The history's causes (unseated at assembly; a move that never reaches gross slip, the
     # first one included; unseated on a later move: one at most, a bad move stops the loop),
     # the halves' (not periodic), then the cycle's own where it has no numbers.
-    status = RESULTS.first({RESULTS.unseated: ~seated | (reached & end["unseated"]),
-                            RESULTS.unreachable: seated & (~reached | end["missed"]),
+    status = RESULTS.first({RESULTS.unseated: ~seated | (reached & r["unseated"]),
+                            RESULTS.unreachable: seated & (~reached | r["missed"]),
                             RESULTS.not_converged: ~end["closed"]},
                            status=jnp.where(RESULTS.valid(cycle.status), RESULTS.ok, cycle.status))
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
-    return PathBaseCycle(zero(a_fs), zero(k_re_fs), zero(a_bc), zero(end["spans"]), cycle,
-                         end["pairs"], status)
+    return PathBaseCycle(zero(a_fs), zero(k_re_fs), zero(a_bc), zero(r["spans"]), cycle,
+                         end["rounds"], status)
 
 
 _kernel = jax.jit(path_base_cycle_kernel, static_argnames=("max_tracts", "max_pairs", "loop"))
