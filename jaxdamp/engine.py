@@ -26,6 +26,7 @@ pads in stick and closed; none consistent means no set of pads holds the damper:
 
 from __future__ import annotations
 
+import functools
 from typing import NamedTuple
 
 import jax
@@ -35,9 +36,10 @@ import numpy as np
 from .linalg import combine, rowdot, solve3
 from .loops import bounded_loop, zeros_of
 from .paths import Line
+from .stages import second_look
 from .status import RESULTS
 from .tract import (CANDIDATE_SETS, LIMIT_TOL, NO_EVENT, OPEN, RATE_TOL, SLIP, STICK,
-                    Mechanics, candidate_rates)
+                    Mechanics, candidate_rates, make_mechanics)
 
 TRAVEL_TOL = 1e-12  # path left (fraction of a run's) below which a run has ended; slip below it is none
 NO_EVENT_LIMIT = 1e5  # mm: a run to gross slip with no event nearer than this fails (no gross slip)
@@ -130,7 +132,8 @@ class Choice(NamedTuple):
     consistent: jnp.ndarray  # () bool: some candidate set is consistent
 
 
-def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
+def choose(pads: Pads, N, T, heading, ahead=None, seated: bool = False,
+           reduced: tuple[Mechanics, ...] | None = None) -> Choice:
     """The state set of a tract starting at (N, T) with the platforms moving along `heading` (B,)
     (basis weights of the path's direction of motion, scaled to unit pad speed).
 
@@ -139,7 +142,14 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     N = 0 opens (if its gap grows) or closes, in stick or slipping. Among the sets consistent to
     first order, those still consistent at `ahead` (B,) basis increments on (an ellipse's
     second-order check: a rate can be zero at a tract's start without changing sign), if any;
-    then the one with the most pads strong (stick, closed), closing pads preferably in stick."""
+    then the one with the most pads strong (stick, closed), closing pads preferably in stick.
+
+    seated=True: only the 2^P sets of closed pads (stick or slip) are tried, and the choice is
+    consistent only where no pad is open or at N = 0. There the sets with an open or closing pad
+    are not allowed anyway, so the choice is `choose`'s, at half the candidate sets (`run`'s first
+    look; the lanes it leaves inconsistent choose again among every set). reduced (three pads,
+    seated): `seated_reduction(pads)`, whose closed-form rates (`tract.candidate_rates`) replace
+    the sets' 3x3 solves."""
     n_pads = N.shape[0]
     mu = jnp.broadcast_to(pads.mu, N.shape)
     zero = jnp.abs(N) <= LIMIT_TOL
@@ -163,14 +173,19 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     pad = np.arange(n_pads)
     column = jnp.clip(pad - (pad > z), 0, n_pads - 2)  # each pad's column among the others
     weak2 = jnp.where(pad[None] == z, False, jnp.asarray(candidate_table(n_pads - 1))[:, column])
-    weak = jnp.concatenate([weak1, weak2, weak2])
-    n1, n2 = weak1.shape[0], weak2.shape[0]
+    weak = weak1 if seated else jnp.concatenate([weak1, weak2, weak2])
+    n1, n2 = weak1.shape[0], 0 if seated else weak2.shape[0]
     direction = np.repeat([0.0, 1.0, -1.0], [n1, n2, n2])[:, None]
     closing = ~weak & zero2 & (direction != 0.0)
     closed = ~(weak & (zero2 | gap2))
     slipping = (weak & limit2) | closing
     signs = jnp.where(closing, direction, t_sign[None])
-    r = _rates(pads, closed, slipping, signs)
+    if reduced is None:
+        r = _rates(pads, closed, slipping, signs)
+    else:  # the same sets (weak: slipping, every pad closed) in closed form, per basis direction
+        per = [candidate_rates(m, t_sign, 1.0) for m in reduced]
+        r = Rates(*(jnp.stack([getattr(x, f) for x in per], axis=1) for f in ("dN", "dT", "dslip")),
+                  functools.reduce(jnp.logical_and, [x.ok for x in per]))
     first = np.arange(weak.shape[0]) < n1
     allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
                & (first | zero[z]))
@@ -179,11 +194,14 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     tol = RATE_TOL * scale
     mu2 = mu[None]
     stick = closed & ~slipping
+    # Seated, the conditions of pads at N = 0 are moot (such a choice is not consistent).
+    at_zero = not seated
     ok_pad = jnp.where(stick & limit2, t_sign[None] * dT - mu2 * dN <= tol, True)
-    ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
     ok_pad &= jnp.where(slipping, signs * dslip <= RATE_TOL, True)
-    ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
-    ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
+    if at_zero:
+        ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
+        ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
+        ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
     good = allowed & r.ok & jnp.all(ok_pad, axis=1)
     if ahead is not None:
         N1, T1, slid = (N[None] + _along(ahead, r.dN), T[None] + _along(ahead, r.dT),
@@ -191,14 +209,33 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
         stays = jnp.where(stick & (limit2 | zero2), jnp.abs(T1) <= mu2 * N1 + LOOKAHEAD_TOL, True)
         stays &= jnp.where(slipping, signs * slid <= LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)),
                            True)
-        stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
-        stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
+        if at_zero:
+            stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
+            stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
         second = good & jnp.all(stays, axis=1)
         good = jnp.where(jnp.any(second), second, good)
     score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + first, 0)
     best = jnp.argmax(score)
+    consistent = good[best] & ~jnp.any(zero | gap) if seated else good[best]
     return Choice(closed[best], slipping[best], signs[best], r.dN[best], r.dT[best],
-                  r.dslip[best], good[best])
+                  r.dslip[best], consistent)
+
+
+def _choose_seated(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
+    """`run`'s first look: `choose` among the closed sets."""
+    return choose(pads, N, T, heading, ahead, seated=True, reduced=reduced)
+
+
+def _choose_all(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
+    """`run`'s second look: `choose` among every set (`reduced` is the first look's)."""
+    return choose(pads, N, T, heading, ahead)
+
+
+def seated_reduction(pads: Pads) -> tuple[Mechanics, ...]:
+    """The all-stick reduction of three pads (`tract.make_mechanics`) per basis direction of the
+    path: what `choose(seated=True, reduced=...)` needs, computed once per run."""
+    return tuple(make_mechanics(pads.a, pads.c, pads.nw[b], pads.tw[b], pads.kn, pads.kt, pads.mu)
+                 for b in range(pads.nw.shape[0]))
 
 
 def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
@@ -320,6 +357,13 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     span = None if to_gross else jnp.abs(jnp.asarray(p_end, float) - p_start)
     # A line's direction of motion is the same all along it.
     line_heading = path.heading(pads, p_start) if on_line else None
+    # Values: each tract's state choice tries the closed sets first (three pads: in closed form
+    # from their all-stick reduction, computed once per run), and the lanes of a batch that have a
+    # pad open or at N = 0 choose again among every set (`stages.second_look`). The derivatives'
+    # masked scan chooses among every set (reverse mode cannot pass second_look).
+    reduced = seated_reduction(pads) if pads_open and n_pads == 3 and loop == "while" else None
+    chooser = (second_look(_choose_seated, _choose_all, lambda ch: ~ch.consistent)
+               if loop == "while" else _choose_all)
     # Pads that may not open: one at N = 0 at the start has lifted off.
     lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
     init = dict(N=N, T=T, p=p_start, done=lift0, gross=jnp.array(False),
@@ -330,7 +374,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         N, T, p0 = carry["N"], carry["T"], carry["p"]
         heading = line_heading if on_line else path.heading(pads, p0)
         if pads_open:
-            ch = choose(pads, N, T, heading, path.ahead(p0))
+            ch = chooser(pads, N, T, heading, path.ahead(p0), reduced)
         else:
             ch = choose_closed(closed, N, T, heading)
         stick = ch.closed & ~ch.slipping
@@ -449,4 +493,5 @@ def to_gross_slip(pads: Pads, N, T, start_ok, *, max_tracts: int, loop: str = "s
 
 
 __all__ = ["Pads", "Rates", "Choice", "Tracts", "candidate_table", "choose", "choose_closed",
+           "seated_reduction",
            "assemble", "run", "to_gross_slip", "empty_tracts", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

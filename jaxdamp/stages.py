@@ -1,0 +1,73 @@
+"""Two stages inside one program: a fast computation for every lane of a batch, the full one only
+for the lanes it could not finish.
+
+Under `vmap` every lane of a loop pays for the slowest lane and for every branch any lane takes: a
+`lax.cond` on a batched predicate runs both branches for every lane. `second_look` keeps the rare
+work out of the batch's common path at the level where the batch is known: its batching rule
+(`jax.custom_batching.custom_vmap`) runs the fast computation on every lane, then the full one on
+the lanes whose fast result says "look again", gathered in chunks of a few lanes (a while loop
+that does not run at all where no lane needs it). Unbatched, it is the fast computation and, where
+needed, the full one (`lax.cond`). The host-driven form of the same idea for batches of designs is
+`batch.two_stage`.
+
+The fast computation must give the full one's result wherever it does not ask for a second look
+(the caller's contract; tested per use). Forward mode passes (the JVP of the rule); reverse mode
+does not (custom_vmap has no transpose): kernels use it on their values path only
+(`loops.values_by_while`).
+"""
+
+from __future__ import annotations
+
+import jax
+import jax.numpy as jnp
+
+# Lanes the second stage runs at once: a chunk costs about chunk / batch of the first stage's
+# work per round; one lane in 30 of a batch of 256 elliptic cycles needs a second look (measured,
+# benchmarks/ellipse_cost.py), so a chunk of 8 runs one to three rounds.
+CHUNK = 8
+
+
+def second_look(fast, full, again, chunk: int = CHUNK):
+    """f(*args): fast(*args), or full(*args) where again(fast(*args)) is True (a () bool).
+
+    fast and full: functions of the same arguments (pytrees of arrays, None allowed) returning
+    pytrees of one structure, shape and dtype. Under vmap, full runs only on the lanes that need
+    it, `chunk` lanes at a time."""
+
+    @jax.custom_batching.custom_vmap
+    def f(*args):
+        out = fast(*args)
+        return jax.lax.cond(again(out), lambda: full(*args), lambda: out)
+
+    @f.def_vmap
+    def rule(axis_size, in_batched, *args):
+        axes = jax.tree_util.tree_map(lambda b: 0 if b else None, list(in_batched))
+        out = jax.vmap(fast, in_axes=tuple(axes))(*args)
+        flags = jax.vmap(again)(out)
+        count = jnp.sum(flags)
+        # The flagged lanes first (a stable order), padded to whole chunks with lane 0.
+        size = -(-axis_size // chunk) * chunk
+        order = jnp.argsort(~flags, stable=True)
+        order = jnp.concatenate([order, jnp.zeros(size - axis_size, order.dtype)])
+
+        def lanes(k):
+            return jax.lax.dynamic_slice(order, (k * chunk,), (chunk,))
+
+        def body(carry):
+            k, out = carry
+            idx = lanes(k)
+            sub = jax.tree_util.tree_map(lambda x, b: x[idx] if b else x, list(args),
+                                         list(in_batched))
+            redo = jax.vmap(full, in_axes=tuple(axes))(*sub)
+            # Slots past the flagged lanes write nowhere (index axis_size, dropped).
+            dest = jnp.where(k * chunk + jnp.arange(chunk) < count, idx, axis_size)
+            out = jax.tree_util.tree_map(lambda o, r: o.at[dest].set(r, mode="drop"), out, redo)
+            return k + 1, out
+
+        _, out = jax.lax.while_loop(lambda c: c[0] * chunk < count, body, (jnp.array(0), out))
+        return out, jax.tree_util.tree_map(lambda _: True, out)
+
+    return f
+
+
+__all__ = ["CHUNK", "second_look"]
