@@ -23,7 +23,7 @@ jax.config.update("jax_enable_x64", True)
 import jaxdamp as jd  # noqa: E402
 from bench_common import random_shapes, interleaved_ms, machine, median_time  # noqa: E402
 from jaxdamp.linalg import solve3  # noqa: E402
-from jaxdamp import cycle, engine, tract  # noqa: E402
+from jaxdamp import choice, cycle, tract  # noqa: E402
 
 OUT = Path(__file__).parent / "results"
 
@@ -83,22 +83,22 @@ def main():
             lambda slipping: tract.plain_tract_rates(mech, slipping, signs, direction, solve))(
                 tract.CANDIDATE_SETS)
 
-    variants = {"reduced": engine.candidate_rates, "plain_cramer": plain(solve3),
+    variants = {"reduced": choice.candidate_rates, "plain_cramer": plain(solve3),
                 "plain_linalg": plain(linalg_solve3)}
     programs = {}
     for name, candidate_rates in variants.items():
-        # The solver calls the name that jaxdamp.engine imported (`choose_closed`), so that is the
+        # The solver calls the name that jaxdamp.choice imported (`choose_closed`), so that is the
         # one swapped, while this program is traced; nothing in the chain is jitted on its own,
         # so every variant is traced afresh; their flop counts show that the programs differ.
-        original = engine.candidate_rates
-        engine.candidate_rates = candidate_rates
+        original = choice.candidate_rates
+        choice.candidate_rates = candidate_rates
         try:
             programs[name] = batched(1)
             jax.block_until_ready(programs[name](shapes, mus))
             res.setdefault("variant_flops_per_design", {})[name] = variant_flops(
                 programs[name], shapes, mus) / n
         finally:
-            engine.candidate_rates = original
+            choice.candidate_rates = original
     flops = res["variant_flops_per_design"]
     assert len(set(flops.values())) == len(flops), f"the variants compiled alike: {flops}"
     ms = interleaved_ms(programs, shapes, mus, repeats=9)

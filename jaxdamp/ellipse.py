@@ -43,10 +43,10 @@ from ._validate import check_int, check_range, check_scalar, check_values
 from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
-from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tracts, to_gross_slip
+from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tracts, to_gross_slip
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
-from .loops import run_by_loop
+from .loops import check_loop, values_by_replay
 from .paths import Ellipse, Line, sinusoid
 from .periodic import iterate_to_periodic
 from .motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
@@ -179,17 +179,24 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     """The steady cycle on the elliptic path of `motion` (a Motion with a quadrature part) at
     amplitude a (mrad): pure JAX (jit / vmap / jvp), no validation. initial: "assembly",
     "gross_slip" (module doc) or "explicit" (N_init, T_init at tau = 0, units of F_D). loop: as
-    `amplitude_kernel`'s."""
-    def impl(*design_and_loop):
-        *design, loop = design_and_loop
-        return _elliptic_impl(*design, initial=initial, max_tracts=max_tracts,
-                              max_periods=max_periods, loop=loop)
+    `amplitude_kernel`'s, but "auto" differentiates a replay of the value pass's choices
+    (`loops.values_by_replay`: one 3x3 solve per tract instead of a choice among every set)."""
+    impl = functools.partial(elliptic_impl, initial=initial, max_tracts=max_tracts,
+                             max_periods=max_periods)
+    args = (shape, mu, contacts, load, amplitude, motion, N_init, T_init)
+    check_loop(loop)
+    if loop == "auto":
+        return values_by_replay(impl, *args)
+    return impl(*args, loop=loop)
 
-    return run_by_loop(impl, (shape, mu, contacts, load, amplitude, motion, N_init, T_init), loop)
 
-
-def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
-                   max_tracts, max_periods, loop) -> EllipticCycle:
+def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
+                   max_tracts, max_periods, loop, record=False, tape=None):
+    """The cycle (loop "scan" or "while"); record: (cycle, tape), the tape of every run's choices;
+    tape: replay those choices (`engine.run(replay=...)`, a masked scan)."""
+    if tape is not None:
+        loop = "scan"
+    n_legs = int(initial == "assembly") + max_periods
     along_r, along_i = path_parts(motion)
     pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
     n_pads = pads.kn.shape[0]
@@ -200,8 +207,10 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     two_pi = 2.0 * jnp.pi
     unreachable = jnp.array(False)
     no_runs = jnp.zeros(2, jnp.int32)
+    assembly_tape = []
     if initial in ("assembly", "gross_slip"):
-        Na, Ta, ok0 = assemble(pads, CENTRIFUGAL_LOAD)
+        Na, Ta, ok0, *assembly_tape = assemble(pads, CENTRIFUGAL_LOAD, record,
+                                               tape and tape["assembly"])
         Na = jnp.where(ok0, Na, jnp.ones(n_pads))  # keep the masked runs finite
         Ta = jnp.where(ok0, Ta, 0.0)
     # Assembly's half period from tau = pi runs as the periods' loop's first pass (one compiled
@@ -209,13 +218,17 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
     half_first = int(initial == "assembly")
     if initial == "assembly":
         to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
-                              max_tracts=max_tracts, loop=loop)
+                              max_tracts=max_tracts, loop=loop, record=record,
+                              replay=tape and tape["pre"])
+        to_start, pre_tape = to_start if record else (to_start, None)
         N0, T0 = to_start.N_end, to_start.T_end
         pre = to_start.status[None]
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
-        up, reached = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,
-                                    loop=loop)
+        up, reached, *pre_tape = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0,
+                                               max_tracts=max_tracts, loop=loop, record=record,
+                                               replay=tape and tape["pre"])
+        pre_tape = pre_tape[0] if record else None
         unreachable = ok0 & ~reached
         ok0 = ok0 & reached
         N0, T0 = up.N_end, up.T_end
@@ -224,25 +237,33 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
         ok0 = jnp.min(N0) > 0.0
         pre = no_runs
+        pre_tape = None
     else:
         raise ValueError(f"initial must be one of assembly, gross_slip, explicit; got {initial!r}")
     bad0 = ~ok0 | jnp.any(pre != RESULTS.ok)
     N0 = jnp.where(bad0, jnp.ones(n_pads), N0)  # keep the masked iteration finite
     T0 = jnp.where(bad0, 0.0, T0)
 
-    def leg(arc, N, T, j, k):
+    def leg(records, N, T, j, k):
         whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
         start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
-        arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop)
-        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, arc
+        _, legs = records
+        rows = None if tape is None else jax.tree_util.tree_map(lambda x: x[j], tape["legs"])
+        arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop,
+                         record=record, replay=rows)
+        if record:
+            arc, rows = arc
+            legs = jax.tree_util.tree_map(lambda x, r: x.at[j].set(r), legs, rows)
+        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, (arc, legs)
 
     # Rounds of one period; the period map is affine within one pattern of events: where the
     # iterates converge along one direction, the extrapolated fixed point is exact
     # (`periodic.accelerate`).
-    end = iterate_to_periodic(leg, N0, T0, pads.mu, empty_tracts(n_pads, 2, max_tracts),
+    no_tape = empty_tape(n_pads, max_tracts, n_legs) if record else None
+    end = iterate_to_periodic(leg, N0, T0, pads.mu, (empty_tracts(n_pads, 2, max_tracts), no_tape),
                               legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
                               loop=loop, stop0=bad0 | ~a_ok)
-    arc = end["records"]
+    arc, legs_tape = end["records"]
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)
@@ -268,9 +289,13 @@ def _elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init,
         RESULTS.shakedown: slid <= TRAVEL_TOL * two_pi})
     valid = RESULTS.valid(status)
     zero = lambda v: jnp.where(valid, v, jnp.zeros_like(v))  # noqa: E731
-    return EllipticCycle(shape, pads.mu, contacts, load, motion, jnp.asarray(amplitude, float),
-                         arc, zero(jnp.real(k)), zero(jnp.imag(k)), zero(energy), zero(work),
-                         zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["rounds"], status)
+    cycle = EllipticCycle(shape, pads.mu, contacts, load, motion, jnp.asarray(amplitude, float),
+                          arc, zero(jnp.real(k)), zero(jnp.imag(k)), zero(energy), zero(work),
+                          zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["rounds"], status)
+    if not record:
+        return cycle
+    assembly_tape = assembly_tape[0] if assembly_tape else None
+    return cycle, dict(assembly=assembly_tape, pre=pre_tape, legs=legs_tape)
 
 
 class GrossSlipAmplitude(NamedTuple):

@@ -26,256 +26,49 @@ pads in stick and closed; none consistent means no set of pads holds the damper:
 
 from __future__ import annotations
 
-import functools
 from typing import NamedTuple
 
 import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .choice import (LOOKAHEAD_TOL, Choice, Pads, Rates, Tape, candidate_table, choose, choose_all,
+                     choose_closed, choose_seated, empty_tape, one_set, replayed_choice,
+                     seated_reduction, set_stiffness)
 from .linalg import combine, rowdot, solve3
 from .loops import bounded_loop, zeros_of
 from .paths import Line
 from .stages import second_look
 from .status import RESULTS
-from .tract import (CANDIDATE_SETS, LIMIT_TOL, NO_EVENT, OPEN, RATE_TOL, SLIP, STICK,
-                    Mechanics, candidate_rates, make_mechanics)
+from .tract import LIMIT_TOL, NO_EVENT, OPEN, RATE_TOL, SLIP, STICK, Mechanics
 
 TRAVEL_TOL = 1e-12  # path left (fraction of a run's) below which a run has ended; slip below it is none
 NO_EVENT_LIMIT = 1e5  # mm: a run to gross slip with no event nearer than this fails (no gross slip)
-# Tolerance of the second-order check of a state set on an ellipse (units of F_D; of s_a for
-# slips): see `choose`.
-LOOKAHEAD_TOL = 1e-13
 
 
-class Pads(NamedTuple):
-    """Everything a tract needs that does not change along a path (a pytree of arrays).
-
-    P pads, B basis directions of the path (1 for a line, 2 for an ellipse: X_r, X_i)."""
-
-    a: jnp.ndarray  # (P, 3) generalised outward normals about D
-    c: jnp.ndarray  # (P, 3) generalised up-flank tangents
-    kn: jnp.ndarray  # (P,) normal stiffness / F_D, 1/mm
-    kt: jnp.ndarray  # (P,) tangential stiffness / F_D, 1/mm
-    mu: jnp.ndarray  # () or (P,)
-    nw: jnp.ndarray  # (B, P) platform motion along each pad's normal per mm of s along basis b
-    tw: jnp.ndarray  # (B, P) along its tangent
-
-
-class Rates(NamedTuple):
-    """Rates of every candidate state set per unit motion along each basis direction."""
-
-    dN: jnp.ndarray  # (C, B, P); an open pad's is the rate of its virtual force kn * (-gap)
-    dT: jnp.ndarray  # (C, B, P)
-    dslip: jnp.ndarray  # (C, B, P) sliding of the damper relative to the platform, along t
-    ok: jnp.ndarray  # (C,) the tract's 3x3 system is regular
-
-
-def candidate_table(n_pads: int):
-    """weak (S, P) bool, S = 2^P: per pad a strong (stick, closed) or weak (slip at its limit;
-    open at N = 0) choice (numpy: the table is static)."""
-    return np.array([[(c >> i) & 1 for i in range(n_pads)] for c in range(2 ** n_pads)], bool)
-
-
-def _rates(pads: Pads, closed, slipping, signs) -> Rates:
-    """Rates of C state sets at once: closed, slipping (C, P) bool, signs (C, P) (T = s mu N).
-
-    Written as explicit products and sums over the pads and the 3 components (no einsum): under
-    vmap a tiny contraction becomes a batched dot_general, which XLA on CPU runs as a loop of small
-    matrix products, while products and sums fuse (`linalg.rowdot`)."""
-    K, (wn, wt, wx), (stick, slip, mu) = _stiffness(pads, closed, slipping, signs)
-    a, c = pads.a, pads.c
-    n_pads, n_basis = a.shape[0], pads.nw.shape[0]
-    rhs = jnp.stack([sum((wn[:, i, None] * pads.nw[b, i]) * a[i][None]
-                         + (wt[:, i, None] * pads.tw[b, i] - wx[:, i, None] * pads.nw[b, i])
-                         * c[i][None] for i in range(n_pads))
-                     for b in range(n_basis)], axis=1)  # (C, B, 3)
-    dq, ok = solve3(K[:, None], rhs)  # (C, B, 3): one 3x3 system, B right-hand sides
-    gn = jnp.stack([rowdot(dq, a[i]) for i in range(n_pads)], -1) - pads.nw[None]
-    gt = jnp.stack([rowdot(dq, c[i]) for i in range(n_pads)], -1) - pads.tw[None]
-    per = lambda x: x[:, None]  # noqa: E731  (C or 1, P) -> (C or 1, 1, P) against (C, B, P)
-    kn, kt = pads.kn[None], pads.kt[None]
-    dN = per(kn) * gn
-    dT = per(stick) * (-per(kt) * gt) + per(slip * signs * mu) * dN
-    dslip = per(slip) * (gt + dT / per(kt))
-    return Rates(dN, dT, dslip, jnp.all(ok, axis=1))
-
-
-def _stiffness(pads: Pads, closed, slipping, signs):
-    """(K (C, 3, 3), pad weights (wn, wt, wx), (stick, slip, mu)) of C state sets: the damper's
-    incremental stiffness sum_closed kn a a^T + sum_stick kt c c^T - sum_slip s mu kn c a^T."""
-    f = lambda b: b.astype(float)  # noqa: E731
-    kn, kt = pads.kn[None], pads.kt[None]  # (1, P) against the (C, P) table
-    mu = jnp.broadcast_to(pads.mu, pads.kn.shape)[None]
-    stick = f(closed & ~slipping)
-    slip = f(closed & slipping)
-    wn, wt, wx = f(closed) * kn, stick * kt, slip * signs * mu * kn
-    a, c = pads.a, pads.c
-    outer = lambda u, v: (u[:, None] * v[None, :])[None]  # noqa: E731  (1, 3, 3)
-    K = sum(wn[:, i, None, None] * outer(a[i], a[i]) + wt[:, i, None, None] * outer(c[i], c[i])
-            - wx[:, i, None, None] * outer(c[i], a[i]) for i in range(a.shape[0]))
-    return K, (wn, wt, wx), (stick, slip, mu)
-
-
-def _along(weights, x):
-    """sum_b weights[b] x[:, b] for rates x (C, B, P): the rates along a direction of motion."""
-    return sum(weights[b] * x[:, b] for b in range(x.shape[1]))
-
-
-class Choice(NamedTuple):
-    closed: jnp.ndarray  # (P,) bool
-    slipping: jnp.ndarray  # (P,) bool
-    signs: jnp.ndarray  # (P,) friction direction of a slipping pad
-    dN: jnp.ndarray  # (B, P) rates per unit motion along each basis direction
-    dT: jnp.ndarray
-    dslip: jnp.ndarray
-    consistent: jnp.ndarray  # () bool: some candidate set is consistent
-
-
-def choose(pads: Pads, N, T, heading, ahead=None, seated: bool = False,
-           reduced: tuple[Mechanics, ...] | None = None) -> Choice:
-    """The state set of a tract starting at (N, T) with the platforms moving along `heading` (B,)
-    (basis weights of the path's direction of motion, scaled to unit pad speed).
-
-    Pads inside the friction cone stick; a pad on its limit sticks (if its stick increment stays
-    inside the cone) or slips against its friction force; a pad with a gap stays open; a pad at
-    N = 0 opens (if its gap grows) or closes, in stick or slipping. Among the sets consistent to
-    first order, those still consistent at `ahead` (B,) basis increments on (an ellipse's
-    second-order check: a rate can be zero at a tract's start without changing sign), if any;
-    then the one with the most pads strong (stick, closed), closing pads preferably in stick.
-
-    seated=True: only the 2^P sets of closed pads (stick or slip) are tried, and the choice is
-    consistent only where no pad is open or at N = 0. There the sets with an open or closing pad
-    are not allowed anyway, so the choice is `choose`'s, at half the candidate sets (`run`'s first
-    look; the lanes it leaves inconsistent choose again among every set). reduced (three pads,
-    seated): `seated_reduction(pads)`, whose closed-form rates (`tract.candidate_rates`) replace
-    the sets' 3x3 solves."""
-    n_pads = N.shape[0]
-    mu = jnp.broadcast_to(pads.mu, N.shape)
-    zero = jnp.abs(N) <= LIMIT_TOL
-    gap = N < -LIMIT_TOL
-    limit = ~zero & ~gap & (jnp.abs(T) >= mu * N - LIMIT_TOL)
-    inside = ~zero & ~gap & ~limit
-    t_sign = jnp.where(T >= 0.0, 1.0, -1.0)
-    zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
-
-    # Every weak/strong choice per pad, pads at N = 0 that close in stick; then the sets in which
-    # the first pad at N = 0 closes slipping up, and slipping down (the other pads' choices as
-    # before; every closing pad slips the same way). Until 2026-11-26 every set was tried with
-    # both slip directions (3 x 2^P sets): 28 600 flops per lane of a batched choice on three pads
-    # against 18 000 now (XLA's count), with the same cycles on the 230 cases of
-    # benchmarks/pads_vs_marcher.py and the 360 of ellipse_vs_marcher.py; only a second pad at
-    # N = 0 at the same instant (a tie of two events) has fewer sets. Choosing the direction from
-    # the stuck set's trial increment (return mapping) would need 2^(P-1) sets fewer, but two
-    # rounds of solves: 13 500 flops, and 20 % more to compile in a first CLI call (measured).
-    weak1 = jnp.asarray(candidate_table(n_pads))
-    z = jnp.argmax(zero)  # pad 0 where none is at N = 0: its closing sets are then disallowed
-    pad = np.arange(n_pads)
-    column = jnp.clip(pad - (pad > z), 0, n_pads - 2)  # each pad's column among the others
-    weak2 = jnp.where(pad[None] == z, False, jnp.asarray(candidate_table(n_pads - 1))[:, column])
-    weak = weak1 if seated else jnp.concatenate([weak1, weak2, weak2])
-    n1, n2 = weak1.shape[0], 0 if seated else weak2.shape[0]
-    direction = np.repeat([0.0, 1.0, -1.0], [n1, n2, n2])[:, None]
-    closing = ~weak & zero2 & (direction != 0.0)
-    closed = ~(weak & (zero2 | gap2))
-    slipping = (weak & limit2) | closing
-    signs = jnp.where(closing, direction, t_sign[None])
-    if reduced is None:
-        r = _rates(pads, closed, slipping, signs)
-    else:  # the same sets (weak: slipping, every pad closed) in closed form, per basis direction
-        per = [candidate_rates(m, t_sign, 1.0) for m in reduced]
-        r = Rates(*(jnp.stack([getattr(x, f) for x in per], axis=1) for f in ("dN", "dT", "dslip")),
-                  functools.reduce(jnp.logical_and, [x.ok for x in per]))
-    first = np.arange(weak.shape[0]) < n1
-    allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
-               & (first | zero[z]))
-    dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
-    scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
-    tol = RATE_TOL * scale
-    mu2 = mu[None]
-    stick = closed & ~slipping
-    # Seated, the conditions of pads at N = 0 are moot (such a choice is not consistent).
-    at_zero = not seated
-    ok_pad = jnp.where(stick & limit2, t_sign[None] * dT - mu2 * dN <= tol, True)
-    ok_pad &= jnp.where(slipping, signs * dslip <= RATE_TOL, True)
-    if at_zero:
-        ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
-        ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
-        ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
-    good = allowed & r.ok & jnp.all(ok_pad, axis=1)
-    if ahead is not None:
-        N1, T1, slid = (N[None] + _along(ahead, r.dN), T[None] + _along(ahead, r.dT),
-                        _along(ahead, r.dslip))
-        stays = jnp.where(stick & (limit2 | zero2), jnp.abs(T1) <= mu2 * N1 + LOOKAHEAD_TOL, True)
-        stays &= jnp.where(slipping, signs * slid <= LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)),
-                           True)
-        if at_zero:
-            stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
-            stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
-        second = good & jnp.all(stays, axis=1)
-        good = jnp.where(jnp.any(second), second, good)
-    score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + first, 0)
-    best = jnp.argmax(score)
-    consistent = good[best] & ~jnp.any(zero | gap) if seated else good[best]
-    return Choice(closed[best], slipping[best], signs[best], r.dN[best], r.dT[best],
-                  r.dslip[best], consistent)
-
-
-def _choose_seated(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
-    """`run`'s first look: `choose` among the closed sets."""
-    return choose(pads, N, T, heading, ahead, seated=True, reduced=reduced)
-
-
-def _choose_all(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
-    """`run`'s second look: `choose` among every set (`reduced` is the first look's)."""
-    return choose(pads, N, T, heading, ahead)
-
-
-def seated_reduction(pads: Pads) -> tuple[Mechanics, ...]:
-    """The all-stick reduction of three pads (`tract.make_mechanics`) per basis direction of the
-    path: what `choose(seated=True, reduced=...)` needs, computed once per run."""
-    return tuple(make_mechanics(pads.a, pads.c, pads.nw[b], pads.tw[b], pads.kn, pads.kt, pads.mu)
-                 for b in range(pads.nw.shape[0]))
-
-
-def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
-    """`choose` for three pads that may not open, on a `Line`: the paper's in-phase model, where a
-    normal force reaching zero is liftoff. Only the 8 stick/slip sets remain, and their rates come
-    in closed form from the all-stick reduction (`tract.candidate_rates`, Woodbury: measured faster
-    than a 3x3 solve per set, benchmarks/bench_core.py). `closed` is `tract.make_mechanics` of
-    the pads with the line's direction folded in (`tract.along`: rates per unit s)."""
-    mu = jnp.broadcast_to(closed.mu, N.shape)
-    limit = jnp.abs(T) >= mu * N - LIMIT_TOL
-    signs = jnp.where(T >= 0.0, 1.0, -1.0)
-    slipping = jnp.asarray(CANDIDATE_SETS)  # (8, 3)
-    r = candidate_rates(closed, signs, 1.0)  # (8, 3) per unit s
-    # `choose`'s tolerances on rates at unit pad speed (heading), applied to the rates per unit s
-    h = heading[0]
-    tol = RATE_TOL * jnp.max(jnp.maximum(closed.kn, closed.kt)) / h
-    limit2, signs2, mu2 = limit[None], signs[None], mu[None]
-    ok_pad = jnp.where(~slipping & limit2, signs2 * r.dT - mu2 * r.dN <= tol, True)
-    ok_pad &= jnp.where(slipping, signs2 * r.dslip <= RATE_TOL / h, True)
-    good = ~jnp.any(slipping & ~limit2, axis=1) & r.ok & jnp.all(ok_pad, axis=1)
-    best = jnp.argmax(jnp.where(good, 10 + jnp.sum(~slipping, axis=1), 0))
-    basis = lambda x: x[best][None]  # noqa: E731  (P,) -> (B = 1, P)
-    return Choice(jnp.ones(3, bool), slipping[best], signs, basis(r.dN), basis(r.dT),
-                  basis(r.dslip), good[best])
-
-
-def assemble(pads: Pads, load_vector):
+def assemble(pads: Pads, load_vector, record: bool = False, replay=None):
     """(N, T, ok): the pad forces after F_D is applied from zero with the platforms held.
 
     Every contact law is positively homogeneous and the forces start at zero, so the response is
     proportional to the load and one state set holds throughout: per pad stick, slip either way
     or open (4^P candidates), the consistent one that keeps the most pads stuck and closed.
     load_vector: the generalised load on the damper per unit F_D (3,). An open pad's N is its
-    virtual force kn * (-gap) <= 0."""
+    virtual force kn * (-gap) <= 0. record: (N, T, ok, choice), the set chosen; replay: a
+    choice recorded so, whose set alone is solved (`loops.values_by_replay`)."""
     n_pads = pads.kn.shape[0]
     codes = jnp.asarray(np.array([[(c // 4 ** i) % 4 for i in range(n_pads)]
                                   for c in range(4 ** n_pads)]))
     closed, slipping = codes != 3, (codes == 1) | (codes == 2)
     signs = jnp.where(codes == 2, -1.0, 1.0)
-    K, _, (_, _, mu) = _stiffness(pads, closed, slipping, signs)
+    if replay is not None:
+        best, good = replay
+        K, ok, _, (_, _, mu) = one_set(pads, closed[best], slipping[best], signs[best])
+        q = jnp.linalg.solve(K, jnp.asarray(load_vector, float))
+        N = pads.kn * (pads.a @ q)
+        gt = pads.c @ q
+        T = jnp.where(slipping[best], signs[best] * mu * N, jnp.where(closed[best], -pads.kt * gt, 0.0))
+        return N, T, good & ok
+    K, _, (_, _, mu) = set_stiffness(pads, closed, slipping, signs)
     q, ok = solve3(K, jnp.broadcast_to(jnp.asarray(load_vector, float), (codes.shape[0], 3)))
     kn, kt = pads.kn[None], pads.kt[None]
     N = kn * jnp.stack([rowdot(q, a_i) for a_i in pads.a], -1)
@@ -288,6 +81,8 @@ def assemble(pads: Pads, load_vector):
             & jnp.all(jnp.where(closed, N >= -tol, N <= tol), axis=1))
     score = jnp.where(good, 10 + jnp.sum(codes == 0, axis=1) + 4 * jnp.sum(closed, axis=1), 0)
     best = jnp.argmax(score)
+    if record:
+        return N[best], T[best], good[best], (best, good[best])
     return N[best], T[best], good[best]
 
 
@@ -324,17 +119,20 @@ class Tracts(NamedTuple):
     status: jnp.ndarray
 
 
-def _rows(n_pads: int, n_basis: int) -> dict:
+def _rows(n_pads: int, n_basis: int, record: bool = False) -> dict:
     f = jax.ShapeDtypeStruct((), float)
     v = jax.ShapeDtypeStruct((n_pads,), float)
     m = jax.ShapeDtypeStruct((n_basis, n_pads), float)
     b = jax.ShapeDtypeStruct((), bool)
+    tape = (dict(tape_signs=v, tape_chosen=b, tape_event=jax.ShapeDtypeStruct((), int))
+            if record else {})
     return dict(p0=f, dp=f, N0=v, T0=v, dN=m, dT=m, dslip=m,
-                state=jax.ShapeDtypeStruct((n_pads,), int), active=b, stretch=b, slack=f)
+                state=jax.ShapeDtypeStruct((n_pads,), int), active=b, stretch=b, slack=f, **tape)
 
 
 def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
-        loop: str = "scan", closed: Mechanics | None = None) -> Tracts:
+        loop: str = "scan", closed: Mechanics | None = None, record: bool = False,
+        replay: Tape | None = None):
     """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
     (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
     where no force changes any more. On a line with an end, gross slip before the end is followed
@@ -343,7 +141,9 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     closed (three pads on a Line): their all-stick reduction with the line's direction folded in
     (`tract.along(tract.make_mechanics(...), direction)`); the pads may not open, and a normal
     force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
-    loop: as `loops.bounded_loop`. Unchecked, traceable."""
+    loop: as `loops.bounded_loop`. record: return (Tracts, Tape), what the run chose; replay (a
+    `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing (a
+    masked scan whatever `loop` says). Unchecked, traceable."""
     to_gross = p_end is None
     on_line = isinstance(path, Line)
     n_pads, n_basis = N.shape[0], pads.nw.shape[0]
@@ -359,21 +159,28 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     line_heading = path.heading(pads, p_start) if on_line else None
     # Values: each tract's state choice tries the closed sets first (three pads: in closed form
     # from their all-stick reduction, computed once per run), and the lanes of a batch that have a
-    # pad open or at N = 0 choose again among every set (`stages.second_look`). The derivatives'
-    # masked scan chooses among every set (reverse mode cannot pass second_look).
+    # pad open or at N = 0 choose again among every set (`stages.second_look`). A masked scan
+    # (reverse mode cannot pass second_look) chooses among every set, and a replay takes the
+    # recorded sets (`Tape`: one solve and one event root per tract, what derivatives replay).
+    if replay is not None:
+        if not pads_open:
+            raise ValueError("replay: a run of pads that may open (closed=None)")
+        loop = "scan"
     reduced = seated_reduction(pads) if pads_open and n_pads == 3 and loop == "while" else None
-    chooser = (second_look(_choose_seated, _choose_all, lambda ch: ~ch.consistent)
-               if loop == "while" else _choose_all)
+    chooser = (second_look(choose_seated, choose_all, lambda ch: ~ch.consistent)
+               if loop == "while" else choose_all)
     # Pads that may not open: one at N = 0 at the start has lifted off.
     lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
     init = dict(N=N, T=T, p=p_start, done=lift0, gross=jnp.array(False),
                 failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
                 gross_dslip=jnp.zeros((n_basis, n_pads)))
 
-    def step(carry, _):
+    def step(carry, row):
         N, T, p0 = carry["N"], carry["T"], carry["p"]
         heading = line_heading if on_line else path.heading(pads, p0)
-        if pads_open:
+        if replay is not None:
+            ch = replayed_choice(pads, row)
+        elif pads_open:
             ch = chooser(pads, N, T, heading, path.ahead(p0), reduced)
         else:
             ch = choose_closed(closed, N, T, heading)
@@ -384,23 +191,40 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                                    jnp.maximum(dN_h, 0.0))) <= rate_tol
         gross = ch.consistent & frozen
 
-        def event(f0, A, where):  # a quantity that must stay >= 0 falls through zero
-            return jnp.where(where, path.first_descent(f0, A, p0, rate_tol), NO_EVENT)
-
         tr = lambda x: jnp.swapaxes(x, 0, 1)  # noqa: E731  (B, P) -> (P, B)
         mu_b = mu[None]  # against the (B, P) rates
-        kinds = [event(mu * N - T, tr(mu_b * ch.dN - ch.dT), stick),  # 0: slips up
-                 event(mu * N + T, tr(mu_b * ch.dN + ch.dT), stick),  # 1: slips down
-                 event(N, tr(ch.dN), ch.closed)]  # 2: opens (closed given: lifts off)
+        # Each kind of event: a quantity that must stay >= 0 (f0 now, rates A along the basis)
+        # falls through zero, where the pads are in the state that can have it.
+        kinds = [(mu * N - T, tr(mu_b * ch.dN - ch.dT), stick),  # 0: slips up
+                 (mu * N + T, tr(mu_b * ch.dN + ch.dT), stick),  # 1: slips down
+                 (N, tr(ch.dN), ch.closed)]  # 2: opens (closed given: lifts off)
         if pads_open:
-            kinds += [event(-N, tr(-ch.dN), ~ch.closed),  # 3: closes
-                      jnp.where(ch.slipping, path.reversal(tr(ch.signs[None] * ch.dslip), p0),
-                                NO_EVENT)]  # 4: slip reverses
-        cand = jnp.stack(kinds).reshape(-1)  # (kinds * P,)
-        flat = jnp.argmin(cand)
+            kinds += [(-N, tr(-ch.dN), ~ch.closed),  # 3: closes
+                      (N, tr(ch.signs[None] * ch.dslip), ch.slipping)]  # 4: slip reverses
+
+        def when(f0, A, kind):  # path length to the event (closed form)
+            if kind == 4:
+                return path.reversal(A, p0)
+            return path.first_descent(f0, A, p0, rate_tol)
+
+        if replay is None:
+            cand = jnp.stack([jnp.where(w, when(f0, A, i), NO_EVENT)
+                              for i, (f0, A, w) in enumerate(kinds)]).reshape(-1)  # (kinds * P,)
+            flat = jnp.argmin(cand)
+            d_event = cand[flat]
+            runner_up = jnp.min(jnp.where(jnp.arange(cand.shape[0]) == flat, NO_EVENT, cand))
+        else:
+            # The event the value pass took (none: the path's end or gross slip ended the
+            # tract): its root alone. No runner-up is known: a replay's slack is zero (the
+            # value pass's is the one returned).
+            flat = jnp.maximum(row.event, 0)
+            f0, A = (jnp.concatenate([k[i] for k in kinds])[flat] for i in (0, 1))
+            root = when(f0, A, 0)
+            if pads_open:
+                root = jnp.where(flat // n_pads == 4, when(f0, A, 4), root)
+            d_event = jnp.where(row.event >= 0, root, NO_EVENT)
+            runner_up = d_event
         kind, pad = flat // n_pads, flat % n_pads
-        d_event = cand[flat]
-        runner_up = jnp.min(jnp.where(jnp.arange(cand.shape[0]) == flat, NO_EVENT, cand))
         # On a line, gross slip before the end: the rest is a constant-force stretch.
         stretch = on_line and not to_gross
         if to_gross:
@@ -448,7 +272,10 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         state = jnp.where(ch.closed, jnp.where(ch.slipping, SLIP, STICK), OPEN)
         out = dict(p0=p0, dp=dp, N0=N, T0=T, dN=dN, dT=dT, dslip=ch.dslip, state=state,
                    active=advance, stretch=advance & gross if stretch else jnp.array(False),
-                   slack=jnp.where(advance, slack, 0.0))
+                   slack=jnp.where(advance & (replay is None), slack, 0.0))
+        if record:
+            out.update(tape_signs=ch.signs, tape_chosen=ch.consistent,
+                       tape_event=jnp.where(at_event, flat, -1))
         new = dict(N=jnp.where(advance, N1, N), T=jnp.where(advance, T1, T),
                    p=jnp.where(advance, jnp.where(by_end, p_end if not to_gross else p1, p1), p0),
                    done=(carry["done"] | ~live | (live & failed_now) | (advance & by_end)
@@ -463,12 +290,15 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                    gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
         return new, out
 
-    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis))
+    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis, record), replay)
     failed = end["failed"] | ~end["done"]
     status = RESULTS.first({RESULTS.liftoff: end["liftoff"], RESULTS.unseated: failed & end["unseated"],
                             RESULTS.singular: failed})
-    return Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"], gross_slip=end["gross"],
-                  gross_dslip=end["gross_dslip"], status=status)
+    tape = (Tape(tr["state"], tr.pop("tape_signs"), tr.pop("tape_chosen"), tr.pop("tape_event"))
+            if record else None)
+    tracts = Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"],
+                    gross_slip=end["gross"], gross_dslip=end["gross_dslip"], status=status)
+    return (tracts, tape) if record else tracts
 
 
 def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
@@ -480,18 +310,22 @@ def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
 
 
 def to_gross_slip(pads: Pads, N, T, start_ok, *, max_tracts: int, loop: str = "scan",
-                  closed: Mechanics | None = None):
+                  closed: Mechanics | None = None, record: bool = False,
+                  replay: Tape | None = None):
     """(run, reached): the one move to gross slip, a straight run along the pads' one direction
     (B = 1) from (N, T) until every pad that can slip does (`run` with no end: the gross-slip
     history's move from assembly); reached: it got there (ok, gross slip; a pad that opens or
     lifts off first leaves no gross-slip state). Where start_ok is False the start is masked
-    (N = 1, T = 0), which keeps the masked run finite. closed: as `run`'s."""
+    (N = 1, T = 0), which keeps the masked run finite. closed, replay: as `run`'s; record: the
+    run's `Tape` comes third."""
     N = jnp.where(start_ok, N, jnp.ones_like(N))
     T = jnp.where(start_ok, T, 0.0)
-    up = run(pads, Line(), N, T, 0.0, None, max_tracts=max_tracts, loop=loop, closed=closed)
-    return up, (up.status == RESULTS.ok) & up.gross_slip
+    up = run(pads, Line(), N, T, 0.0, None, max_tracts=max_tracts, loop=loop, closed=closed,
+             record=record, replay=replay)
+    up, tape = up if record else (up, None)
+    reached = (up.status == RESULTS.ok) & up.gross_slip
+    return (up, reached, tape) if record else (up, reached)
 
 
-__all__ = ["Pads", "Rates", "Choice", "Tracts", "candidate_table", "choose", "choose_closed",
-           "seated_reduction",
-           "assemble", "run", "to_gross_slip", "empty_tracts", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]
+__all__ = ["Pads", "Rates", "Choice", "Tracts", "Tape", "candidate_table", "choose", "choose_closed",
+           "seated_reduction", "LOOKAHEAD_TOL", "assemble", "run", "to_gross_slip", "empty_tracts", "empty_tape", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

@@ -40,8 +40,9 @@ def batched_together(carry):
     return jax.tree_util.tree_unflatten(tree, [jnp.where(probe, x, x) for x in leaves])
 
 
-def bounded_loop(step, init, length: int, loop: str, rows: dict):
-    """(final carry, stacked outputs) of up to `length` calls of step(carry, None) -> (carry, out).
+def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
+    """(final carry, stacked outputs) of up to `length` calls of step(carry, x) -> (carry, out),
+    x the row of `xs` (a pytree with a leading axis of `length`; None: x is None).
 
     "scan": always `length` steps (masked by the step itself; reverse mode passes). "while": stops
     once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
@@ -49,9 +50,11 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict):
     step's outputs (a dict, as `engine._rows` builds for a tract), which spares tracing the step once more to find them
     (tracing is most of a CLI call's cost)."""
     if loop == "scan":
-        return jax.lax.scan(step, batched_together(init), None, length=length)
+        return jax.lax.scan(step, batched_together(init), xs, length=length)
     if loop != "while":
         raise ValueError(f"loop must be scan or while; got {loop!r}")
+    if xs is not None:
+        raise ValueError("xs: a while loop runs without rows of inputs (loop='scan')")
     rows = zeros_of(rows, length)
 
     def cond(c):
@@ -107,6 +110,26 @@ def values_by_while(impl, *args):
     return run(*args)
 
 
+def values_by_replay(impl, *args):
+    """impl(*args, loop=...) for loop="auto", where impl(..., record=True) also returns the tape of
+    its runs' choices and impl(..., tape=tape) replays them: the values of loop="while", the
+    derivatives of the replay (a masked scan of one state set per tract, no choice among
+    candidates: a far smaller program than the masked scan that chooses, to compile and to run).
+    The replay follows the same sequence of events, so within it its derivatives are the cycle's;
+    at a switch they are the one-sided derivatives of the sequence the value pass took."""
+    @jax.custom_jvp
+    def run(*a):
+        return impl(*a, loop="while")
+
+    @run.defjvp
+    def run_jvp(primals, tangents):
+        out, tape = impl(*primals, loop="while", record=True)
+        _, dout = jax.jvp(lambda *a: impl(*a, loop="scan", tape=tape), primals, tangents)
+        return out, dout
+
+    return run(*args)
+
+
 def run_by_loop(impl, args: tuple, loop: str):
     """impl(*args, loop) for a kernel's `loop` option, checked: "scan" and "while" as given, "auto"
     through `values_by_while`."""
@@ -117,4 +140,4 @@ def run_by_loop(impl, args: tuple, loop: str):
 
 
 __all__ = ["LOOPS", "zeros_of", "batched_together", "bounded_loop", "repeat_until", "check_loop",
-           "values_by_while", "run_by_loop"]
+           "values_by_while", "values_by_replay", "run_by_loop"]

@@ -253,11 +253,11 @@ except jd.Float64Required as exc:
 PUBLIC = {"jaxdamp", "jaxdamp.blocks", "jaxdamp.baselines", "jaxdamp.paper", "jaxdamp.plotting",
           "jaxdamp.cli", "jaxdamp.modal_file"}
 # Benchmarks that measure an internal choice import the module that makes it: the solve forms
-# (linalg, tract, cycle, and engine, whose `candidate_rates` bench_core.py swaps for the variants
+# (linalg, tract, cycle, and choice, whose `candidate_rates` bench_core.py swaps for the variants
 # it times), the compiler options (runtime), the two-stage batching (batch) and the Jacobian
 # programs (gradients). Nothing in optimize/ may.
 MEASURED_INTERNALS = {"jaxdamp.linalg", "jaxdamp.runtime", "jaxdamp.tract", "jaxdamp.cycle",
-                      "jaxdamp.engine", "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude",
+                      "jaxdamp.choice", "jaxdamp.batch", "jaxdamp.gradients", "jaxdamp.amplitude",
                       "jaxdamp.curves", "jaxdamp.sequence", "jaxdamp.band"}
 
 
