@@ -196,7 +196,10 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     tape: replay those choices (`engine.run(replay=...)`, a masked scan)."""
     if tape is not None:
         loop = "scan"
-    n_legs = int(initial == "assembly") + max_periods
+
+    def recorded(part):  # what the value pass recorded for this part of the cycle (a replay)
+        return None if tape is None else tape[part]
+
     along_r, along_i = path_parts(motion)
     pads = path_pads(shape, mu, contacts, load, (along_r, along_i))
     n_pads = pads.kn.shape[0]
@@ -207,10 +210,11 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     two_pi = 2.0 * jnp.pi
     unreachable = jnp.array(False)
     no_runs = jnp.zeros(2, jnp.int32)
-    assembly_tape = []
+    assembly_tape = None
     if initial in ("assembly", "gross_slip"):
-        Na, Ta, ok0, *assembly_tape = assemble(pads, CENTRIFUGAL_LOAD, record,
-                                               tape and tape["assembly"])
+        got = assemble(pads, CENTRIFUGAL_LOAD, record, recorded("assembly"))
+        Na, Ta, ok0 = got[:3]
+        assembly_tape = got[3] if record else None
         Na = jnp.where(ok0, Na, jnp.ones(n_pads))  # keep the masked runs finite
         Ta = jnp.where(ok0, Ta, 0.0)
     # Assembly's half period from tau = pi runs as the periods' loop's first pass (one compiled
@@ -219,16 +223,16 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     if initial == "assembly":
         to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
                               max_tracts=max_tracts, loop=loop, record=record,
-                              replay=tape and tape["pre"])
+                              replay=recorded("pre"))
         to_start, pre_tape = to_start if record else (to_start, None)
         N0, T0 = to_start.N_end, to_start.T_end
         pre = to_start.status[None]
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
-        up, reached, *pre_tape = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0,
-                                               max_tracts=max_tracts, loop=loop, record=record,
-                                               replay=tape and tape["pre"])
-        pre_tape = pre_tape[0] if record else None
+        got = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,
+                            loop=loop, record=record, replay=recorded("pre"))
+        up, reached = got[:2]
+        pre_tape = got[2] if record else None
         unreachable = ok0 & ~reached
         ok0 = ok0 & reached
         N0, T0 = up.N_end, up.T_end
@@ -248,7 +252,7 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
         start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
         _, legs = records
-        rows = None if tape is None else jax.tree_util.tree_map(lambda x: x[j], tape["legs"])
+        rows = jax.tree_util.tree_map(lambda x: x[j], recorded("legs"))  # None: no replay
         arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop,
                          record=record, replay=rows)
         if record:
@@ -259,7 +263,7 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     # Rounds of one period; the period map is affine within one pattern of events: where the
     # iterates converge along one direction, the extrapolated fixed point is exact
     # (`periodic.accelerate`).
-    no_tape = empty_tape(n_pads, max_tracts, n_legs) if record else None
+    no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
     end = iterate_to_periodic(leg, N0, T0, pads.mu, (empty_tracts(n_pads, 2, max_tracts), no_tape),
                               legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
                               loop=loop, stop0=bad0 | ~a_ok)
@@ -294,7 +298,6 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
                           zero(share(SLIP)), zero(share(OPEN)), end["gap"], end["rounds"], status)
     if not record:
         return cycle
-    assembly_tape = assembly_tape[0] if assembly_tape else None
     return cycle, dict(assembly=assembly_tape, pre=pre_tape, legs=legs_tape)
 
 

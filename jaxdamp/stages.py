@@ -12,18 +12,17 @@ needed, the full one (`lax.cond`). The host-driven form of the same idea for bat
 
 The fast computation must give the full one's result wherever it does not ask for a second look
 (the caller's contract; tested per use). Forward mode passes (the JVP of the rule); reverse mode
-does not (custom_vmap has no transpose): kernels use it on their values path only
-(`loops.values_by_while`).
-"""
+does not (custom_vmap has no transpose): kernels use it on their values path only, and
+their derivatives replay the value pass's choices (`loops.values_by_replay`)."""
 
 from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
 
-# Lanes the second stage runs at once: a chunk costs about chunk / batch of the first stage's
-# work per round; one lane in 30 of a batch of 256 elliptic cycles needs a second look (measured,
-# benchmarks/ellipse_cost.py), so a chunk of 8 runs one to three rounds.
+# Lanes the second stage runs at once. Not tuned: on 60sym no lane of 256 needed a second look,
+# while on random shapes whose pads open many do and the rounds of chunks cost more than the first
+# look saves (docs/motions.md, "Cost").
 CHUNK = 8
 
 
