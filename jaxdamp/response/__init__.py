@@ -26,7 +26,8 @@ spring), `frf` (closed-form FRFs), `peaks` (the peak response and its compiled p
 `peak_band` (the band of peaks over contact histories), `diagram` (the designer's diagram),
 `modes` (a bladed disk's mode family from modal data, reduced per engine order to this one-mode
 blade and the damper's platform path), `row` (the peaks across a blade row, per engine order),
-`row_band` (their band over contact histories).
+`row_gradient` (their derivatives by the implicit function theorem at the roots found), `row_band`
+(their band over contact histories).
 """
 
 from .scene import BladeMode as BladeMode
@@ -77,6 +78,9 @@ from .row import RowResponse as RowResponse
 from .row import row_response as row_response
 from .row import row_program as row_program
 from .row import engine_orders_of as engine_orders_of
+from .row_gradient import RowGradient as RowGradient
+from .row_gradient import row_gradient as row_gradient
+from .row_gradient import peak_amplitudes_at as peak_amplitudes_at
 from .row_band import RowBand as RowBand
 from .row_band import row_band as row_band
 from .row_band import row_band_program as row_band_program
@@ -91,5 +95,5 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "tabulated_stiffness", "path_damper", "path_cycle_kernel", "ModalFamily", "NodalScene",
            "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
-           "row_response", "row_program", "engine_orders_of", "RowBand", "row_band", "row_band_program", "path_peaks", "path_curves_program",
+           "row_response", "row_program", "engine_orders_of", "RowGradient", "row_gradient", "peak_amplitudes_at", "RowBand", "row_band", "row_band_program", "path_peaks", "path_curves_program",
            "path_response_curves"]

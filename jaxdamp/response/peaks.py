@@ -19,7 +19,7 @@ from ..status import RESULTS, number_repr, status_repr
 from .._validate import check_values, traced
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
-from .stiffness import (PATH_HISTORIES, DamperStiffness, damper_stiffness_kernel,
+from .stiffness import (DamperStiffness, check_history, damper_stiffness_kernel,
                         path_cycle_kernel, path_damper, through_residual, with_residual)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
@@ -434,8 +434,7 @@ def path_response_curves(shape, mu=None, contacts=None, load=None, mode: BladeMo
     (`path_curves_program`). The damper's status and amplitude scale are the in-phase
     Base-Cycle's for the curved-flat damper, the path's gross-slip move's for a wedge
     (`path_damper`; a wedge runs on the path engine in-phase too, motion None)."""
-    if initial not in PATH_HISTORIES:
-        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    check_history(initial)
     scene = prepare_scene(shape, mu, contacts, load, mode, wedge_ok=True)
     forces = jnp.asarray(np.atleast_1d(check_values("force_n", force_n)))
     if motion is None:

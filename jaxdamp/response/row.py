@@ -20,7 +20,7 @@ from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
 from .peaks import Peaks, path_peaks
 from .scene import BladeMode, prepare_scene
-from .stiffness import PATH_HISTORIES
+from .stiffness import check_history
 
 ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power of two, at least 4
 FORCE_BUCKET = 4
@@ -114,17 +114,20 @@ def _stack(trees):
 
 
 def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=None,
-                     buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, 1)) -> list:
+                     buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, 1), per_order=()) -> list:
     """Run a row program on the engine orders of each path kind (straight, elliptic) as one
     batch: program(*design, modes, motions, tip forces (m, n_f), *extra[, residuals (m,)]) with
     the engine orders and the forces padded (repeating the last) to `runtime.padded_size(n,
     minimum, steps per octave)` with buckets = (the orders' minimum, the forces' minimum, steps
     per octave: 1, powers of two); residual: the (m,) residual flexibilities, or None for the
-    program without them (`flexible_row`).
+    program without them (`flexible_row`). per_order: arrays (m, n_f) per engine order and force
+    (the values' roots, `row_gradient`), padded as the tip forces and passed after extra.
     runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
     its batch's host outputs (force axes still padded), in scenes' order."""
     n_f = padded_size(tip.shape[1], buckets[1], buckets[2])
-    tip = tip[:, np.minimum(np.arange(n_f), tip.shape[1] - 1)]
+    forces = np.minimum(np.arange(n_f), tip.shape[1] - 1)
+    tip = tip[:, forces]
+    per_order = [np.asarray(v)[:, forces] for v in per_order]
     elliptic = np.array([not s.straight for s in scenes])
     rows = [None] * len(scenes)
     for kind in (False, True):
@@ -139,7 +142,7 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
                               for f in BladeMode._fields))
         residuals = () if residual is None else (jnp.asarray(residual[take]),)
         args = (*design, modes_k, _stack([s.motion for s in part]), jnp.asarray(tip[take]), *extra,
-                *residuals)
+                *(jnp.asarray(v[take]) for v in per_order), *residuals)
         got = jax.device_get(run_program(program, args, runner))
         for j, i in enumerate(idx):
             rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j], got)
@@ -205,8 +208,7 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     bucket sizes, so that one compiled program serves rows of similar size. runner(program,
     args): how to call a compiled program (default program(*args); the CLI passes one that
     saves it traced, `cli.exported`)."""
-    if initial not in PATH_HISTORIES:
-        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    check_history(initial)
     (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepare_row(
         shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
     elliptic = np.array([not s.straight for s in scenes])

@@ -27,7 +27,7 @@ from ..status import RESULTS, number_repr, status_repr
 __all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
            "interpolated_damper", "exact_damper", "register_stiffness_method",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
-           "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "PathStiffness", "path_cycle_kernel",
+           "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "check_history", "PathStiffness", "path_cycle_kernel",
            "path_damper", "STUCK_FRACTION", "through_residual", "with_residual"]
 
 
@@ -106,6 +106,13 @@ def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> Damp
 
 
 PATH_HISTORIES = ("assembly", "gross_slip")
+
+
+def check_history(initial: str) -> None:
+    """ValueError in one line unless initial is one of PATH_HISTORIES."""
+    if initial not in PATH_HISTORIES:
+        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+
 STUCK_FRACTION = 1e-6  # of psi_ref: an amplitude at which every pad sticks (the stuck limit)
 
 
@@ -132,8 +139,7 @@ def path_cycle_kernel(shape, mu, contacts, load, amplitude, motion, initial: str
     loop: the kernels' (`amplitude_kernel`). repeats: the bound on the iteration to a periodic
     cycle (pairs of halves on a straight path, periods on an ellipse; None: the kernels' own).
     Unchecked, traceable (jit, vmap, grad)."""
-    if initial not in PATH_HISTORIES:
-        raise ValueError(f"initial must be one of {', '.join(PATH_HISTORIES)}; got {initial!r}")
+    check_history(initial)
     if is_wedge(shape):  # a wedge runs on the path engine, a straight path as a flat ellipse
         motion = _engine_path(motion, load)
     bound = {} if repeats is None else {"max_periods" if motion is not None
