@@ -12,12 +12,13 @@ quasi-static contact problem is homogeneous in F_D and the amplitude on every pa
 A*(F; s F_D) = s A*(F / s) (`robust_objective`'s law, here per engine order).
 
 Each row is one call of `jaxdamp.row_response`, the public function the CLI's `response --modes`
-runs: its programs are values only (while loops; the elliptic cycle's forward derivative program
-takes minutes to compile), shared with that command and compiled once per history. So the
-descent's direction is a central difference of the smooth maximum in the unit box; a step is kept
-only where the design is feasible and the hard maximum falls (`descent.feasible_descent`). The
-result is certified by `certify_row`: every engine order under each history separately and their
-band, over a grid of mu, kn and kt factors and F_D applied explicitly.
+runs (values only: the programs that command saves, compiled once per history). The descent's
+direction is the gradient of the smooth maximum, from `jaxdamp.row_gradient` (each peak's
+derivative with respect to the shape by the implicit function theorem at the roots the values
+found; its derivative program compiles once per history); a step is kept only where the design is
+feasible and the hard maximum falls (`descent.feasible_descent`). The result is certified by
+`certify_row`: every engine order under each history separately and their band, over a grid of
+mu, kn and kt factors and F_D applied explicitly.
 """
 
 from __future__ import annotations
@@ -27,7 +28,8 @@ from typing import NamedTuple
 
 import numpy as np
 
-from jaxdamp import RESULTS, Contacts, LoadCase, ModalFamily, nodal_scene, row_response
+from jaxdamp import (RESULTS, Contacts, LoadCase, ModalFamily, nodal_scene, row_gradient,
+                     row_response)
 
 from .descent import descend_from_best
 from .design import VARIABLES, in_bounds, shape_of_vector, to_unit
@@ -41,7 +43,6 @@ ROW_HISTORIES = ("assembly", "band")
 CORNER_CHOICES = ("nominal", "all")
 HISTORY_NAMES = ("gross_slip", "assembly")
 FORCE_CHUNK = 4  # forces per row call: the row's force bucket, so one program serves every call
-FD_STEP = 2e-3  # unit-box step of the central differences
 # The in-phase robust optimum (benchmarks/results/robust_optimisation_band.json): how a design
 # tuned to nodal diameter 0 of the illustrative blade fares across a real row.
 IN_PHASE_ROBUST_OPTIMUM = (42.59891282213617, 52.95829312005082, 0.3988034770924406,
@@ -62,20 +63,28 @@ class RowTask(NamedTuple):
 
 
 def row_magnification(v, task: RowTask, mu, contacts: Contacts, load: LoadCase, forces,
-                      initial: str):
+                      initial: str, gradient: bool = False):
     """(A*/F (m, n_f) mm/N, status (m, n_f)) of one complete shape vector v over the row at the
     forces (N per blade), from the history `initial`: `row_response` in chunks of FORCE_CHUNK
-    forces."""
+    forces. gradient: also d(A*/F)/dv (m, n_f, 4), by `row_gradient` (zero where a peak is not
+    valid)."""
     forces = np.asarray(forces, float).reshape(-1)
-    mags, stats = [], []
+    mags, stats, grads = [], [], []
     for i in range(0, forces.size, FORCE_CHUNK):
         f = forces[i:i + FORCE_CHUNK]
-        row = row_response(shape_of_vector(np.asarray(v, float)), mu, contacts, load, modes=task.family,
-                           engine_orders=list(task.engine_orders), force_n=f,
-                           h_l_mm=task.h_l_mm, initial=initial)
+        kw = dict(modes=task.family, engine_orders=list(task.engine_orders), force_n=f,
+                  h_l_mm=task.h_l_mm, initial=initial)
+        shape = shape_of_vector(np.asarray(v, float))
+        if gradient:
+            got = row_gradient(shape, mu, contacts, load, **kw)
+            row = got.row
+            grads.append(got.d_peak_mm[..., :len(VARIABLES)] / f[None, :, None])
+        else:
+            row = row_response(shape, mu, contacts, load, **kw)
         mags.append(np.asarray(row.peaks.peak_amplitude_mm) / f[None, :])
         stats.append(np.asarray(row.status))
-    return np.concatenate(mags, axis=1), np.concatenate(stats, axis=1)
+    out = np.concatenate(mags, axis=1), np.concatenate(stats, axis=1)
+    return (*out, np.concatenate(grads, axis=1)) if gradient else out
 
 
 def _initials(history: str):
@@ -91,13 +100,15 @@ def _counted(status, initial: str):
     return valid, valid | missing
 
 
-def row_values(V, problem: Problem, spec: RobustSpec, task: RowTask, corners: str = "nominal"):
+def row_values(V, problem: Problem, spec: RobustSpec, task: RowTask, corners: str = "nominal",
+               gradient: bool = False):
     """(smooth, hard, feasible) per complete shape vector of V (B, 4): the smooth maximum (the
     log-sum-exp of log A*/F at spec.temperature) and the hard maximum of A*/F (mm/N; inf where
     infeasible), and feasibility (margins at every mu of the set and a valid peak in every
     scenario: liftoff, non-convergence or a singular cycle anywhere is infeasible; a damper
     stuck at a peak is a valid, bad, peak; a gross-slip history that does not exist on a path is
-    left out there, `_counted`)."""
+    left out there, `_counted`). gradient: also d log(smooth) / dv (B, 4) (zero where
+    infeasible): the softmax of the scores weighs each peak's d log(A*/F) / dv."""
     V = np.atleast_2d(np.asarray(V, float))
     margins = np.asarray(is_feasible(evaluate_shapes(problem, V)))
     c = contact_corners(spec) if corners == "all" else np.array([(1.0, 1.0)])
@@ -105,16 +116,20 @@ def row_values(V, problem: Problem, spec: RobustSpec, task: RowTask, corners: st
     load = LoadCase(*problem.load)
     smooth, hard, feasible = (np.full(len(V), np.inf), np.full(len(V), np.inf),
                               np.zeros(len(V), bool))
+    d_log_smooth = np.zeros(V.shape)
     for b, v in enumerate(V):
         if not margins[b]:  # the design check fails: no row is run
             continue
-        scores, ok = [], True
+        scores, slopes, ok = [], [], True
         for initial, mu, (fn, ft) in itertools.product(_initials(spec.history), problem.mus, c):
-            mag, status = row_magnification(v, task, mu, Contacts(problem.kn * fn, problem.kt * ft),
-                                            load, forces, initial)
+            got = row_magnification(v, task, mu, Contacts(problem.kn * fn, problem.kt * ft),
+                                    load, forces, initial, gradient)
+            mag, status = got[:2]
             valid, usable = _counted(status, initial)
             ok &= bool(np.all(usable))
             scores.append(np.log(mag[valid]))
+            if gradient:
+                slopes.append(got[2][valid] / mag[valid][:, None])  # d log(A*/F) / dv
             if not ok:
                 break
         if ok:
@@ -122,7 +137,10 @@ def row_values(V, problem: Problem, spec: RobustSpec, task: RowTask, corners: st
             t = spec.temperature
             smooth[b] = float(np.exp(t * np.log(np.sum(np.exp((s - s.max()) / t))) + s.max()))
             hard[b], feasible[b] = float(np.exp(s.max())), True
-    return smooth, hard, feasible
+            if gradient:
+                w = np.exp((s - s.max()) / t)
+                d_log_smooth[b] = (w / w.sum()) @ np.concatenate(slopes)
+    return (smooth, hard, feasible, d_log_smooth) if gradient else (smooth, hard, feasible)
 
 
 class RowCertified(NamedTuple):
@@ -240,7 +258,7 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
                  progress=None) -> RowOptimum:
     """Minimise the worst A*/F over the row (module doc): a grid over the free variables' unit
     box and the reference shapes that lie in the design space, then feasible descent steps from
-    the best of them along central differences of the smooth maximum; then `certify_row` of the optimum and the references. Inputs are checked
+    the best of them along the smooth maximum's gradient (`row_gradient`); then `certify_row` of the optimum and the references. Inputs are checked
     (ValueError naming the flag or parameter) before any row is run. progress(n) per stage."""
     problem = make_problem(mus=ROBUST_MU_SET) if problem is None else problem
     spec = validate_spec(spec, ROW_HISTORIES)
@@ -260,14 +278,13 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
                       corners)[1]
     tick(1)
 
+    free = [VARIABLES.index(n) for n in sp.free]
+    span = np.asarray(sp.upper) - np.asarray(sp.lower)
+
     def gradient(z):
-        # Central differences of log of the smooth maximum, one-sided at the box's faces.
-        eye = np.eye(sp.dim) * FD_STEP
-        plus, minus = np.clip(z + eye, 0.0, 1.0), np.clip(z - eye, 0.0, 1.0)
-        smooth = row_values(np.stack([complete_shape(problem, x) for x in np.vstack([plus, minus])]),
-                            problem, spec, task, corners)[0]
-        width = np.diag(plus - minus)
-        g = (np.log(smooth[:sp.dim]) - np.log(smooth[sp.dim:])) / np.where(width > 0, width, 1.0)
+        # The smooth maximum's log, differentiated: by the shape, then into the unit box.
+        g = row_values(complete_shape(problem, z), problem, spec, task, corners, gradient=True)[3]
+        g = g[0, free] * span
         return np.where(np.isfinite(g), g, 0.0)
 
     def evaluate(z):

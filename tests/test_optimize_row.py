@@ -92,3 +92,27 @@ def test_a_small_row_optimisation_improves_and_is_certified_everywhere():
     expected = np.max(row.peaks.peak_amplitude_mm / np.asarray(res.best.force_n)[None], axis=1)
     assert_tree_allclose(np.array(res.best.worst_by_history["assembly"]), expected, rtol=1e-12,
                          atol=0)
+
+
+@pytest.mark.slow  # the example row's values and derivative programs from assembly
+def test_the_descent_gradient_is_that_of_the_smooth_maximum():
+    """d log(smooth max) / dv from the peaks' implicit-function derivatives (`row_gradient`)
+    against central differences of the smooth maximum row_values computes from values alone,
+    at a design away from switches (engine orders 0 and 3 of the example disk, two forces)."""
+    family = load_modal_family("example")
+    problem = make_problem(mus=(0.5,))
+    spec = RobustSpec(force_range_n=(3.0, 6.0), fd_spread=0.0, history="assembly", n_forces=2)
+    task = RowTask(family, (0, 3), 10.0)
+    v = np.array(IN_PHASE_ROBUST_OPTIMUM)
+    smooth, _, feasible, grad = row_values(v, problem, spec, task, gradient=True)
+    assert feasible[0] and np.all(np.isfinite(grad))
+    steps = np.array([1e-3, 1e-3, 1e-5, 1e-5])
+    central = []
+    for j in range(4):
+        e = np.zeros(4)
+        e[j] = steps[j]
+        up, down = (row_values(np.stack([v + e, v - e]), problem, spec, task)[0])
+        central.append((np.log(up) - np.log(down)) / (2 * steps[j]))
+    central = np.array(central)
+    assert np.max(np.abs(central)) > 0
+    assert_tree_allclose(grad[0], central, rtol=0.0, atol=1e-6 * np.max(np.abs(central)))
