@@ -45,7 +45,7 @@ def main():
     ap.add_argument("--free", default=",".join(VARIABLES))
     ap.add_argument("--mu-set", default="0.3,0.5,0.7")
     a = ap.parse_args()
-    info = machine("shared machine: 2 cores, other jobs running alongside")
+    info = machine("2-core VM")
     family = load_modal_family("example")
     orders = list(range(family.n_blades // 2 + 1))
     free = a.free.split(",")
