@@ -149,7 +149,8 @@ INPUTS_AND_PARTS = {"Design", "DamperShape", "SectionGeometry", "Contacts", "Loa
                     "NodalScene"}
 # Results without a status field of their own (they go with the status of what they were read
 # off: a BaseCycle's energies and work shape factors; a sweep's points carry theirs in .summary).
-STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult"}
+# RowGradient's status is its row's (RowGradient.row.status).
+STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult", "RowGradient"}
 
 
 def _namedtuples():

@@ -100,7 +100,7 @@ def peak_amplitudes_at(shape, mu, contacts, load, mode: BladeMode, motion, force
     @roots.defjvp
     def roots_jvp(primals, tangents):
         a, psi, cs, *ins = primals
-        d_ins = [_instantiate(t, x) for t, x in zip(tangents[3:], ins)]
+        d_ins = tangents[3:]  # arrays: custom_jvp instantiates symbolic zeros by default
         one, zero = jnp.ones_like(a), jnp.zeros_like(a)
 
         def equations(a_, p_, *i):
@@ -116,13 +116,6 @@ def peak_amplitudes_at(shape, mu, contacts, load, mode: BladeMode, motion, force
 
     a, psi = roots(a0, p0, consts, *inputs)
     return jnp.where(valid, a, 0.0), jnp.where(valid, psi, 0.0)
-
-
-def _instantiate(tangent, primal):
-    """A tangent as arrays (symbolic zeros as zeros), to stack with the other directions."""
-    return jax.tree_util.tree_map(
-        lambda t, x: jnp.zeros_like(x) if isinstance(t, jax.custom_derivatives.SymbolicZero)
-        or type(t).__name__ == "Zero" else t, tangent, primal)
 
 
 def _zeros(tree):
@@ -186,6 +179,12 @@ class RowGradient(NamedTuple):
     row: RowResponse
     d_peak_mm: np.ndarray
     variables: tuple
+
+    def __repr__(self):
+        d = np.asarray(self.d_peak_mm)
+        top = np.max(np.abs(d), axis=(0, 1)) if d.size else np.zeros(len(self.variables))
+        largest = ", ".join(f"{n} {x:.3g}" for n, x in zip(self.variables, top))
+        return f"RowGradient({self.row!r}; largest |dA*/d|: {largest})"
 
 
 def row_gradient(shape, mu=None, contacts=None, load=None, *, modes, engine_orders,
