@@ -28,7 +28,8 @@ CHECKED = {
     "design_peaks", "peak_band", "response_curves", "designer_diagram", "sample_scenarios",
     "peak_distribution", "fit_loops", "fit_problem", "sample_loop", "in_phase_motion",
     "interblade_motion", "straight_motion", "general_motion", "elliptic_cycle", "interblade_sweep",
-    "validate_family", "nodal_scene", "row_response", "row_band", "prepare_scene", "engine_orders_of",
+    "validate_family", "nodal_scene", "row_response", "row_band", "row_gradient", "prepare_scene",
+    "engine_orders_of",
     "path_response_curves", "path_base_cycle", "check_design", "check_batch", "evaluate_designs",
     "validated_range_violations",
     # jaxdamp.baselines

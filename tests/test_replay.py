@@ -89,3 +89,42 @@ def test_the_replay_s_derivatives_are_the_choosing_scan_s_and_central_difference
     assert_tree_allclose(replay, scan, rtol=0, atol=1e-9 * scale)
     assert_tree_allclose(reverse, replay, rtol=0, atol=1e-12 * scale)
     assert_tree_allclose(replay, central, rtol=0, atol=1e-6 * scale)
+
+
+@pytest.mark.slow  # one derivative program of the elliptic kernel
+@pytest.mark.parametrize("shape,phi,psi,initial", [
+    (jd.family_shape("60sym"), 90.0, 3.0, "assembly"),
+    (WEDGE, 120.0, 20.0, "gross_slip"),
+])
+def test_derivatives_with_respect_to_the_path_itself(shape, phi, psi, initial):
+    """d(k_re, k_im, energy per pad, work) / dX_hat (the path's direction and quadrature: six
+    numbers, so that a modal file's platform motions are differentiable too) through the replay,
+    forward and reverse, against central differences of the value pass."""
+    sh, mu, c, load = prepare_inputs(shape, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
+    motion = jd.interblade_motion(phi, 20.0, 100.0, 10.0)
+
+    def numbers(x, loop):
+        path = motion._replace(direction=x[:3], quadrature=x[3:])
+        cyc = jd.elliptic_kernel(sh, mu, c, load, jnp.asarray(psi), path, initial=initial,
+                                 loop=loop)
+        assert cyc.energy.ndim == 1
+        return jnp.concatenate([jnp.stack([cyc.k_re, cyc.k_im, cyc.work]), cyc.energy]), cyc.status
+
+    x0 = jnp.concatenate([jnp.asarray(motion.direction, float),
+                          jnp.asarray(motion.quadrature, float)])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", jd.SmallRotationWarning)
+        assert jd.RESULTS.name_of(jax.jit(lambda x: numbers(x, "while")[1])(x0)) == "ok"
+        fwd = jax.jit(jax.jacfwd(lambda x: numbers(x, "auto")[0]))(x0)
+        rev = jax.jit(jax.jacrev(lambda x: numbers(x, "auto")[0]))(x0)
+        value = jax.jit(lambda x: numbers(x, "while")[0])
+        h = 1e-7 * float(jnp.max(jnp.abs(x0)))
+        central = np.stack([(np.asarray(value(x0.at[i].add(h))) - np.asarray(value(x0.at[i].add(-h))))
+                            / (2 * h) for i in range(6)], axis=1)
+    scale = np.max(np.abs(central), axis=1, keepdims=True)  # per output: k, work, energies
+    assert np.all(scale[:3] > 0)
+    # A pad that never slips (the wedge's fourth here) dissipates nothing whatever the path: its
+    # derivatives are held to the other pads' scale.
+    scale = np.where(scale > 0, scale, np.max(scale[3:]))
+    assert_tree_allclose(rev, fwd, rtol=0, atol=1e-10 * scale)
+    assert_tree_allclose(fwd, central, rtol=0, atol=1e-6 * scale)

@@ -26,7 +26,8 @@ def _peaks(mu, f_d, motion, residual):
                       residual=residual)[1]
 
 
-@pytest.mark.parametrize("residual", [None, pytest.param(2e-5, marks=pytest.mark.slow)])
+@pytest.mark.slow  # the in-phase peak search and the cycle's derivative program: 30 s each
+@pytest.mark.parametrize("residual", [None, 2e-5])
 def test_peak_derivative_matches_central_differences_in_phase(residual):
     """The in-phase straight path, with and without a residual flexibility in series (c k about
     0.6 at the stuck damper): dA*/dmu and dA*/dF_D by forward and reverse mode against central
