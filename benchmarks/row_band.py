@@ -47,7 +47,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--samples", type=int, default=64)
     a = ap.parse_args()
-    info = machine("shared machine: 2 cores")
+    info = machine("2-core VM")
     family = load_modal_family("example")
     orders = list(range(family.n_blades // 2 + 1))
     out, seconds = [], {"row_response": [], "row_band": []}
