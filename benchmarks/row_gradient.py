@@ -80,7 +80,7 @@ def main(out: Path = RESULTS / "row_gradient.json") -> dict:
         s = shape._replace(theta_l=v[0], theta_r=v[1], br_over_hr=v[2], bl2_over_hl=v[3])
         m = np.stack([np.asarray(jd.row_response(s, mu, **kw).peaks.peak_amplitude_mm) / forces
                       for mu in MUS])
-        return smooth_max(np.where(valid, m, -np.inf)[valid], width)
+        return smooth_max(m[valid], width)
 
     v0 = np.array([shape.theta_l, shape.theta_r, shape.br_over_hr, shape.bl2_over_hl], float)
     steps = np.array([1e-3, 1e-3, 1e-5, 1e-5])

@@ -70,11 +70,11 @@ def row_magnification(v, task: RowTask, mu, contacts: Contacts, load: LoadCase, 
     valid)."""
     forces = np.asarray(forces, float).reshape(-1)
     mags, stats, grads = [], [], []
+    shape = shape_of_vector(np.asarray(v, float))
     for i in range(0, forces.size, FORCE_CHUNK):
         f = forces[i:i + FORCE_CHUNK]
         kw = dict(modes=task.family, engine_orders=list(task.engine_orders), force_n=f,
                   h_l_mm=task.h_l_mm, initial=initial)
-        shape = shape_of_vector(np.asarray(v, float))
         if gradient:
             got = row_gradient(shape, mu, contacts, load, **kw)
             row = got.row

@@ -26,7 +26,7 @@ ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power 
 FORCE_BUCKET = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
-           "check_engine_orders", "prepare_row", "flexible_row"]
+           "check_engine_orders", "prepare_row", "row_of_prepared", "flexible_row"]
 
 
 class RowResponse(NamedTuple):
@@ -209,8 +209,14 @@ def row_response(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily
     args): how to call a compiled program (default program(*args); the CLI passes one that
     saves it traced, `cli.exported`)."""
     check_history(initial)
-    (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepare_row(
-        shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
+    return row_of_prepared(prepare_row(shape, mu, contacts, load, modes, engine_orders, force_n,
+                                       h_l_mm), initial, runner)
+
+
+def row_of_prepared(prepared, initial: str, runner=None) -> RowResponse:
+    """`row_response` on inputs `prepare_row` returned (checked already) and a checked history:
+    for a caller that needs the prepared row again (`row_gradient`)."""
+    (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepared
     elliptic = np.array([not s.straight for s in scenes])
     flexible = flexible_row(residual)
     program = row_program(initial, flexible is not None)

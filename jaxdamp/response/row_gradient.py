@@ -32,7 +32,7 @@ from ..runtime import batch_jit
 from ..status import RESULTS
 from .frf import dynamic_stiffness
 from .peaks import PATH_REPEATS
-from .row import RowResponse, flexible_row, prepare_row, row_response, run_by_path_kind
+from .row import RowResponse, flexible_row, prepare_row, row_of_prepared, run_by_path_kind
 from .scene import BladeMode
 from .stiffness import check_history, path_cycle_kernel
 
@@ -194,10 +194,9 @@ def row_gradient(shape, mu=None, contacts=None, load=None, *, modes, engine_orde
     the derivative program (`row_gradient_program`) at the roots it found. The modal data are
     held fixed."""
     check_history(initial)
-    row = row_response(shape, mu, contacts, load, modes=modes, engine_orders=engine_orders,
-                       force_n=force_n, h_l_mm=h_l_mm, initial=initial, runner=runner)
-    design, forces, _, scenes, tip, residual = prepare_row(
-        shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
+    prepared = prepare_row(shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
+    row = row_of_prepared(prepared, initial, runner)
+    design, forces, _, scenes, tip, residual = prepared
     peaks = row.peaks
     valid = np.asarray(RESULTS.valid(peaks.status)) & (np.asarray(peaks.peak_amplitude_mm) > 0)
     psi = np.where(valid, np.asarray(peaks.psi_a_mrad), 0.0)
