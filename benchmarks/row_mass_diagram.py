@@ -9,9 +9,10 @@ forces [F_min / (s (1 + d)), F_max / (s (1 - d))] at the nominal F_D: one row pe
 wide force grid serves every s. Designs: the row optimum of results/row_optimisation.json, the
 in-phase robust optimum and 60sym; mu 0.3/0.5/0.7, both histories, nominal kn and kt, forces
 2 ... 20 N, F_D +/- 20 % (the row optimiser's defaults), s from 0.25 to 2. Where a window holds a
-peak that is not valid (not ok or shakedown: e.g. liftoff), the design is not feasible at that s.
-Also recorded: the largest path-parameter amplitude psi_a in each window, and the worst A*/F over
-the peaks whose psi_a is within the small-rotation model's limit (SMALL_ROTATION_MRAD, 50 mrad)
+peak without numbers (e.g. liftoff; `RESULTS.has_numbers`), the design is not feasible at that
+s. Also recorded: the platforms' largest rotation in each window (`RowResponse.rotation_mrad`,
+which scales with the amplitude: s times its value at the nominal F_D's force F / s), and the
+worst A*/F over the peaks within the small-rotation model's limit (SMALL_ROTATION_MRAD, 50 mrad)
 with the share of the window's peaks beyond it.
 
 Run: PYTHONPATH=$PWD python benchmarks/row_mass_diagram.py -> results/row_mass_diagram.json and
@@ -60,7 +61,7 @@ def main(out: Path = RESULTS / "row_mass_diagram.json") -> dict:
            "fd_spread": SPREAD, "fd_factor": SCALES.tolist(), "designs": {}}
     for name, v in designs.items():
         shape = jd.DamperShape(*map(float, v), None)
-        mags, psis, valid = [], [], []
+        mags, rots, valid = [], [], []
         for mu in MUS:
             for h in HISTORIES:
                 row = jd.row_response(shape, mu, modes=family, engine_orders=orders,
@@ -68,12 +69,12 @@ def main(out: Path = RESULTS / "row_mass_diagram.json") -> dict:
                 status = np.asarray(row.status)
                 missing = (h == "gross_slip") & (status == jd.RESULTS.unreachable)
                 mags.append(np.where(missing, -np.inf, row.peaks.peak_amplitude_mm / forces))
-                psis.append(np.where(missing, 0.0, row.peaks.psi_a_mrad))
-                valid.append(np.asarray(jd.RESULTS.valid(status)) | missing)
-        mags, psis, valid = (np.stack(x) for x in (mags, psis, valid))  # (scenario, m, n_f)
-        worst, where, feasible, psi_max, worst_small, beyond = [], [], [], [], [], []
-        small = psis <= jd.blocks.SMALL_ROTATION_MRAD
+                rots.append(np.where(missing, 0.0, row.rotation_mrad))
+                valid.append(np.asarray(jd.RESULTS.has_numbers(status)) | missing)
+        mags, rots, valid = (np.stack(x) for x in (mags, rots, valid))  # (scenario, m, n_f)
+        worst, where, feasible, rot_max, worst_small, beyond = [], [], [], [], [], []
         for s in SCALES:
+            small = s * rots <= jd.blocks.SMALL_ROTATION_MRAD  # the rotation at s F_D
             window = (forces >= F_RANGE[0] / (s * (1 + SPREAD)) * (1 - 1e-12)) & (
                 forces <= F_RANGE[1] / (s * (1 - SPREAD)) * (1 + 1e-12))
             m = np.where(window[None, None, :], mags, -np.inf)
@@ -81,13 +82,13 @@ def main(out: Path = RESULTS / "row_mass_diagram.json") -> dict:
             worst.append(float(m[k]))
             where.append(int(orders[k[1]]))
             feasible.append(bool(np.all(valid[..., window])))
-            psi_max.append(float(np.max(np.where(window[None, None, :], psis, 0.0))))
+            rot_max.append(float(s * np.max(np.where(window[None, None, :], rots, 0.0))))
             inside = window[None, None, :] & small
             worst_small.append(float(np.max(np.where(inside, mags, -np.inf))))
             beyond.append(float(1.0 - inside.sum() / (window.sum() * small[..., 0].size)))
         doc["designs"][name] = dict(shape=list(map(float, v)), worst_mm_per_n=worst,
                                     worst_engine_order=where, feasible=feasible,
-                                    psi_max_mrad=psi_max,
+                                    rotation_max_mrad=rot_max,
                                     worst_within_small_rotation_mm_per_n=worst_small,
                                     share_beyond_small_rotation=beyond)
         print(name, [f"{s:.2f}:{w:.3f}({e}){'' if f else '!'}" for s, w, e, f in
@@ -112,7 +113,7 @@ def plot(doc: dict, path: Path) -> None:
         line, = ax.plot(s, np.where(ok, w, np.nan), "o-", ms=3, label=name)
         ax.plot(s[~ok], w[~ok], "x", color=line.get_color())
         ax.plot(s, d["worst_within_small_rotation_mm_per_n"], "--", color=line.get_color(), lw=1,
-                label=f"{name}: peaks with psi_a <= 50 mrad only")
+                label=f"{name}: peaks turning the platforms <= 50 mrad only")
     ax.axvline(1.0, color="0.6", lw=0.8)
     ax.set_xscale("log")
     ax.set_xlabel("F_D / F_D,nominal (the damper's mass at the design speed)")

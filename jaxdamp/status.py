@@ -31,6 +31,7 @@ class RESULTS(enum.IntEnum):
     no_root = 6
     unreachable = 7
     unseated = 8
+    large_rotation = 9
 
     @staticmethod
     def first(conditions, status=None):
@@ -82,6 +83,12 @@ class RESULTS(enum.IntEnum):
         return (status == RESULTS.ok) | (status == RESULTS.shakedown)
 
     @staticmethod
+    def has_numbers(status):
+        """True where a result's numbers are computed as asked: the valid ones, and those that lie
+        outside the model's validity (large_rotation), which are reported with that status."""
+        return RESULTS.valid(status) | (status == RESULTS.large_rotation)
+
+    @staticmethod
     def stopped(status):
         """True where the computation stopped part-way (liftoff, or a singular / failed solve), so
         that it has no numbers at all; not_converged and ill_conditioned results have numbers that
@@ -94,9 +101,12 @@ class RESULTS(enum.IntEnum):
 # every other flag meaningless too); then the problems that stop a computation with no numbers,
 # the earliest in a computation's course first (a history that does not exist, a normal force at
 # zero, no pad set holding the damper, a failed solve); then the numbers that are not to be
-# trusted (not periodic, no root); shakedown last (its numbers are valid).
+# trusted (not periodic, no root); then a number computed as asked that lies outside the model's
+# validity (large_rotation: a stuck damper's peak far beyond it is still beyond it); shakedown
+# last (its numbers are valid).
 SEVERITY = (RESULTS.ill_conditioned, RESULTS.unreachable, RESULTS.liftoff, RESULTS.unseated,
-            RESULTS.singular, RESULTS.not_converged, RESULTS.no_root, RESULTS.shakedown)
+            RESULTS.singular, RESULTS.not_converged, RESULTS.no_root, RESULTS.large_rotation,
+            RESULTS.shakedown)
 _RANK = np.zeros(len(RESULTS), np.int32)
 for _i, _code in enumerate(SEVERITY):
     _RANK[_code] = len(SEVERITY) - _i
@@ -116,6 +126,10 @@ _MESSAGES = {
                           "it opens a pad before every pad slips (no gross-slip state)"),
     RESULTS.unseated: ("no set of closed pads holds the damper in equilibrium: with pads open, "
                        "the rest cannot carry F_D (the damper is unseated)"),
+    RESULTS.large_rotation: ("the platforms' rotation at the peak exceeds the small-rotation "
+                             "model's limit (SMALL_ROTATION_MRAD, 50 mrad): the number lies outside "
+                             "the model's validity (a smaller force or a heavier damper keeps it "
+                             "inside)"),
 }
 
 

@@ -94,7 +94,8 @@ def _initials(history: str):
 def _counted(status, initial: str):
     """(valid, usable) masks: a valid peak counts; a gross-slip history that does not exist on a
     path (`unreachable`: a pad opens before every pad slips) is no failure, there is just no such
-    history there; anything else (liftoff, not_converged, ...) makes the design infeasible."""
+    history there; anything else (liftoff, not_converged, a peak outside the small-rotation model:
+    large_rotation, ...) makes the design infeasible."""
     valid = np.asarray(RESULTS.valid(status))
     missing = (initial == "gross_slip") & (np.asarray(status) == RESULTS.unreachable)
     return valid, valid | missing

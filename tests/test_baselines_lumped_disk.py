@@ -101,11 +101,33 @@ def test_other_nodal_diameters_give_the_interblade_path():
         assert_tree_allclose(a / a[k] * b[k], b, rtol=1e-12, atol=1e-14)
 
 
+def test_the_platforms_rotation_per_tip_motion():
+    """What the small-rotation model limits, from the disk's own eigenvectors: at nodal diameter
+    0 the platforms turn together by the mode's r (mrad per mm of tip: the path parameter is their
+    rotation); at N/2 (out of phase) they turn against each other, 2 theta relative, while the
+    path parameter scales the whole path, |X_hat| = q*/1000 per mrad: (2 h_C theta, 0, 2 theta)
+    gives r = 1e3 |(2 h_C, 2000)| / q* per unit theta, ten times the relative rotation at
+    q* = 100 mm."""
+    disk = LumpedDisk(n_blades=6)
+    family = jd.blocks.validate_family(modal_family(disk, 100.0, 20.0))
+    zero, half = jd.nodal_scene(family, 0, 100.0, 10.0), jd.nodal_scene(family, 3, 100.0, 10.0)
+    _, modes = sector_modes(disk, 0.0)
+    assert_tree_allclose(np.float64(zero.rotation_mrad_per_mm),
+                         np.float64(1e3 * modes[0, 0] / modes[1, 0]), rtol=1e-12, atol=0.0)
+    _, modes = sector_modes(disk, np.pi)
+    relative = 2e3 * abs(modes[0, 0] / modes[1, 0])
+    assert_tree_allclose(np.float64(half.rotation_mrad_per_mm), np.float64(relative), rtol=1e-12,
+                         atol=0.0)
+    assert_tree_allclose(np.float64(half.mode.r / half.rotation_mrad_per_mm),
+                         np.float64(np.hypot(40.0, 2000.0) / 200.0), rtol=1e-12, atol=0.0)
+
+
 def test_example_file_is_what_the_generator_makes_now(tmp_path):
     fresh = write_example_family(tmp_path / "modes.npz")
     with np.load(EXAMPLE_PATH) as stored, np.load(fresh) as new:
-        assert set(stored.files) == set(new.files) == set(FAMILY_FIELDS) | {"n_blades", "name",
-                                                                      "unit_system"}
+        # the example carries its platforms' residual flexibility (issue 61)
+        assert set(stored.files) == set(new.files) == set(FAMILY_FIELDS) | {
+            "n_blades", "name", "unit_system", "platform_residual"}
         for name in new.files:
             assert stored[name].dtype == new[name].dtype, name
             if stored[name].dtype.kind in "fc":

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..conventions import SMALL_ROTATION_MRAD
 from ..response import BladeMode, row_band, row_response
 from ..response.row import engine_orders_of
 from ..response.row_band import check_band_family
@@ -72,7 +73,7 @@ def check_row_args(args) -> None:
 
 
 def _band_entry(band, i, j) -> dict:
-    ok = bool(RESULTS.valid(band.status[i, j]))
+    ok = bool(RESULTS.has_numbers(band.status[i, j]))
     return {"peak_amplitude_min_mm": C.number(band.peak_min_mm[i, j]) if ok else None,
             "peak_amplitude_max_mm": C.number(band.peak_max_mm[i, j]) if ok else None,
             "resolution": C.number(float(np.max(band.resolution[i, j]))),
@@ -84,7 +85,7 @@ def _row_json(res, band=None) -> list:
     for i, e in enumerate(res.engine_order):
         per_force = []
         for j, force in enumerate(res.force_n):
-            ok = bool(RESULTS.valid(res.status[i, j]))
+            ok = bool(RESULTS.has_numbers(res.status[i, j]))
             amp = float(res.peaks.peak_amplitude_mm[i, j])
             free = float(res.free_peak_mm[i, j])
             per_force.append({
@@ -92,6 +93,7 @@ def _row_json(res, band=None) -> list:
                 "peak_amplitude_mm": C.number(amp) if ok else None,
                 "peak_frequency_hz": C.number(res.peaks.peak_frequency_hz[i, j]) if ok else None,
                 "psi_a_mrad": C.number(res.peaks.psi_a_mrad[i, j]) if ok else None,
+                "rotation_mrad": C.number(res.rotation_mrad[i, j]) if ok else None,
                 "free_peak_amplitude_mm": C.number(free) if np.isfinite(free) else None,
                 "peak_reduction": C.number(free / amp) if ok and amp > 0 and np.isfinite(free)
                 else None,
@@ -131,7 +133,8 @@ def _text(args, res, family, rows, worst) -> str:
     lines = [f"Blade row {family.name or args.modes}: {family.n_blades} blades, mu = {args.mu:g}, "
              f"F_D = {args.fd:g} N, h_L = {args.h_l:g} mm, history {res.initial}",
              f"  {'EO':>3} {'ND':>3} {'IBPA,deg':>8} {'path':>8} {'f0, Hz':>9} {'F, N':>7} "
-             f"{'A*, mm':>10} {'f*, Hz':>10} {'A*free, mm':>11} {'free/A*':>8}  status"]
+             f"{'A*, mm':>10} {'f*, Hz':>10} {'rot, mrad':>10} {'A*free, mm':>11} "
+             f"{'free/A*':>8}  status"]
 
     def fmt(v, spec):
         return format(v, spec) if v is not None else "-"
@@ -142,8 +145,15 @@ def _text(args, res, family, rows, worst) -> str:
                          f"{r['ibpa_deg']:8.1f} {r['path']:>8} {r['frequency_hz']:9.2f} "
                          f"{p['force_n']:7g} {fmt(p['peak_amplitude_mm'], '10.5g')} "
                          f"{fmt(p['peak_frequency_hz'], '10.3f')} "
+                         f"{fmt(p['rotation_mrad'], '10.4g')} "
                          f"{fmt(p['free_peak_amplitude_mm'], '11.5g')} "
                          f"{fmt(p['peak_reduction'], '8.3g')}  {p['status']}")
+    beyond = sum(p["status"] == RESULTS.large_rotation.name for r in rows for p in r["forces"])
+    if beyond:
+        lines.append(f"  {beyond} of {sum(len(r['forces']) for r in rows)} peaks are "
+                     f"large_rotation: the platforms turn (rot) beyond the small-rotation "
+                     f"model's {SMALL_ROTATION_MRAD:g} mrad, outside its validity (a smaller "
+                     f"--force-n or a larger --fd keeps them inside)")
     if args.band:
         lines.append("  band over every admissible contact history (peak amplitude, mm):")
         lines.append(f"  {'EO':>3} {'ND':>3} {'F, N':>7} {'A* min':>10} {'A* max':>10}  status")

@@ -187,6 +187,12 @@ class NodalScene(NamedTuple):
     force_per_unit: tip force amplitude (N) per N of the engine-order excitation.
     residual_mrad_per_nmm: c, the path's residual flexibility (module docstring; 0 without
         platform_residual): the damper's amplitude is psi_d = r A / |1 + c k(psi_d)|.
+    rotation_mrad_per_mm: the platforms' largest rotation amplitude (either platform's own, or
+        the one relative to the other) per mm of tip amplitude, mrad/mm: what the small-rotation
+        model limits (`SMALL_ROTATION_MRAD`). It is not r: psi is a scale of the whole path
+        (|X_hat| = q*/1000 per mrad), which where the platforms turn relative to each other is
+        about ten times their rotation (100 mm of q* against a rotation in mrad); in phase the
+        two agree (psi is the platforms' common rotation).
     """
 
     engine_order: int
@@ -196,6 +202,7 @@ class NodalScene(NamedTuple):
     motion: Motion
     force_per_unit: float
     residual_mrad_per_nmm: float = 0.0
+    rotation_mrad_per_mm: float = 0.0
 
     @property
     def straight(self) -> bool:
@@ -258,7 +265,9 @@ def _reduced(family: ModalFamily, engine_order, q_star_mm, h_l_mm) -> NodalScene
                      float(family.loss_factor[i]), r)
     force = abs(complex(family.modal_force[i])) / abs(tip)
     residual = _path_residual(pick(family.platform_residual[i]), shift, unit)
-    return NodalScene(e, nd, float(np.rad2deg(phi)), mode, motion, force, residual)
+    turns = (left[2], right[2], shift * left[2] - right[2])  # rad per unit of the mode
+    rotation = MRAD_PER_RAD * max(abs(t) for t in turns) / abs(tip)
+    return NodalScene(e, nd, float(np.rad2deg(phi)), mode, motion, force, residual, rotation)
 
 
 def _path_residual(c6, shift, unit) -> float:

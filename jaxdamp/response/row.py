@@ -15,6 +15,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_int, check_values
+from ..conventions import SMALL_ROTATION_MRAD
 from ..runtime import batch_jit, padded_size, run_program
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
@@ -26,7 +27,8 @@ ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power 
 FORCE_BUCKET = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
-           "check_engine_orders", "prepare_row", "row_of_prepared", "flexible_row"]
+           "check_engine_orders", "prepare_row", "row_of_prepared", "flexible_row",
+           "outside_small_rotation"]
 
 
 class RowResponse(NamedTuple):
@@ -44,6 +46,10 @@ class RowResponse(NamedTuple):
     damper's path is an ellipse (else straight). initial: the contact history.
     residual_mrad_per_nmm: (m,) the path's residual flexibility c (`modes`; 0 where the family
     has no platform_residual): where non-zero, psi_a_mrad is the damper's own amplitude.
+    rotation_mrad: (m, n_f) the platforms' largest rotation amplitude at the peak (A* times the
+    scene's `rotation_mrad_per_mm`): a valid peak where it exceeds SMALL_ROTATION_MRAD is
+    large_rotation (`outside_small_rotation`). psi_a_mrad is a scale of the whole path, not a
+    rotation: off nodal diameter 0 it is about ten times this.
     """
 
     engine_order: np.ndarray
@@ -59,6 +65,7 @@ class RowResponse(NamedTuple):
     initial: str
     status: np.ndarray
     residual_mrad_per_nmm: np.ndarray
+    rotation_mrad: np.ndarray
 
     def __repr__(self):
         w = int(np.asarray(self.worst).reshape(-1)[0])
@@ -149,6 +156,17 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     return rows
 
 
+def outside_small_rotation(status, amplitude_mm, scenes):
+    """(status with large_rotation where a valid peak lies outside the small-rotation model, the
+    platforms' largest rotation amplitude (mrad)) of peaks (m, n_f) at tip amplitudes
+    amplitude_mm on the engine orders' scenes: the rotation is amplitude_mm times each scene's
+    `rotation_mrad_per_mm`, against SMALL_ROTATION_MRAD."""
+    per_mm = np.array([s.rotation_mrad_per_mm for s in scenes])[:, None]
+    rotation = per_mm * np.asarray(amplitude_mm)
+    beyond = np.asarray(RESULTS.valid(status)) & (rotation > SMALL_ROTATION_MRAD)
+    return np.asarray(RESULTS.first({RESULTS.large_rotation: beyond}, status)), rotation
+
+
 def flexible_row(residual):
     """The residual flexibilities (m,) a row program takes, or None where all are zero (a family
     without platform_residual runs the program without them)."""
@@ -223,6 +241,8 @@ def row_of_prepared(prepared, initial: str, runner=None) -> RowResponse:
     rows = [jax.tree_util.tree_map(lambda v: v[:forces.size], r) for r in run_by_path_kind(
         program, (shape, mu, contacts, load), scenes, tip, flexible, runner=runner)]
     peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
+    status, rotation = outside_small_rotation(peaks.status, peaks.peak_amplitude_mm, scenes)
+    peaks = peaks._replace(status=status)
     eta_kb = np.array([s.mode.eta * s.mode.k_b for s in scenes])[:, None]
     free = np.where(eta_kb > 0, tip / np.where(eta_kb > 0, eta_kb, 1.0), np.inf)
     valid = np.asarray(RESULTS.valid(peaks.status))
@@ -231,5 +251,5 @@ def row_of_prepared(prepared, initial: str, runner=None) -> RowResponse:
     return RowResponse(np.array(orders), np.array([s.nodal_diameter for s in scenes]),
                        np.array([s.ibpa_deg for s in scenes]),
                        np.array([s.mode.f0_hz for s in scenes]), forces, tip, peaks, free, worst,
-                       elliptic, initial, np.asarray(peaks.status), residual)
+                       elliptic, initial, status, residual, rotation)
 

@@ -28,7 +28,7 @@ from ..band import band_kernel
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, excited_nodal_diameter
-from .row import flexible_row, prepare_row, run_by_path_kind
+from .row import flexible_row, outside_small_rotation, prepare_row, run_by_path_kind
 from .stiffness import interpolated_damper
 
 __all__ = ["RowBand", "row_band", "row_band_program", "check_band_family", "TABLE_POINTS",
@@ -47,7 +47,9 @@ class RowBand(NamedTuple):
     can give (mm; the bracket's outer ends, module doc). resolution: (m, n_f, 2) the relative
     width of each final bracket (highest, lowest). status: (m, n_f) RESULTS code: the damper's
     design check (the in-phase Base-Cycle), an amplitude the band was computed at without any
-    valid cycle (its status), or not_converged where a root lies below the table.
+    valid cycle (its status), or not_converged where a root lies below the table; large_rotation
+    where the highest peak turns the platforms beyond the small-rotation model
+    (`row.outside_small_rotation`).
     psi_table_mrad (m, TABLE_POINTS), k_im_table (m, TABLE_POINTS, 2): the band's lowest and
     highest k_Im on the table (N mm/mrad, as the mode sees the damper; zero where no state gives
     a valid cycle). engine_order, nodal_diameter, force_n, elliptic: as `RowResponse`'s.
@@ -163,6 +165,7 @@ def row_band(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily, en
     peak_max, peak_min, resolution, status, table, k = (np.stack([r[i] for r in rows])
                                                         for i in range(6))
     cut = np.s_[:, :forces.size]
+    status, _ = outside_small_rotation(status[cut], peak_max[cut], scenes)
     return RowBand(np.array(orders), np.array([s.nodal_diameter for s in scenes]), forces,
-                   peak_max[cut], peak_min[cut], resolution[cut], status[cut], table, k,
+                   peak_max[cut], peak_min[cut], resolution[cut], status, table, k,
                    np.array([not s.straight for s in scenes]), int(n_samples))
