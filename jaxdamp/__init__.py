@@ -31,7 +31,8 @@ docs/api.md maps each concept to its functions and says what a wrong input gets)
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
   `peak_response`, `peak_band`, `frf`, `designer_diagram`; on a platform path:
   `path_response_curves`; the blade row from modal data: `ModalFamily`, `nodal_scene`,
-  `row_response`, `row_band`, `row_gradient` (the peaks' derivatives), `engine_orders_of` (files: `jaxdamp.modal_file`).
+  `row_response`, `row_band`, `row_gradient` (the peaks' derivatives), `row_diagram` (the worst
+  peak against the force and F_D), `engine_orders_of` (files: `jaxdamp.modal_file`).
 - Measured loops: `fit_loops`, `sample_loop`.
 - Uncertain contacts: `Uncertainty`, `sample_scenarios`, `peak_distribution`.
 - Building blocks: `jaxdamp.blocks` (the section's geometry, a half-cycle, one full-slip end, the
@@ -159,6 +160,8 @@ from .response import row_band as row_band
 from .response import RowGradient as RowGradient
 from .response import row_gradient as row_gradient
 from .response import RowBand as RowBand
+from .response import RowDiagram as RowDiagram
+from .response import row_diagram as row_diagram
 from .response import engine_orders_of as engine_orders_of
 from .response import path_cycle_kernel as path_cycle_kernel
 
@@ -234,7 +237,7 @@ __all__ = ["__version__", "enable_x64", "Design", "check_design", "check_batch",
            "design_peaks", "peak_band", "ResponseCurves", "response_curves",
            "path_response_curves", "DesignerDiagram", "ModalFamily", "NodalScene", "nodal_scene",
            "RowResponse", "row_response", "row_band", "RowBand", "RowGradient", "row_gradient",
-           "engine_orders_of",
+           "RowDiagram", "row_diagram", "engine_orders_of",
            "path_cycle_kernel", "designer_diagram", "Uncertainty", "Scenarios", "PeakDistribution",
            "sample_scenarios", "peak_distribution", "magnification_kernel", "LoopFit", "fit_loops",
            "sample_loop"]

@@ -27,31 +27,40 @@ def through_residual(cycle, psi, c):
     psi_d = psi / |1 + c k(psi_d)| is the damper's own amplitude, k(psi_d) / (1 + c k(psi_d))
     what the mode sees. cycle(psi_d) -> (k_re, k_im, status) arrays of psi's shape.
 
-    Fixed-point iteration on psi_d from psi: the map increases with psi_d and contracts by about
-    |c k / (1 + c k)| |d ln k / d ln psi| < 1 (k falls no faster than 1 / psi). It stops where the
-    step, over one minus the contraction the last two steps show, is below RESIDUAL_RTOL of psi
-    (the distance left to the fixed point); with c = 0 after one evaluation, with k(psi) itself.
-    not_converged where RESIDUAL_ITERATIONS do not get there. Values only (a while loop: no
-    reverse-mode derivative)."""
+    The root of h(p) = F(p) - p, F(p) = psi / |1 + c k(p)|, from p = psi: the map F increases
+    with p and contracts by about |c k / (1 + c k)| |d ln k / d ln psi| < 1 (k falls no faster
+    than 1 / psi), so its fixed-point steps converge; secant steps on h (from the second
+    evaluation on) converge faster, and a secant step that leaves (0, psi] falls back to the
+    fixed-point step F(p). It stops where |h|, over one minus F's slope the last two evaluations
+    show, is below RESIDUAL_RTOL of psi (the distance left to the root); with c = 0 after one
+    evaluation, with k(psi) itself. not_converged where RESIDUAL_ITERATIONS do not get there.
+    Values only (a while loop: no reverse-mode derivative). Each evaluation is a steady cycle at
+    every amplitude of psi still iterating: secant steps need far fewer of them than fixed-point
+    steps (about 20 at the example disk's contraction, to 1e-12)."""
     psi = jnp.asarray(psi, float)
     c = jnp.asarray(c, float)
 
     def body(state):
-        i, p, step, _, _, _, _ = state
+        i, p_prev, h_prev, p, _, _, _, _ = state
         k_re, k_im, status = cycle(p)
-        p_new = psi / jnp.abs(1.0 + c * (k_re + 1j * k_im))
-        new_step = jnp.abs(p_new - p)
-        rate = jnp.where(step > 0, new_step / jnp.where(step > 0, step, 1.0), 0.0)
-        done = new_step <= RESIDUAL_RTOL * psi * (1.0 - jnp.minimum(rate, 0.99))
-        return (i + 1, jnp.where(done, p, p_new), jnp.where(done, step, new_step), k_re, k_im,
-                status, done)
+        f = psi / jnp.abs(1.0 + c * (k_re + 1j * k_im))
+        h = f - p
+        dp, dh = p - p_prev, h - h_prev
+        ok = (i > 0) & (dh != 0) & (dp != 0)
+        slope = jnp.where(ok, 1.0 + dh / jnp.where(ok, dp, 1.0), 0.0)  # F' by the secant
+        done = jnp.abs(h) <= RESIDUAL_RTOL * psi * (1.0 - jnp.clip(slope, 0.0, 0.99))
+        secant = p - h * dp / jnp.where(ok, dh, 1.0)
+        inside = ok & jnp.isfinite(secant) & (secant > 0) & (secant <= psi)
+        p_new = jnp.where(inside, secant, f)
+        return (i + 1, jnp.where(done, p_prev, p), jnp.where(done, h_prev, h),
+                jnp.where(done, p, p_new), k_re, k_im, status, done)
 
     def more(state):
-        return (state[0] < RESIDUAL_ITERATIONS) & ~jnp.all(state[6])
+        return (state[0] < RESIDUAL_ITERATIONS) & ~jnp.all(state[7])
 
     zeros = jnp.zeros_like(psi)
-    _, p, _, k_re, k_im, status, done = jax.lax.while_loop(
-        more, body, batched_together((jnp.array(0), psi, zeros, zeros, zeros,
+    _, _, _, p, k_re, k_im, status, done = jax.lax.while_loop(
+        more, body, batched_together((jnp.array(0), zeros, zeros, psi, zeros, zeros,
                                       jnp.zeros(psi.shape, jnp.int32), jnp.zeros(psi.shape, bool))))
     k = (k_re + 1j * k_im) / (1.0 + c * (k_re + 1j * k_im))
     return jnp.real(k), jnp.imag(k), RESULTS.first({RESULTS.not_converged: ~done}, status), p

@@ -128,7 +128,8 @@ def _row_payload(args, problem, spec) -> dict:
 
 def row_text(p: dict) -> str:
     s = p["spec"]
-    lines = [f"ROBUST ROW peak:worst = {p['objective']:.5g} mm/N (descent), {p['modes']} "
+    lines = [f"ROBUST ROW peak:worst = {p['objective']:.5g} mm/N (the descent's smooth maximum), "
+             f"{p['modes']} "
              f"({p['n_blades']} blades), engine orders {p['engine_orders'][0]}-"
              f"{p['engine_orders'][-1]}, h_L {p['h_l_mm']:g} mm, forces "
              f"{s['force_range_n'][0]:g}-{s['force_range_n'][1]:g} N, F_D +/-{s['fd_spread']:g}, kn x/÷"

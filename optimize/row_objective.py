@@ -16,7 +16,9 @@ runs (values only: the programs that command saves, compiled once per history). 
 direction is the gradient of the smooth maximum, from `jaxdamp.row_gradient` (each peak's
 derivative with respect to the shape by the implicit function theorem at the roots the values
 found; its derivative program compiles once per history); a step is kept only where the design is
-feasible and the hard maximum falls (`descent.feasible_descent`). The result is certified by
+feasible and the smooth maximum falls (`descent.feasible_descent`): the objective the descent
+minimises is the smooth maximum itself, whose gradient it follows (the hard maximum is flat
+wherever one stuck peak binds, so that steps along a smooth gradient were rejected there). The result is certified by
 `certify_row`: every engine order under each history separately and their band, over a grid of
 mu, kn and kt factors and F_D applied explicitly.
 """
@@ -246,7 +248,7 @@ class RowOptimum(NamedTuple):
     references: list  # RowCertified of row_reference_shapes()
     spec: RobustSpec
     corners: str
-    objective_value: float  # the descent's hard maximum at the optimum, mm/N
+    objective_value: float  # the descent's smooth maximum at the optimum, mm/N
     grid_evaluations: int
     descent_evaluations: int
     history: list  # (start, step, objective) of accepted steps
@@ -257,9 +259,10 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
                  grid_points: int = 3, starts: int = 1, steps: int = 6,
                  certify_references: bool = True, certify_options: dict | None = None,
                  progress=None) -> RowOptimum:
-    """Minimise the worst A*/F over the row (module doc): a grid over the free variables' unit
-    box and the reference shapes that lie in the design space, then feasible descent steps from
-    the best of them along the smooth maximum's gradient (`row_gradient`); then `certify_row` of the optimum and the references. Inputs are checked
+    """Minimise the worst A*/F over the row (module doc), as its smooth maximum: a grid over the
+    free variables' unit box and the reference shapes that lie in the design space, then feasible
+    descent steps from the best of them along the smooth maximum's gradient (`row_gradient`);
+    then `certify_row` of the optimum and the references. Inputs are checked
     (ValueError naming the flag or parameter) before any row is run. progress(n) per stage."""
     problem = make_problem(mus=ROBUST_MU_SET) if problem is None else problem
     spec = validate_spec(spec, ROW_HISTORIES)
@@ -276,7 +279,7 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
     Z = np.array(list(itertools.product(*[np.linspace(0.0, 1.0, grid_points)] * sp.dim)))
     Z = np.vstack([Z] + [z[None] for z in _reference_starts(problem)])
     vals = row_values(np.stack([complete_shape(problem, z) for z in Z]), problem, spec, task,
-                      corners)[1]
+                      corners)[0]
     tick(1)
 
     free = [VARIABLES.index(n) for n in sp.free]
@@ -289,8 +292,8 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
         return np.where(np.isfinite(g), g, 0.0)
 
     def evaluate(z):
-        _, hard, feasible = row_values(complete_shape(problem, z), problem, spec, task, corners)
-        return float(hard[0]), bool(feasible[0])
+        smooth, _, feasible = row_values(complete_shape(problem, z), problem, spec, task, corners)
+        return float(smooth[0]), bool(feasible[0])
 
     best_z, best_val, n_desc, hist = descend_from_best(
         Z, vals, gradient, evaluate, starts=starts, steps=steps, step_size=0.1, tries=3,

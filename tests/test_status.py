@@ -149,8 +149,10 @@ INPUTS_AND_PARTS = {"Design", "DamperShape", "SectionGeometry", "Contacts", "Loa
                     "NodalScene"}
 # Results without a status field of their own (they go with the status of what they were read
 # off: a BaseCycle's energies and work shape factors; a sweep's points carry theirs in .summary).
-# RowGradient's status is its row's (RowGradient.row.status).
-STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult", "RowGradient"}
+# RowGradient's status is its row's (RowGradient.row.status); RowDiagram has one per point of
+# each curve (status_vs_force, status_vs_fd).
+STATUS_FREE_RESULTS = {"CycleEnergy", "WorkShapeFactors", "SweepResult", "RowGradient",
+                       "RowDiagram"}
 
 
 def _namedtuples():

@@ -67,7 +67,8 @@ def register(sub) -> None:
                         "the band of k(psi_a) tabulated on 24 amplitudes, about a minute; with "
                         "--modes: per engine order, each peak bracketed, minutes)")
     p.add_argument("--diagram", action="store_true",
-                   help="also the designer's diagram (peak against F and F_D over mu 0.3 ... 0.7)")
+                   help="also the designer's diagram (peak against F and F_D over mu 0.3 ... "
+                        "0.7; with --modes the row's worst peak against F and F_D at --mu)")
     p.add_argument("--plot", metavar="DIR",
                    help="write frf.png (and designer_diagram.png with --diagram) to DIR")
     M.add_motion_args(p, parameter="psi_a (the path parameter, --psi-per-mm per mm of tip)",

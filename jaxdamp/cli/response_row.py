@@ -3,7 +3,10 @@
 Per engine order, the nodal diameter it excites, that diameter's one-mode blade and the damper's
 platform path (straight at nodal diameters 0 and N/2, an ellipse between), and the peak tip
 response with and without the damper (`jaxdamp.row_response`). A table, the worst engine order
-per force, JSON with --json and the figure row.png with --plot.
+per force, JSON with --json and the figure row.png with --plot. With --diagram the row's
+designer's diagram (`jaxdamp.row_diagram`): the worst peak over the row against the force
+(DIAGRAM_FORCES_N) and against F_D (DIAGRAM_FD_FACTORS times --fd, at the median of --force-n),
+row_diagram.png with --plot.
 """
 
 from __future__ import annotations
@@ -11,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..conventions import SMALL_ROTATION_MRAD
-from ..response import BladeMode, row_band, row_response
+from ..response import BladeMode, row_band, row_diagram, row_response
 from ..response.row import engine_orders_of
 from ..response.row_band import check_band_family
 from ..status import RESULTS
@@ -44,6 +47,12 @@ def add_row_args(p, with_h_l: bool = True) -> None:
                             "diameter but 0)")
 
 
+# The row diagram's grids: 13 forces over 2.5 decades and 13 F_D factors over a factor 16 (one row
+# of peaks on the 26 forces they need, padded to 32).
+DIAGRAM_FORCES_N = np.geomspace(0.2, 50.0, 13)
+DIAGRAM_FD_FACTORS = np.geomspace(0.25, 4.0, 13)
+
+
 def check_row_args(args) -> None:
     """Argument combinations, before any work (CliError: one line, exit 2)."""
     if args.modes is None:
@@ -54,8 +63,7 @@ def check_row_args(args) -> None:
         if given is not None:
             raise C.CliError(f"{flag} gives one platform path; with --modes the modal file gives "
                              "each engine order's: drop it")
-    for flag, on in (("--diagram", args.diagram),
-                     ("--uncertainty", getattr(args, "uncertainty", False))):
+    for flag, on in (("--uncertainty", getattr(args, "uncertainty", False)),):
         if on:
             raise C.CliError(f"{flag} is not available with --modes yet (one design's response "
                              f"only); leave it out")
@@ -127,6 +135,34 @@ def _worst_json(res, band=None) -> list:
                                "peak_amplitude_max_mm": C.number(band.peak_max_mm[b, j])
                                if b >= 0 else None}
     return out
+
+
+def _diagram_json(dd) -> dict:
+    def curve(x, worst, orders, status):
+        return [{"x": float(v), "worst_mm_per_n": C.number(w) if np.isfinite(w) else None,
+                 "engine_order": int(e) if e >= 0 else None, "status": RESULTS.name_of(s)}
+                for v, w, e, s in zip(x, worst, orders, status)]
+
+    return {"note": "the worst A*/F over the engine orders whose peak is valid; status: the most "
+                    "severe over the row (large_rotation: a peak beyond the small-rotation model)",
+            "vs_force": curve(dd.force_n, dd.worst_vs_force_mm_per_n, dd.engine_order_vs_force,
+                              dd.status_vs_force),
+            "force_at_fd_n": dd.force_at_fd_n,
+            "vs_fd_factor": curve(dd.fd_factor, dd.worst_vs_fd_mm_per_n, dd.engine_order_vs_fd,
+                                  dd.status_vs_fd)}
+
+
+def _diagram_text(d: dict) -> str:
+    lines = ["  the row's designer's diagram: worst A*/F over the row (mm/N), its engine order"]
+    for key, label in (("vs_force", "F, N"), ("vs_fd_factor", "F_D/F_D0")):
+        if key == "vs_fd_factor":
+            lines.append(f"  against F_D at F = {d['force_at_fd_n']:g} N:")
+        lines.append(f"  {label:>9} {'A*/F':>9} {'EO':>3}  status")
+        for p in d[key]:
+            w = "-" if p["worst_mm_per_n"] is None else f"{p['worst_mm_per_n']:9.4g}"
+            e = "-" if p["engine_order"] is None else str(p["engine_order"])
+            lines.append(f"  {p['x']:9.3g} {w:>9} {e:>3}  {p['status']}")
+    return "\n".join(lines)
 
 
 def _text(args, res, family, rows, worst) -> str:
@@ -202,6 +238,13 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
         band = row_band(*design, modes=family, engine_orders=orders, force_n=forces,
                         h_l_mm=args.h_l, runner=exported.Runner("row_band"))
         bar.update(1)
+    diagram = None
+    if args.diagram:
+        bar.set_description("designer's diagram")
+        diagram = row_diagram(*design, modes=family, engine_orders=orders, h_l_mm=args.h_l,
+                              force_n=DIAGRAM_FORCES_N, fd_factor=DIAGRAM_FD_FACTORS,
+                              force_at_fd_n=float(np.median(forces)), initial=args.initial,
+                              runner=exported.Runner("row_peaks", args.initial))
     bar.close()
     rows, worst = _row_json(res, band), _worst_json(res, band)
     statuses = [RESULTS[p["status"]] for r in rows for p in r["forces"]]
@@ -215,7 +258,9 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
                    "engine_orders": orders, "force_n": list(forces), "initial": res.initial,
                    "band": bool(args.band),
                    "band_samples": None if band is None else band.n_samples},
-        "engine_orders": rows, "worst": worst}, reason=C.status_reason(status, contacts, load))
+        "engine_orders": rows, "worst": worst,
+        **({} if diagram is None else {"diagram": _diagram_json(diagram)})},
+        reason=C.status_reason(status, contacts, load))
     if plot_dir is not None:
         from ..plotting.response import row_figure
 
@@ -223,5 +268,15 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
         C.save_figure(row_figure(res, band=band, title=f"{family.name or 'blade row'}: peak "
                                  f"response per engine order ({res.initial} history{shaded})"),
                       plot_dir / "row.png", dpi=120)
-    C.emit(args, doc, _text(args, res, family, rows, worst))
+        if diagram is not None:
+            from ..plotting.response import row_diagram_figure
+
+            C.save_figure(row_diagram_figure(diagram, title=f"{family.name or 'blade row'}: the "
+                                             f"row's designer's diagram (mu {args.mu:g}, "
+                                             f"{res.initial} history)"),
+                          plot_dir / "row_diagram.png", dpi=120)
+    text = _text(args, res, family, rows, worst)
+    if diagram is not None:
+        text += "\n" + _diagram_text(doc["diagram"])
+    C.emit(args, doc, text)
     return 0

@@ -194,5 +194,41 @@ def row_figure(row, *, band=None, title=None):
     return fig
 
 
+def row_diagram_figure(dd, *, title=None):
+    """The row's designer's diagram (`jaxdamp.row_diagram`): the worst A*/F over the engine
+    orders against the force (left) and against F_D over its nominal value at one force (right),
+    each point labelled with its engine order; points beyond the small-rotation model (status
+    large_rotation) crossed, points without a valid peak left out."""
+    import matplotlib.pyplot as plt
+
+    from ..status import RESULTS
+
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4.2), sharey=True)
+    for ax, x, worst, orders, status, xlabel in (
+            (axes[0], dd.force_n, dd.worst_vs_force_mm_per_n, dd.engine_order_vs_force,
+             dd.status_vs_force, "force per blade F, N"),
+            (axes[1], dd.fd_factor, dd.worst_vs_fd_mm_per_n, dd.engine_order_vs_fd,
+             dd.status_vs_fd, "F_D / F_D,nominal (the damper's mass at the design speed)")):
+        x, worst, orders = np.asarray(x), np.asarray(worst), np.asarray(orders)
+        beyond = np.asarray(status) == RESULTS.large_rotation
+        ax.plot(x, worst, "o-", ms=4, color="C0", label="worst over the row, within the model")
+        ax.plot(x[beyond], worst[beyond], "x", ms=8, color="C3",
+                label="a peak of the row turns the platforms beyond 50 mrad")
+        for xi, w, e in zip(x, worst, orders):
+            if e >= 0 and np.isfinite(w):
+                ax.annotate(str(int(e)), (xi, w), textcoords="offset points", xytext=(0, 5),
+                            fontsize=7, ha="center")
+        ax.set_xscale("log")
+        ax.set_xlabel(xlabel)
+        ax.grid(True, which="both", alpha=0.3)
+    axes[0].set_ylabel("worst A*/F over the row, mm/N (label: engine order)")
+    axes[0].legend(fontsize=8)
+    axes[1].axvline(1.0, color="0.6", lw=0.8)
+    axes[1].set_title(f"at F = {dd.force_at_fd_n:g} N", fontsize=9)
+    fig.suptitle(title or "The row's designer's diagram", fontsize=10)
+    fig.tight_layout()
+    return fig
+
+
 __all__ = ["frf_figure", "response_figure", "designer_diagram_figure", "harmonic_error_figure",
-           "row_figure"]
+           "row_figure", "row_diagram_figure"]

@@ -27,7 +27,8 @@ spring), `frf` (closed-form FRFs), `peaks` (the peak response and its compiled p
 `modes` (a bladed disk's mode family from modal data, reduced per engine order to this one-mode
 blade and the damper's platform path), `row` (the peaks across a blade row, per engine order),
 `row_gradient` (their derivatives by the implicit function theorem at the roots found), `row_band`
-(their band over contact histories).
+(their band over contact histories), `row_diagram` (the row's worst peak against the force and
+the damper's mass).
 """
 
 from .scene import BladeMode as BladeMode
@@ -84,6 +85,8 @@ from .row_gradient import peak_amplitudes_at as peak_amplitudes_at
 from .row_band import RowBand as RowBand
 from .row_band import row_band as row_band
 from .row_band import row_band_program as row_band_program
+from .row_diagram import RowDiagram as RowDiagram
+from .row_diagram import row_diagram as row_diagram
 
 __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDiagram", "STIFFNESS_METHODS",
            "damper_stiffness", "register_stiffness_method", "scaled_stiffness", "stuck_damper",
@@ -95,5 +98,6 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "tabulated_stiffness", "path_damper", "path_cycle_kernel", "ModalFamily", "NodalScene",
            "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
-           "row_response", "row_program", "engine_orders_of", "RowGradient", "row_gradient", "peak_amplitudes_at", "RowBand", "row_band", "row_band_program", "path_peaks", "path_curves_program",
+           "row_response", "row_program", "engine_orders_of", "RowGradient", "row_gradient", "peak_amplitudes_at", "RowBand", "row_band", "row_band_program", "RowDiagram",
+           "row_diagram", "path_peaks", "path_curves_program",
            "path_response_curves"]
