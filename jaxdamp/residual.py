@@ -13,12 +13,17 @@ import jax.numpy as jnp
 from .loops import batched_together
 from .status import RESULTS
 
-__all__ = ["RESIDUAL_RTOL", "RESIDUAL_ITERATIONS", "through_residual"]
+__all__ = ["RESIDUAL_RTOL", "RESIDUAL_ITERATIONS", "RESIDUAL_PATIENCE", "through_residual"]
 
 RESIDUAL_RTOL = 1e-12  # relative error of the damper's amplitude at which the series converged
-RESIDUAL_ITERATIONS = 200  # the map contracts by |c k / (1 + c k)| per step or faster: 0.25 for
-# a damper a third as stiff as the support (c k = 1/3, the example disk's nodal diameter 0), 0.75 at
-# c k = 3
+RESIDUAL_ITERATIONS = 50  # the map contracts by |c k / (1 + c k)| per step or faster (0.25 for
+# a damper a third as stiff as the support, c k = 1/3, the example disk's nodal diameter 0; 0.75 at
+# c k = 3), and secant steps get to RESIDUAL_RTOL in far fewer evaluations; where k jumps with the
+# amplitude (h has no root) no count gets there, and under vmap every lane pays for the bound: a
+# band's sampled states at 30 mrad of the example disk's nodal diameter 6 all ran 200 (was the
+# bound) where the other amplitudes needed 2-5
+RESIDUAL_PATIENCE = 8  # consecutive evaluations without a valid cycle after which an amplitude
+# stops iterating (a cycle that does not settle has no trustworthy k to iterate on)
 
 
 def through_residual(cycle, psi, c):
@@ -33,15 +38,16 @@ def through_residual(cycle, psi, c):
     evaluation on) converge faster, and a secant step that leaves (0, psi] falls back to the
     fixed-point step F(p). It stops where |h|, over one minus F's slope the last two evaluations
     show, is below RESIDUAL_RTOL of psi (the distance left to the root); with c = 0 after one
-    evaluation, with k(psi) itself. not_converged where RESIDUAL_ITERATIONS do not get there.
-    Values only (a while loop: no reverse-mode derivative). Each evaluation is a steady cycle at
+    evaluation, with k(psi) itself. not_converged where RESIDUAL_ITERATIONS do not get there, or
+    where RESIDUAL_PATIENCE evaluations in a row give no valid cycle (or no finite step): such an
+    amplitude stops there with that cycle's status. Values only (a while loop: no reverse-mode derivative). Each evaluation is a steady cycle at
     every amplitude of psi still iterating: secant steps need far fewer of them than fixed-point
     steps (about 20 at the example disk's contraction, to 1e-12)."""
     psi = jnp.asarray(psi, float)
     c = jnp.asarray(c, float)
 
     def body(state):
-        i, p_prev, h_prev, p, _, _, _, _ = state
+        i, p_prev, h_prev, p, _, _, _, _, bad = state
         k_re, k_im, status = cycle(p)
         f = psi / jnp.abs(1.0 + c * (k_re + 1j * k_im))
         h = f - p
@@ -52,15 +58,19 @@ def through_residual(cycle, psi, c):
         secant = p - h * dp / jnp.where(ok, dh, 1.0)
         inside = ok & jnp.isfinite(secant) & (secant > 0) & (secant <= psi)
         p_new = jnp.where(inside, secant, f)
-        return (i + 1, jnp.where(done, p_prev, p), jnp.where(done, h_prev, h),
-                jnp.where(done, p, p_new), k_re, k_im, status, done)
+        bad = jnp.where(RESULTS.valid(status) & jnp.isfinite(h), 0, bad + 1)
+        stop = done | (bad >= RESIDUAL_PATIENCE)
+        return (i + 1, jnp.where(stop, p_prev, p), jnp.where(stop, h_prev, h),
+                jnp.where(stop, p, p_new), k_re, k_im, status, done, bad)
 
     def more(state):
-        return (state[0] < RESIDUAL_ITERATIONS) & ~jnp.all(state[7])
+        return (state[0] < RESIDUAL_ITERATIONS) & ~jnp.all(state[7]
+                                                          | (state[8] >= RESIDUAL_PATIENCE))
 
     zeros = jnp.zeros_like(psi)
-    _, _, _, p, k_re, k_im, status, done = jax.lax.while_loop(
+    _, _, _, p, k_re, k_im, status, done, _ = jax.lax.while_loop(
         more, body, batched_together((jnp.array(0), zeros, zeros, psi, zeros, zeros,
-                                      jnp.zeros(psi.shape, jnp.int32), jnp.zeros(psi.shape, bool))))
+                                      jnp.zeros(psi.shape, jnp.int32), jnp.zeros(psi.shape, bool),
+                                      jnp.zeros(psi.shape, jnp.int32))))
     k = (k_re + 1j * k_im) / (1.0 + c * (k_re + 1j * k_im))
     return jnp.real(k), jnp.imag(k), RESULTS.first({RESULTS.not_converged: ~done}, status), p
