@@ -176,21 +176,30 @@ def test_a_residual_file_gives_the_row_response_of_its_family(capsys, tmp_path):
 @pytest.mark.slow  # the straight row program on the diagram's 32 forces, about 1 min to build
 def test_row_diagram_json_table_and_figure(capsys, tmp_path):
     """--diagram with --modes: the JSON's two curves are `row_diagram`'s on the command's grids
-    (at the median of --force-n), the text has both tables, the figure is written."""
+    (at the median of --force-n), the text has both tables, the figure is written. At 200 N both
+    engine orders' peaks turn the platforms beyond the small-rotation model
+    (tests/test_status_paths.py::test_large_rotation_through_the_row): the JSON keeps their
+    numbers with the status large_rotation, which is the document's, with its reason; the text
+    counts them."""
     import jaxdamp as jd
     from jaxdamp.cli.response_row import DIAGRAM_FD_FACTORS, DIAGRAM_FORCES_N
     from jaxdamp.modal_file import load_modal_family
 
     plots = tmp_path / "figs"
     argv = ["response", "--shape", "60sym", "--mu", "0.5", "--modes", "example", "--h-l", "10",
-            "--engine-order", "0,12", "--force-n", "2,5,20", "--diagram"]
+            "--engine-order", "0,12", "--force-n", "1,20,200", "--diagram"]
     code, out, _ = run(capsys, *argv, "--json", "--plot", str(plots))
     assert code == 0
-    d = strict_json(out)["diagram"]
+    doc = strict_json(out)
+    assert doc["status"] == "large_rotation" and "small-rotation" in doc["status_reason"]
+    beyond = [r["forces"][2] for r in doc["engine_orders"]]
+    assert all(p["status"] == "large_rotation" and p["rotation_mrad"] > 50.0
+               and p["peak_amplitude_mm"] > 0 for p in beyond)
+    d = doc["diagram"]
     dd = jd.row_diagram(jd.family_shape("60sym"), 0.5, modes=load_modal_family("example"),
                         engine_orders=[0, 12], h_l_mm=10.0, force_n=DIAGRAM_FORCES_N,
-                        fd_factor=DIAGRAM_FD_FACTORS, force_at_fd_n=5.0)
-    assert d["force_at_fd_n"] == 5.0
+                        fd_factor=DIAGRAM_FD_FACTORS, force_at_fd_n=20.0)
+    assert d["force_at_fd_n"] == 20.0
     for key, worst, orders in (("vs_force", dd.worst_vs_force_mm_per_n, dd.engine_order_vs_force),
                                ("vs_fd_factor", dd.worst_vs_fd_mm_per_n, dd.engine_order_vs_fd)):
         got = np.array([np.nan if p["worst_mm_per_n"] is None else p["worst_mm_per_n"]
@@ -201,4 +210,5 @@ def test_row_diagram_json_table_and_figure(capsys, tmp_path):
         assert [p["engine_order"] for p in d[key]] == [int(e) if e >= 0 else None for e in orders]
     assert (plots / "row_diagram.png").stat().st_size > 0
     code, text, _ = run(capsys, *argv)
-    assert code == 0 and "the row's designer's diagram" in text and "against F_D at F = 5 N" in text
+    assert code == 0 and "the row's designer's diagram" in text and "against F_D at F = 20 N" in text
+    assert "[status: large_rotation]" in text and "2 of 6 peaks are large_rotation" in text

@@ -210,15 +210,15 @@ def test_where_problems_meet_every_path_kind_reports_the_most_severe():
     assert "ill_conditioned" not in plain.values(), plain
 
 
-@pytest.mark.slow  # the straight row program and the CLI's, about 1 min to build
+@pytest.mark.slow  # the straight row program (tests/test_row_diagram.py's), about 1 min to build
 def test_large_rotation_through_the_row():
     """A row peak that turns the platforms beyond the small-rotation model has the status
     large_rotation, with its numbers: the example disk at 200 N per blade (nodal diameter 0: the
     platforms turn by about 280 mrad; 12, out of phase: about 200 mrad relative to each other).
     At 1 and 20 N both stay within 30 mrad (at 1 N nodal diameter 12's damper sticks: shakedown,
-    a valid peak). The row's worst peak is over the peaks inside the model (none at 200 N); the
-    CLI prints the numbers with the status, a line counting them, and makes it the document's
-    status with its reason."""
+    a valid peak). The row's worst peak is over the peaks inside the model (none at 200 N). The
+    CLI's side (the numbers with the status, a line counting them, the document's status and
+    reason): tests/test_cli_response_row.py::test_row_diagram_json_table_and_figure."""
     from jaxdamp.conventions import SMALL_ROTATION_MRAD
     from jaxdamp.modal_file import load_modal_family
 
@@ -231,17 +231,3 @@ def test_large_rotation_through_the_row():
     assert not bool(R.valid(res.status[1, 2])) and bool(R.has_numbers(res.status[1, 2]))
     assert np.all(np.isfinite(res.peaks.peak_amplitude_mm)) and np.all(res.peaks.peak_amplitude_mm > 0)
     assert list(res.worst) == [1, 1, -1]
-    argv = ["response", "--shape", "60sym", "--mu", "0.5", "--modes", "example", "--engine-order",
-            "0,12", "--h-l", "10", "--force-n", "1,20,200"]
-    doc = cli(*argv, "--json")
-    peak = doc["engine_orders"][1]["forces"][2]
-    assert peak["status"] == "large_rotation"
-    assert peak["rotation_mrad"] == pytest.approx(float(rotation[1, 2]), rel=1e-9)
-    assert peak["peak_amplitude_mm"] == pytest.approx(float(res.peaks.peak_amplitude_mm[1, 2]),
-                                                      rel=1e-9)
-    assert doc["status"] == "large_rotation" and "small-rotation" in doc["status_reason"]
-    out = io.StringIO()
-    with contextlib.redirect_stdout(out):
-        assert main(argv) == 0
-    text = out.getvalue()
-    assert "[status: large_rotation]" in text and "2 of 6 peaks are large_rotation" in text

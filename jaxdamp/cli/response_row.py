@@ -225,7 +225,7 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
     orders = engine_orders_of(args.engine_order, family.n_blades)
     if args.band:
         check_band_family(family, orders)
-    bar = C.progress_bar(args, total=1 + bool(args.band), desc="peaks per engine order",
+    bar = C.progress_bar(args, total=1 + bool(args.band) + bool(args.diagram), desc="peaks per engine order",
                          unit="stage")
     design = (scene.shape, scene.mu, scene.contacts, scene.load)
     res = row_response(*design, modes=family, engine_orders=orders, force_n=forces,
@@ -245,6 +245,7 @@ def run_row(args, scene, forces, shape, contacts, load) -> int:
                               force_n=DIAGRAM_FORCES_N, fd_factor=DIAGRAM_FD_FACTORS,
                               force_at_fd_n=float(np.median(forces)), initial=args.initial,
                               runner=exported.Runner("row_peaks", args.initial))
+        bar.update(1)
     bar.close()
     rows, worst = _row_json(res, band), _worst_json(res, band)
     statuses = [RESULTS[p["status"]] for r in rows for p in r["forces"]]
