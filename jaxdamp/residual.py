@@ -40,9 +40,10 @@ def through_residual(cycle, psi, c):
     show, is below RESIDUAL_RTOL of psi (the distance left to the root); with c = 0 after one
     evaluation, with k(psi) itself. not_converged where RESIDUAL_ITERATIONS do not get there, or
     where RESIDUAL_PATIENCE evaluations in a row give no valid cycle (or no finite step): such an
-    amplitude stops there with that cycle's status. Values only (a while loop: no reverse-mode derivative). Each evaluation is a steady cycle at
-    every amplitude of psi still iterating: secant steps need far fewer of them than fixed-point
-    steps (about 20 at the example disk's contraction, to 1e-12)."""
+    amplitude stops there with that cycle's status. Values only (a while loop: no reverse-mode
+    derivative). Each evaluation is a steady cycle at every amplitude of psi still iterating:
+    secant steps need far fewer of them than fixed-point steps (about 20 at the example disk's
+    contraction, to 1e-12)."""
     psi = jnp.asarray(psi, float)
     c = jnp.asarray(c, float)
 

@@ -28,7 +28,7 @@ FORCE_BUCKET = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
            "check_engine_orders", "prepare_row", "row_of_prepared", "flexible_row",
-           "outside_small_rotation"]
+           "outside_small_rotation", "beyond_small_rotation"]
 
 
 class RowResponse(NamedTuple):
@@ -156,15 +156,20 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     return rows
 
 
+def beyond_small_rotation(status, rotation_mrad):
+    """status with large_rotation where a valid peak turns the platforms by more than
+    SMALL_ROTATION_MRAD (rotation_mrad: the platforms' largest rotation amplitude, mrad)."""
+    beyond = np.asarray(RESULTS.valid(status)) & (np.asarray(rotation_mrad) > SMALL_ROTATION_MRAD)
+    return np.asarray(RESULTS.first({RESULTS.large_rotation: beyond}, status))
+
+
 def outside_small_rotation(status, amplitude_mm, scenes):
-    """(status with large_rotation where a valid peak lies outside the small-rotation model, the
-    platforms' largest rotation amplitude (mrad)) of peaks (m, n_f) at tip amplitudes
-    amplitude_mm on the engine orders' scenes: the rotation is amplitude_mm times each scene's
-    `rotation_mrad_per_mm`, against SMALL_ROTATION_MRAD."""
+    """(`beyond_small_rotation`'s status, the platforms' largest rotation amplitude (mrad)) of
+    peaks (m, n_f) at tip amplitudes amplitude_mm on the engine orders' scenes: the rotation is
+    amplitude_mm times each scene's `rotation_mrad_per_mm`."""
     per_mm = np.array([s.rotation_mrad_per_mm for s in scenes])[:, None]
     rotation = per_mm * np.asarray(amplitude_mm)
-    beyond = np.asarray(RESULTS.valid(status)) & (rotation > SMALL_ROTATION_MRAD)
-    return np.asarray(RESULTS.first({RESULTS.large_rotation: beyond}, status)), rotation
+    return beyond_small_rotation(status, rotation), rotation
 
 
 def flexible_row(residual):

@@ -16,10 +16,9 @@ from typing import NamedTuple
 import numpy as np
 
 from .._validate import check_range, check_values
-from ..conventions import SMALL_ROTATION_MRAD
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily
-from .row import RowResponse, row_response
+from .row import RowResponse, beyond_small_rotation, row_response
 
 __all__ = ["RowDiagram", "row_diagram"]
 
@@ -63,9 +62,7 @@ def _worst_at(row: RowResponse, columns, scale):
     status = np.asarray(row.status)[:, columns]
     # Every large_rotation peak was valid before its rotation was checked (`row_response`).
     base = np.where(status == RESULTS.large_rotation, RESULTS.ok, status)
-    rotation = scale[None, :] * np.asarray(row.rotation_mrad)[:, columns]
-    beyond = np.asarray(RESULTS.valid(base)) & (rotation > SMALL_ROTATION_MRAD)
-    status = np.asarray(RESULTS.first({RESULTS.large_rotation: beyond}, base))
+    status = beyond_small_rotation(base, scale[None, :] * np.asarray(row.rotation_mrad)[:, columns])
     valid = np.asarray(RESULTS.valid(status))
     force = scale * np.asarray(row.force_n)[columns]
     mag = np.where(valid, scale[None, :] * np.asarray(row.peaks.peak_amplitude_mm)[:, columns]
