@@ -125,8 +125,9 @@ def test_the_platforms_rotation_per_tip_motion():
 def test_example_file_is_what_the_generator_makes_now(tmp_path):
     fresh = write_example_family(tmp_path / "modes.npz")
     with np.load(EXAMPLE_PATH) as stored, np.load(fresh) as new:
+        # the example carries its platforms' residual flexibility (issue 61)
         assert set(stored.files) == set(new.files) == set(FAMILY_FIELDS) | {
-            "n_blades", "name", "unit_system"}
+            "n_blades", "name", "unit_system", "platform_residual"}
         for name in new.files:
             assert stored[name].dtype == new[name].dtype, name
             if stored[name].dtype.kind in "fc":
@@ -137,8 +138,8 @@ def test_example_file_is_what_the_generator_makes_now(tmp_path):
             assert np.iscomplexobj(stored[name]), name
         assert stored["n_blades"].shape == stored["name"].shape == ()
     family = example_family()
-    assert family.n_blades == 24 and family.platform_residual is None
-    assert example_family(residual=True).platform_residual.shape == (13, 6, 6)
+    assert family.n_blades == 24 and family.platform_residual.shape == (13, 6, 6)
+    assert example_family(residual=False).platform_residual is None
 
 
 def test_bad_parameters_are_refused():

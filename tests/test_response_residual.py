@@ -143,3 +143,26 @@ def test_row_with_residual_matches_the_two_mode_sector_with_the_cycle():
                              np.array([amp * f_at, freq]), rtol=5e-3, atol=0.0)
     assert list(row.status[0]) == [int(jd.RESULTS.ok)] * 2
     assert row.residual_mrad_per_nmm[0] == scene.residual_mrad_per_nmm > 0
+
+
+@pytest.mark.parametrize("c", [1e-5, 1e-4])  # c k up to 0.3 and 3
+def test_peaks_searched_in_the_damper_amplitude_are_the_series_peaks(c):
+    """`series_peaks` (the peak equation in the damper's own amplitude psi_d, where the series is
+    explicit) against `peak_response` on `with_residual` (the series solved at each path
+    amplitude by its fixed point): the same roots, frequencies and root counts at forces from
+    microslip to past the curve's dissipation peak; psi_d is the fixed point's at the first root."""
+    def curve(p):
+        k_re, k_im, _ = _softening(p)
+        return k_re, k_im
+
+    damper = DamperStiffness(curve, jnp.int32(0), jnp.asarray(3e4), jnp.asarray(1.0))
+    mode, forces = jd.BladeMode(), jnp.geomspace(0.05, 40.0, 9)
+    ref = jax.jit(lambda f: peak_response(with_residual(damper, c), mode, f,
+                                          differentiable=False))(forces)
+    got, _ = jax.jit(lambda f: jd.response.series_peaks(damper, mode, f, c, _softening))(forces)
+    assert np.all(np.asarray(ref.n_roots) >= 1)
+    assert np.asarray(got.n_roots).tolist() == np.asarray(ref.n_roots).tolist()
+    assert_tree_allclose((got.roots_mm, got.frequency_hz), (ref.roots_mm, ref.frequency_hz),
+                         rtol=1e-9, atol=0.0)
+    psi_d = through_residual(_softening, mode.r * ref.peak_amplitude_mm, c)[3]
+    assert_tree_allclose(got.psi_a_mrad, psi_d, rtol=1e-9, atol=0.0)

@@ -177,14 +177,12 @@ def modal_family(disk: LumpedDisk, q_star_mm: float, h_c_mm: float, name: str = 
                        platform_residual if residual else None)
 
 
-def example_family(residual: bool = False) -> ModalFamily:
-    """The example disk's first family: `LumpedDisk()` with N = 24 at q* = 100 mm, h_C = 20 mm.
-    residual: with the platforms' residual flexibility from the second family (`modal_family(
-    residual=True)`): without it the one-mode reduction overestimates the damping at nodal
-    diameter 0 by up to 25 % against the whole ring (benchmarks/ring_check.py). The shipped file
-    (`--modes example`) is still the family without it: the damper in series with the residual
-    makes every row about five times as costly today (docs/blade.md), which the test suite's and
-    the benchmarks' budgets do not hold yet."""
+def example_family(residual: bool = True) -> ModalFamily:
+    """The example disk's first family: `LumpedDisk()` with N = 24 at q* = 100 mm, h_C = 20 mm,
+    with the platforms' residual flexibility from the second family (`modal_family(residual=
+    True)`; the shipped file, `--modes example`): without it the one-mode reduction overestimates
+    the damping at nodal diameter 0 by up to 25 % against the whole ring
+    (benchmarks/ring_check.py). residual=False: the free-platform reduction, for comparison."""
     g = EXAMPLE_GEOMETRY
     name = "example disk (jaxdamp.baselines.lumped_disk), 24 blades, first family"
     return modal_family(LumpedDisk(n_blades=g["n_blades"]), g["q_star_mm"], g["h_c_mm"],

@@ -59,6 +59,7 @@ from .peaks import peak_residual as peak_residual
 from .peaks import peak_response as peak_response
 from .peaks import response_curves as response_curves
 from .peaks import path_peaks as path_peaks
+from .peaks import series_peaks as series_peaks
 from .peaks import path_curves_program as path_curves_program
 from .peaks import path_response_curves as path_response_curves
 from .peak_band import peak_band as peak_band
@@ -99,5 +100,5 @@ __all__ = ["BladeMode", "Scene", "DamperStiffness", "FRF", "Peaks", "DesignerDia
            "validate_family",
            "nodal_scene", "excited_nodal_diameter", "family_from_blade_mode", "RowResponse",
            "row_response", "row_program", "engine_orders_of", "RowGradient", "row_gradient", "peak_amplitudes_at", "RowBand", "row_band", "row_band_program", "RowDiagram",
-           "row_diagram", "path_peaks", "path_curves_program",
+           "row_diagram", "path_peaks", "series_peaks", "path_curves_program",
            "path_response_curves"]

@@ -20,12 +20,12 @@ from .._validate import check_values, traced
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (DamperStiffness, check_history, damper_stiffness_kernel,
-                        path_cycle_kernel, path_damper, through_residual, with_residual)
+                        path_cycle_kernel, path_damper, with_residual)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
            "SHARED_GRID_FACTOR", "Peaks", "peak_residual", "peak_frequency_hz", "peak_response",
            "peak_program", "ResponseCurves", "curves_program", "response_curves", "design_peaks",
-           "PATH_LOOP", "PATH_REPEATS", "path_peaks", "path_curves_program",
+           "PATH_LOOP", "PATH_REPEATS", "path_peaks", "series_peaks", "path_curves_program",
            "path_response_curves"]
 
 
@@ -159,6 +159,43 @@ def _root_ift(g, g_values, lo, hi, glo, ghi, steps):
     return root(jax.lax.stop_gradient(x), tuple(consts))
 
 
+def _amplitude_grid(damper: DamperStiffness, mode: BladeMode, forces, n_grid: int,
+                    amplitude_cap_mm=None, shared: bool = True):
+    """The peak search's tip amplitudes (mm), 0 first, then log-spaced up to the largest force's
+    bound (`peak_response`; shared False: one force's grid, forces of size 1); values only."""
+    damped = mode.eta * mode.k_b > 0
+    cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None
+           else jnp.asarray(amplitude_cap_mm, float))
+    a_hi = jnp.where(damped, forces / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9),
+                     cap)
+    a_hi = jax.lax.stop_gradient(a_hi)
+    if not shared:
+        grid = a_hi[0] * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
+    else:
+        top = jnp.max(a_hi)
+        decades = GRID_DECADES + jnp.log10(top / jnp.min(a_hi))
+        grid = top * jnp.logspace(-1.0, 0.0, int(SHARED_GRID_FACTOR * n_grid)) ** decades
+    return jnp.concatenate([jnp.zeros(1), grid])
+
+
+def _brackets(grid, g0, force, max_roots: int):
+    """(lo, hi, g(lo), g(hi), found, n_roots): the first max_roots sign changes of g = g0 - force
+    on the grid (g0: the residual at zero force on the grid; force (n_f, 1)), in ascending order,
+    each as a bracket (n_f, max_roots); an empty bracket where a force has fewer roots."""
+    cells_n = grid.size - 1
+    gg = g0[None, :] - force
+    change = (jnp.sign(gg[:, :-1]) != jnp.sign(gg[:, 1:])) & (gg[:, :-1] != 0)
+    n_roots = jnp.sum(change, axis=1).astype(jnp.int32)
+    # The first max_roots sign changes, in ascending order (cells without a change sort last).
+    cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1), axis=1)[:, :max_roots]
+    found = jnp.arange(max_roots, dtype=jnp.int32)[None, :] < n_roots[:, None]
+    lo = grid[cells]
+    hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
+    glo = jnp.take_along_axis(gg, cells, axis=1)
+    ghi = jnp.take_along_axis(gg, cells + 1, axis=1)
+    return lo, hi, glo, ghi, found, n_roots
+
+
 SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
 
 
@@ -208,36 +245,14 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
             mode = BladeMode(*(jnp.asarray(v, float) for v in validate_mode(mode)))
         return peak_program(src.method, src.options)(*src.design, mode, f)
     forces = f.reshape(-1)
-    damped = mode.eta * mode.k_b > 0
-    cap = (1e6 * damper.psi_ref_mrad / mode.r if amplitude_cap_mm is None
-           else jnp.asarray(amplitude_cap_mm, float))
-    a_hi = jnp.where(damped, forces / jnp.where(damped, mode.eta * mode.k_b, 1.0) * (1.0 + 1e-9),
-                     cap)
-    a_hi = jax.lax.stop_gradient(a_hi)
-    if f.ndim == 0:
-        grid = a_hi[0] * jnp.logspace(-GRID_DECADES, 0.0, n_grid)
-    else:
-        top = jnp.max(a_hi)
-        decades = GRID_DECADES + jnp.log10(top / jnp.min(a_hi))
-        grid = top * jnp.logspace(-1.0, 0.0, int(SHARED_GRID_FACTOR * n_grid)) ** decades
-    grid = jnp.concatenate([jnp.zeros(1), grid])
-    cells_n = grid.size - 1
+    grid = _amplitude_grid(damper, mode, forces, n_grid, amplitude_cap_mm, f.ndim > 0)
     # The searches run on the curve's values (see DamperStiffness.values); g(a) = a im(a) - F, so
     # the grid's residual at F = 0 serves every force.
     values = damper._replace(k_of_psi=damper.values)
     a_im = jax.lax.stop_gradient(peak_residual(values, mode, 0.0, grid))
     # Every force at once (arrays (n_f, ...)): the curve appears once per use in the program.
     force = forces[:, None]
-    gg = a_im[None, :] - force
-    change = (jnp.sign(gg[:, :-1]) != jnp.sign(gg[:, 1:])) & (gg[:, :-1] != 0)
-    n_roots = jnp.sum(change, axis=1).astype(jnp.int32)
-    # The first max_roots sign changes, in ascending order (cells without a change sort last).
-    cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1), axis=1)[:, :max_roots]
-    found = jnp.arange(max_roots, dtype=jnp.int32)[None, :] < n_roots[:, None]
-    lo = grid[cells]
-    hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
-    glo = jnp.take_along_axis(gg, cells, axis=1)
-    ghi = jnp.take_along_axis(gg, cells + 1, axis=1)
+    lo, hi, glo, ghi, found, n_roots = _brackets(grid, a_im, force, max_roots)
 
     def g_values(a):
         return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
@@ -250,12 +265,18 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     roots = jnp.where(found, roots, 0.0)
     freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
              if frequencies else jnp.zeros_like(roots))
-    last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
-    status = RESULTS.first({RESULTS.no_root: n_roots == 0}, damper.status)
-    peak = roots[:, 0]
-    peaks = Peaks(roots, freqs, found, n_roots, peak, freqs[:, 0], mode.r * peak,
-                  jnp.take_along_axis(roots, last[:, None], axis=1)[:, 0], status)
+    peaks = _peaks_of(roots, freqs, found, n_roots, mode.r * roots[:, 0], damper.status)
     return jax.tree_util.tree_map(lambda x: x[0], peaks) if f.ndim == 0 else peaks
+
+
+def _peaks_of(roots, freqs, found, n_roots, psi_a_mrad, damper_status) -> Peaks:
+    """`Peaks` (fields (n_f, ...)) of the roots (n_f, max_roots; 0 where not found) and their
+    frequencies; psi_a_mrad (n_f,) the damper's amplitude at the first root."""
+    max_roots = roots.shape[1]
+    last = jnp.clip(jnp.minimum(n_roots, max_roots) - 1, 0, max_roots - 1)
+    status = RESULTS.first({RESULTS.no_root: n_roots == 0}, damper_status)
+    return Peaks(roots, freqs, found, n_roots, roots[:, 0], freqs[:, 0], psi_a_mrad,
+                 jnp.take_along_axis(roots, last[:, None], axis=1)[:, 0], status)
 
 
 @functools.cache
@@ -373,31 +394,71 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     opens there on a straight path (liftoff), a damper unseated on an ellipse, a cycle that does
     not settle (the grid may miss these), or a damper that sticks there (shakedown: no
     dissipation). residual: the path's residual flexibility c (mrad per N mm, `modes`; None: the
-    program without it): the damper in series with it (`with_residual`), its peaks' psi_a_mrad
-    the damper's own amplitude. Unchecked, traceable (jit, vmap)."""
+    program without it): the damper in series with it (`with_residual`; its peaks searched in
+    the damper's own amplitude, `series_peaks`), its peaks' psi_a_mrad the damper's own
+    amplitude. Unchecked, traceable (jit, vmap)."""
     damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
                          repeats=PATH_REPEATS)
-    if residual is not None:
-        damper = with_residual(damper, residual)
     forces = jnp.asarray(force_n, float)
-    peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
-    at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
-    shape_r, n = at_roots.shape, at_roots.size
 
     def cycles(psi):
         return jax.vmap(lambda a: path_cycle_kernel(
             shape, mu, contacts, load, a, motion, initial, PATH_LOOP, PATH_REPEATS))(psi)
 
     if residual is None:
+        peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
+        at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
         k_re, k_im, status = cycles(mode.r * flat)
+        peaks, on_grids = _at_roots_and_grids(peaks, damper, mode, at_roots, grids, k_re, k_im)
+        at_peak = status[:at_roots.size].reshape(at_roots.shape)[:, 0]
     else:
-        k_re, k_im, status, psi_d = through_residual(cycles, mode.r * flat, residual)
-        peaks = peaks._replace(psi_a_mrad=jnp.where(
-            peaks.psi_a_mrad > 0, psi_d[:n].reshape(shape_r)[:, 0], 0.0))
-    peaks, on_grids = _at_roots_and_grids(peaks, damper, mode, at_roots, grids, k_re, k_im)
-    at_peak = status[:n].reshape(shape_r)[:, 0]
+        peaks, at_peak = series_peaks(damper, mode, forces, residual, cycles)
+        damper, on_grids = with_residual(damper, residual), None
+        if frf_points:  # the FRFs' amplitudes are the path's: the series solved at each
+            _, grids, _ = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
+            k_re, k_im = damper.k_of_psi(mode.r * grids)
+            on_grids = (grids, k_re, k_im)
     told = RESULTS.valid(peaks.status) & (at_peak != RESULTS.ok) & (peaks.psi_a_mrad > 0)
     return damper, peaks._replace(status=jnp.where(told, at_peak, peaks.status)), on_grids
+
+
+def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
+    """(Peaks (fields (n_f, ...)), the status of the damper's cycle at each first root (n_f,)) of
+    the damper in series with a flexibility c (mrad per N mm) at the forces (1-D), searched in the
+    damper's own amplitude psi_d: there the series is explicit, no fixed point to iterate
+    (`through_residual`'s, one per amplitude of a search in A). At psi_d the damper's k gives
+    the path's amplitude psi = psi_d |1 + c k| (so A = psi / r) and the mode's spring
+    k / (1 + c k); the peak equation A (eta k_b + 1e-3 r^2 Im k / (1 + c k)) = F is bracketed on
+    `peak_response`'s grid (in psi_d: psi_d <= psi, as |1 + c k| >= 1 for Re k >= 0) and refined
+    as its roots are, one cycle per evaluation. Every root is a consistent (A, psi_d), so the
+    search needs no uniqueness of the series' fixed point. cycles(psi_d) -> (k_re, k_im, status)
+    at each amplitude of a 1-D array (evaluated once at the roots: the peaks' frequencies and
+    statuses); psi_a_mrad is psi_d at the first root. Values only; unchecked, traceable (jit,
+    vmap)."""
+    r = mode.r
+
+    def series(psi_d, k_re, k_im):  # (A, the spring the mode sees) at the damper's amplitude
+        k = k_re + 1j * k_im
+        z = 1.0 + c * k
+        return psi_d * jnp.abs(z) / r, k / z
+
+    def g0(psi_d):  # the peak equation's left side at psi_d (N)
+        a, k = series(psi_d, *damper.values(psi_d))
+        return a * (mode.eta * mode.k_b + 1e-3 * r ** 2 * jnp.imag(k))
+
+    grid = r * _amplitude_grid(damper, mode, forces, N_GRID)
+    force = forces[:, None]
+    lo, hi, glo, ghi, found, n_roots = _brackets(grid, g0(grid), force, MAX_ROOTS)
+    psi_d = _bracketed_roots(lambda p: g0(p) - force, lo, hi, glo, ghi, REFINE_STEPS)
+    at = jnp.where(found, psi_d, 1.0)
+    k_re, k_im, status = cycles(at.reshape(-1))
+    a, k = series(at, k_re.reshape(at.shape), k_im.reshape(at.shape))
+    roots = jnp.where(found, a, 0.0)
+    spring = damper._replace(k_of_psi=lambda _: (jnp.real(k), jnp.imag(k)))
+    freqs = jnp.where(found, peak_frequency_hz(spring, mode, jnp.where(found, a, 1.0)), 0.0)
+    peaks = _peaks_of(roots, freqs, found, n_roots, jnp.where(found[:, 0], psi_d[:, 0], 0.0),
+                      damper.status)
+    return peaks, status.reshape(at.shape)[:, 0]
 
 
 @functools.cache
