@@ -44,6 +44,7 @@ def main():
     ap.add_argument("--n-forces", type=int, default=4)
     ap.add_argument("--free", default=",".join(VARIABLES))
     ap.add_argument("--mu-set", default="0.3,0.5,0.7")
+    ap.add_argument("--direction", default="lbfgs")
     a = ap.parse_args()
     info = machine("2-core VM")
     family = load_modal_family("example")
@@ -54,7 +55,7 @@ def main():
     spec = RobustSpec(n_forces=a.n_forces)
     stamps = [time.perf_counter()]
     res = optimize_row(family, orders, 10.0, problem, spec, grid_points=a.grid_points,
-                       steps=a.steps, progress=lambda n: (stamps.append(time.perf_counter()),
+                       steps=a.steps, direction=a.direction, progress=lambda n: (stamps.append(time.perf_counter()),
                                                           print(f"stage at {stamps[-1] - stamps[0]:.0f} s",
                                                                 flush=True)))
     stages = np.diff(stamps)
@@ -70,6 +71,8 @@ def main():
            "grid_points": a.grid_points, "seconds_total": float(stamps[-1] - stamps[0]),
            "stages_seconds": dict(zip(names, map(float, stages))),
            "grid_evaluations": res.grid_evaluations, "descent_evaluations": res.descent_evaluations,
+           "gradient_evaluations": res.gradient_evaluations, "direction": a.direction,
+           "steps": a.steps, "accepted_steps": len(res.history),
            "descent_objective_mm_per_n": res.objective_value, "descent_history": res.history,
            "designs": [d._asdict() for d in designs]}
     OUT.mkdir(exist_ok=True)

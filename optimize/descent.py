@@ -28,15 +28,24 @@ class Descent(NamedTuple):
 
 
 def feasible_descent(z, value: float, gradient: Callable, evaluate: Callable, *, steps: int,
-                     step_size: float, tries: int, min_step: float = 0.0) -> Descent:
+                     step_size: float, tries: int, min_step: float = 0.0,
+                     transform=None) -> Descent:
     """From z (unit box) with objective `value`: at most `steps` moves along -gradient(z) (any
     scale: it is normalised), each found in at most `tries` step sizes; evaluate(z) -> (value,
     feasible). Stops early at a zero or non-finite gradient, a step with no accepted try, or a
-    step size below min_step."""
+    step size below min_step. transform: an optax GradientTransformation (e.g.
+    `optax.scale_by_lbfgs()`) whose update of the gradient at z is the direction instead (its
+    state sees only accepted points: L-BFGS's curvature pairs are the accepted steps), normalised
+    in the same way; the gradient itself where that is no descent direction."""
     z = np.asarray(z, float)
     evaluations, accepted = 0, []
+    state = None if transform is None else transform.init(z)
     for step in range(steps):
         g = np.asarray(gradient(z), float)
+        if transform is not None:
+            d, state = transform.update(g, state, z)
+            d = np.asarray(d, float)
+            g = d if np.isfinite(d).all() and float(d @ g) > 0 else g
         norm = np.linalg.norm(g)
         if not np.isfinite(norm) or norm == 0:
             break
@@ -57,16 +66,17 @@ def feasible_descent(z, value: float, gradient: Callable, evaluate: Callable, *,
 
 def descend_from_best(Z, values, gradient: Callable, evaluate: Callable, *, starts: int,
                       steps: int, step_size: float, tries: int, min_step: float = 0.0,
-                      tick: Callable = lambda n: None):
-    """`feasible_descent` from each of the `starts` best points of Z (finite values only):
-    (best z or None where no start is finite, its value, evaluations spent, (start, step, value)
-    of every accepted move). tick(1) after each descent."""
+                      tick: Callable = lambda n: None, transform=None):
+    """`feasible_descent` (with its transform) from each of the `starts` best points of Z (finite
+    values only): (best z or None where no start is finite, its value, evaluations spent, (start,
+    step, value) of every accepted move). tick(1) after each descent."""
     best_z, best_val, n_desc, hist = None, np.inf, 0, []
     for k, i in enumerate(np.argsort(values)[:starts]):
         if not np.isfinite(values[i]):
             continue
         run = feasible_descent(Z[i], float(values[i]), gradient, evaluate, steps=steps,
-                               step_size=step_size, tries=tries, min_step=min_step)
+                               step_size=step_size, tries=tries, min_step=min_step,
+                               transform=transform)
         n_desc += run.evaluations
         hist += [(k, step, val) for step, val in run.accepted]
         if run.value < best_val:

@@ -29,6 +29,7 @@ import itertools
 from typing import NamedTuple
 
 import numpy as np
+import optax
 
 from jaxdamp import (RESULTS, Contacts, LoadCase, ModalFamily, nodal_scene, row_gradient,
                      row_response)
@@ -44,6 +45,8 @@ from .robust_objective import (ROBUST_MU_SET, RobustSpec, contact_corners, desce
 ROW_HISTORIES = ("assembly", "band")
 CORNER_CHOICES = ("nominal", "all")
 HISTORY_NAMES = ("gross_slip", "assembly")
+DIRECTIONS = ("lbfgs", "gradient")  # the descent's direction (`optimize_row`)
+LBFGS_MEMORY = 4  # curvature pairs: a descent of a few steps in four variables
 FORCE_CHUNK = 4  # forces per row call: the row's force bucket, so one program serves every call
 # The in-phase robust optimum (benchmarks/results/robust_optimisation_band.json): how a design
 # tuned to nodal diameter 0 of the illustrative blade fares across a real row.
@@ -51,7 +54,7 @@ IN_PHASE_ROBUST_OPTIMUM = (42.59891282213617, 52.95829312005082, 0.3988034770924
                            0.8876839281573497)
 
 __all__ = ["RowTask", "RowCertified", "RowOptimum", "ROW_HISTORIES", "CORNER_CHOICES",
-           "FORCE_CHUNK", "IN_PHASE_ROBUST_OPTIMUM", "row_magnification", "row_values", "certify_row",
+           "FORCE_CHUNK", "DIRECTIONS", "LBFGS_MEMORY", "IN_PHASE_ROBUST_OPTIMUM", "row_magnification", "row_values", "certify_row",
            "optimize_row", "row_reference_shapes"]
 
 
@@ -153,7 +156,8 @@ class RowCertified(NamedTuple):
     worst_engine_order: where it is; feasible: margins and a valid peak everywhere (a gross-slip
     history that does not exist is no failure); reason: why not ("ok" when feasible);
     no_gross_slip: (m,) how many (scenario, force) pairs of each engine order have no gross-slip
-    state (`RESULTS.unreachable`)."""
+    state (`RESULTS.unreachable`); worst_scenario: where the worst peak binds (mu, the kn and kt
+    factors, F_D in N, the force in N, the history), None where not certified."""
 
     name: str
     shape: tuple
@@ -168,6 +172,7 @@ class RowCertified(NamedTuple):
     reason: str = "ok"
     no_gross_slip: tuple = ()
     status: str = "ok"  # RESULTS name: the worst damper status, or liftoff (margins); ok if certified
+    worst_scenario: dict | None = None
 
 
 def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask, *,
@@ -193,6 +198,7 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
     m = len(task.engine_orders)
     worst = {h: np.full(m, -np.inf) for h in HISTORY_NAMES}
     statuses, missing = [], np.zeros(m, int)
+    binding, top = None, -np.inf
     for mu, fn, ft, f_d in grid:
         load = LoadCase(f_d, *problem.load[1:])
         contacts = Contacts(problem.kn * fn, problem.kt * ft)
@@ -201,7 +207,13 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
             valid, usable = _counted(status, h)
             statuses.append(np.where(usable, RESULTS.ok, status).ravel())
             missing += np.sum(usable & ~valid, axis=1)
-            worst[h] = np.maximum(worst[h], np.max(np.where(valid, mag, -np.inf), axis=1))
+            scored = np.where(valid, mag, -np.inf)
+            worst[h] = np.maximum(worst[h], np.max(scored, axis=1))
+            if scored.max() > top:
+                top = float(scored.max())
+                j = np.unravel_index(int(np.argmax(scored)), scored.shape)[1]
+                binding = {"mu": float(mu), "kn_factor": float(fn), "kt_factor": float(ft),
+                           "fd_n": float(f_d), "force_n": float(forces[j]), "history": h}
         if progress:
             progress(1)
     status = np.concatenate(statuses)
@@ -214,7 +226,8 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
                         tuple(map(float, forces)),
                         "ok" if ok else uncertified_reason(margins_ok, status),
                         tuple(int(n) for n in missing),
-                        "ok" if ok else uncertified_status(margins_ok, status))
+                        "ok" if ok else uncertified_status(margins_ok, status),
+                        binding if ok else None)
 
 
 def _numbers(values) -> tuple:
@@ -252,16 +265,19 @@ class RowOptimum(NamedTuple):
     grid_evaluations: int
     descent_evaluations: int
     history: list  # (start, step, objective) of accepted steps
+    gradient_evaluations: int = 0  # row_gradient calls of the descent (each: every row once)
 
 
 def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Problem | None = None,
                  spec: RobustSpec = RobustSpec(), *, corners: str = "nominal",
                  grid_points: int = 3, starts: int = 1, steps: int = 6,
                  certify_references: bool = True, certify_options: dict | None = None,
-                 progress=None) -> RowOptimum:
+                 progress=None, direction: str = "lbfgs") -> RowOptimum:
     """Minimise the worst A*/F over the row (module doc), as its smooth maximum: a grid over the
     free variables' unit box and the reference shapes that lie in the design space, then feasible
-    descent steps from the best of them along the smooth maximum's gradient (`row_gradient`);
+    descent steps from the best of them along the smooth maximum's gradient (`row_gradient`):
+    direction "lbfgs" (default) the quasi-Newton direction of optax's L-BFGS
+    (`optax.scale_by_lbfgs`, its curvature pairs the accepted steps), "gradient" the gradient's;
     then `certify_row` of the optimum and the references. Inputs are checked
     (ValueError naming the flag or parameter) before any row is run. progress(n) per stage."""
     problem = make_problem(mus=ROBUST_MU_SET) if problem is None else problem
@@ -270,6 +286,8 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
         raise ValueError(f"--objective must be peak:worst with --modes; got peak:{spec.objective}")
     if corners not in CORNER_CHOICES:
         raise ValueError(f"corners must be one of {', '.join(CORNER_CHOICES)}; got {corners!r}")
+    if direction not in DIRECTIONS:
+        raise ValueError(f"direction must be one of {', '.join(DIRECTIONS)}; got {direction!r}")
     task = RowTask(family, tuple(int(e) for e in engine_orders), float(h_l_mm))
     # Check the row once (family, engine orders, h_L) before the grid: one line, no compiling.
     for e in task.engine_orders:
@@ -284,9 +302,11 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
 
     free = [VARIABLES.index(n) for n in sp.free]
     span = np.asarray(sp.upper) - np.asarray(sp.lower)
+    gradients = []
 
     def gradient(z):
         # The smooth maximum's log, differentiated: by the shape, then into the unit box.
+        gradients.append(z)
         g = row_values(complete_shape(problem, z), problem, spec, task, corners, gradient=True)[3]
         g = g[0, free] * span
         return np.where(np.isfinite(g), g, 0.0)
@@ -297,7 +317,8 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
 
     best_z, best_val, n_desc, hist = descend_from_best(
         Z, vals, gradient, evaluate, starts=starts, steps=steps, step_size=0.1, tries=3,
-        min_step=1e-3, tick=tick)
+        min_step=1e-3, tick=tick,
+        transform=optax.scale_by_lbfgs(memory_size=LBFGS_MEMORY) if direction == "lbfgs" else None)
     if best_z is None:
         raise ValueError("no feasible design on the grid: widen the bounds or the margins")
     opts = certify_options or {}
@@ -309,4 +330,4 @@ def optimize_row(family: ModalFamily, engine_orders, h_l_mm: float, problem: Pro
         refs = [certify_row(n, v, problem, spec, task, **opts)
                 for n, v in row_reference_shapes().items()]
         tick(1)
-    return RowOptimum(best, refs, spec, corners, best_val, len(Z), n_desc, hist)
+    return RowOptimum(best, refs, spec, corners, best_val, len(Z), n_desc, hist, len(gradients))

@@ -26,7 +26,10 @@ def run(capsys, *argv):
     (["--objective", "peak:worst", "--mu-set", "0.3,-1"], "mu"),
     (["--objective", "peak:worst", "--plot", "/nonexistent/dir/x.png"], "--plot"),
     # the blade row (--modes): its flags, the history and the file, before any work
-    (["--objective", "peak:worst", "--h-l", "10"], "--engine-order, --h-l and --corners need --modes"),
+    (["--objective", "peak:worst", "--h-l", "10"],
+     "--engine-order, --h-l, --corners and --references need --modes"),
+    (["--objective", "peak:worst", "--references"],
+     "--engine-order, --h-l, --corners and --references need --modes"),
     (["--objective", "peak:worst", "--corners", "all"], "need --modes"),
     (["--objective", "peak:q95", "--modes", "example", "--h-l", "10"],
      "--objective must be peak:worst with --modes"),
@@ -74,10 +77,14 @@ def test_row_text_names_the_worst_engine_order_and_the_missing_history():
          "designs": [{"name": "row robust optimum", "shape": (45.0, 55.0, 0.3, 0.85),
                       "feasible": True, "worst": 1.25, "worst_engine_order": 12,
                       "worst_by_history": {"gross_slip": (0.5, 0.9, None),
-                                           "assembly": (0.6, 1.0, 1.25)}},
+                                           "assembly": (0.6, 1.0, 1.25)},
+                      "worst_scenario": {"mu": 0.3, "kn_factor": 0.5, "kt_factor": 2.0,
+                                         "fd_n": 1200.0, "force_n": 2.0,
+                                         "history": "assembly"}},
                      {"name": "60sym", "shape": (60.0, 60.0, 0.14, 0.8), "feasible": False,
                       "reason": "not_converged in 2 of 96 scenarios"}]}
     text = row_text(p)
     assert "engine orders 0-12" in text
-    assert "1.2500 | 0.9000 | 1.2500 at engine order 12" in text
+    assert ("1.2500 | 0.9000 | 1.2500 at engine order 12 (mu 0.3, kn x0.5, kt x2, F_D 1200 N, "
+            "2 N, assembly)") in text
     assert "60sym" in text and "not certified: not_converged in 2 of 96 scenarios" in text

@@ -92,6 +92,14 @@ def test_a_small_row_optimisation_improves_and_is_certified_everywhere():
     expected = np.max(row.peaks.peak_amplitude_mm / np.asarray(res.best.force_n)[None], axis=1)
     assert_tree_allclose(np.array(res.best.worst_by_history["assembly"]), expected, rtol=1e-12,
                          atol=0)
+    # The binding scenario is named: the row from its history at its force peaks at the worst.
+    ws = res.best.worst_scenario
+    assert (ws["mu"], ws["kn_factor"], ws["kt_factor"]) == (0.5, 1.0, 1.0)
+    bind = jd.row_response(shape_of_vector(np.asarray(res.best.shape)), 0.5, modes=family,
+                           engine_orders=[0, 12], force_n=[ws["force_n"]], h_l_mm=10.0,
+                           initial=ws["history"])
+    assert_tree_allclose(np.max(bind.peaks.peak_amplitude_mm) / ws["force_n"],
+                         np.float64(res.best.worst), rtol=1e-12, atol=0)
 
 
 @pytest.mark.slow  # the example row's values and derivative programs from assembly
