@@ -54,8 +54,9 @@ IN_PHASE_ROBUST_OPTIMUM = (42.59891282213617, 52.95829312005082, 0.3988034770924
                            0.8876839281573497)
 
 __all__ = ["RowTask", "RowCertified", "RowOptimum", "ROW_HISTORIES", "CORNER_CHOICES",
-           "FORCE_CHUNK", "DIRECTIONS", "LBFGS_MEMORY", "IN_PHASE_ROBUST_OPTIMUM", "row_magnification", "row_values", "certify_row",
-           "optimize_row", "row_reference_shapes"]
+           "FORCE_CHUNK", "DIRECTIONS", "LBFGS_MEMORY", "IN_PHASE_ROBUST_OPTIMUM",
+           "row_magnification", "row_values", "certify_row", "optimize_row",
+           "row_reference_shapes"]
 
 
 class RowTask(NamedTuple):
@@ -157,7 +158,8 @@ class RowCertified(NamedTuple):
     history that does not exist is no failure); reason: why not ("ok" when feasible);
     no_gross_slip: (m,) how many (scenario, force) pairs of each engine order have no gross-slip
     state (`RESULTS.unreachable`); worst_scenario: where the worst peak binds (mu, the kn and kt
-    factors, F_D in N, the force in N, the history), None where not certified."""
+    factors, F_D in N, the force in N, the history; the grid's first where several tie, as a
+    stuck damper's peak does in every scenario where it sticks), None where not certified."""
 
     name: str
     shape: tuple

@@ -75,9 +75,11 @@ SLOW_COMMANDS = {"jaxdamp grad --shape 74R --mu 0.5 --psi-a 3 --mode rev": 64,
                  "jaxdamp optimize --fix theta_l=45,theta_r=45 --mu-set 0.7": 37,
                  "jaxdamp response --shape 60sym --mu 0.5 --modes example --engine-order all "
                  "--h-l 10 --force-n 2,5 --plot figs": 150,
-                 # the band over every history across the row (fresh clone, 2026-11-27)
-                 "jaxdamp response --shape 60sym --mu 0.5 --modes example --engine-order all "
-                 "--h-l 10 --force-n 2,5 --band --plot figs": 415}
+                 # the band over every history at the straight engine orders, in series with
+                 # the example's residual flexibility (36 s as a process, empty cache,
+                 # 2026-11-29; the whole row's band took 415 s on the free-platform file)
+                 "jaxdamp response --shape 60sym --mu 0.5 --modes example --engine-order 0,12 "
+                 "--h-l 10 --force-n 2,5 --band --plot figs": 36}
 
 # Runs the blocks handed over as JSON in one namespace; a failure names the file and line.
 _DRIVER = """
