@@ -5,7 +5,8 @@ reported as ratios against a baseline measured in the same run.
 
     python benchmarks/bench_core.py [--quick]
 
-Writes benchmarks/results/core_solver.json and core_solver.png.
+Writes benchmarks/results/core_solver.json (docs/model.md and docs/performance.md quote its ratios in a table;
+no figure: none is shown).
 """
 
 from __future__ import annotations
@@ -115,30 +116,7 @@ def main():
 
     OUT.mkdir(parents=True, exist_ok=True)
     (OUT / "core_solver.json").write_text(json.dumps(res, indent=2))
-    plot(res)
     print(json.dumps(res, indent=2))
-
-
-def plot(res):
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    labels = ["reduced\n(1 pair)", "K_S + Cramer\n(1 pair)", "K_S + linalg\n(1 pair)",
-              "plain vmap\n(4 pairs)", "two-stage\nbatch"]
-    t = res["tract_solve"]
-    vals = [t["reduced_designs_per_s"], t["plain_cramer_designs_per_s"],
-            t["plain_linalg_designs_per_s"], res["batch"]["plain_vmap_designs_per_s"],
-            res["batch"]["two_stage_designs_per_s"]]
-    fig, ax = plt.subplots(figsize=(8, 4))
-    ax.bar(labels, vals, color=["C0", "C1", "C2", "C4", "C3"])
-    ax.set_ylabel("Base-Cycles + five numbers per second")
-    ax.set_title(f"jaxdamp core, batch of {res['batch']['size']} random designs\n"
-                 f"{res['machine']['cpu']}, {res['machine']['cores']} cores; single warm latency "
-                 f"{res['single_warm_latency_ms']:.2f} ms", fontsize=9)
-    fig.tight_layout()
-    fig.savefig(OUT / "core_solver.png", dpi=120)
 
 
 if __name__ == "__main__":
