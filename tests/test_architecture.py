@@ -124,7 +124,7 @@ def test_few_imports_inside_functions_each_with_its_reason():
 
 def test_modules_stay_small_or_say_why():
     """No module over 500 lines unless docs/architecture.md's "Module size" table names it and
-    says why; none over 600."""
+    says why; none over 600; the table's line counts are today's."""
     import re
 
     doc = (ROOT / "docs" / "architecture.md").read_text()
@@ -134,7 +134,7 @@ def test_modules_stay_small_or_say_why():
     for folder in FOLDERS.values():
         for path in sorted((ROOT / folder).rglob("*.py")):
             rel, n = path.relative_to(ROOT).as_posix(), len(path.read_text().splitlines())
-            if n > 600 or (n > 500 and rel not in listed):
+            if n > 600 or (n > 500 and rel not in listed) or listed.get(rel, n) != n:
                 bad.append(f"{rel}: {n} lines (listed: {listed.get(rel)})")
     assert not bad, "\n".join(bad)
 
