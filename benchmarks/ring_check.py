@@ -30,11 +30,20 @@ pads' slip erases the history: `history_free` records the two cycles' difference
   harmonic say how steady it is. Step size: 128 steps per period, checked against 64 and 256 once.
 
 Run: python benchmarks/ring_check.py -> benchmarks/results/ring_check.json (summary numbers) and its
-figure, docs/ring_check_example.png.
+figure, docs/ring_check_example.png. Another disk, design or set of cases (issue 61's check of the
+row optimum on the 24-blade example disk):
+
+    PYTHONPATH=$PWD python benchmarks/ring_check.py --blades 24 --design "row robust optimum" \
+        --cases microslip:3=2,history-free:6=20 --no-step-check --out ring_check_optimum.json \
+        --figure docs/ring_check_optimum.png
+
+(--design: "60sym" or a design's name in results/row_optimisation.json; --cases: regime:ND=force
+in N, comma-separated.)
 """
 
 from __future__ import annotations
 
+import argparse
 import json
 import time
 from pathlib import Path
@@ -51,6 +60,7 @@ from jaxdamp.baselines.lumped_disk import LumpedDisk, modal_family, sector_matri
 from jaxdamp.baselines.ring import ring_response  # noqa: E402
 from jaxdamp import BladeMode, path_cycle_kernel  # noqa: E402
 from jaxdamp.blocks import prepare_scene
+from jaxdamp_optimize.design import shape_of_vector  # noqa: E402
 
 from bench_common import call_time, machine  # noqa: E402
 
@@ -256,12 +266,40 @@ def parabola_peak(rows):
     return float(fv + f[i].mean()), float(np.polyval(c, fv))
 
 
+def configure() -> argparse.Namespace:
+    """The disk, the design and the cases from the command line (defaults: the committed check of
+    60sym on the six-blade disk); the module's N_SMALL, SHAPE and FORCES are set from them."""
+    global N_SMALL, SHAPE, FORCES
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--blades", type=int, default=N_SMALL)
+    ap.add_argument("--design", default="60sym")
+    ap.add_argument("--cases", default=None, help="regime:ND=force_N,... (default: the 8 cases)")
+    ap.add_argument("--no-step-check", action="store_true",
+                    help="skip the step-size check (64/128/256 steps per period)")
+    ap.add_argument("--out", default="ring_check.json", help="file name in benchmarks/results")
+    ap.add_argument("--figure", default="docs/ring_check_example.png")
+    a = ap.parse_args()
+    N_SMALL = a.blades
+    if a.design != "60sym":
+        designs = json.loads((RESULTS / "row_optimisation.json").read_text())["designs"]
+        vec = next(d["shape"] for d in designs if d["name"] == a.design)
+        SHAPE = shape_of_vector(np.asarray(vec, float))
+    if a.cases:
+        FORCES = {}
+        for item in a.cases.split(","):
+            regime, rest = item.split(":")
+            nd, force = rest.split("=")
+            FORCES.setdefault(regime, {})[int(nd)] = float(force)
+    return a
+
+
 def main() -> dict:
+    a = configure()
     started = time.perf_counter()
     disk = LumpedDisk(n_blades=N_SMALL)
     family = jd.blocks.validate_family(modal_family(disk, Q_STAR_MM, H_C_MM, residual=True))
     damper = Damper()
-    orders = list(range(N_SMALL // 2 + 1))
+    orders = sorted({nd for per_nd in FORCES.values() for nd in per_nd})
     forces = sorted({f for per_nd in FORCES.values() for f in per_nd.values()})
     reds, row_seconds = reduction(family, orders, forces)
     print(f"row_response: {row_seconds:.0f} s", flush=True)
@@ -326,12 +364,17 @@ def main() -> dict:
                   f"damper in the ring at psi {near['psi_mrad']:.4g}: k_Im "
                   f"{damper_check['rel_diff_k_im']:+.2%}, k_Re {damper_check['rel_diff_k_re']:+.2%} "
                   f"against the cycle", flush=True)
-    # Step-size convergence, once: nodal diameter 0 at its microslip ring peak, 64, 128 and 256.
+    # Step-size convergence, once: the first case at its ring peak, 64, 128 and 256.
     e0 = rows[0]
-    steps = {s: ring_at(disk, 0, e0["force_n"], e0["ring"]["frequency_hz"], steps=s)
-             for s in (64, STEPS, 256)}
+    steps = {} if a.no_step_check else {
+        s: ring_at(disk, e0["nodal_diameter"], e0["force_n"], e0["ring"]["frequency_hz"], steps=s)
+        for s in (64, STEPS, 256)}
     doc = dict(machine=machine(), seconds=time.perf_counter() - started,
-               disk=dict(disk._asdict()), damper=dict(shape="60sym", mu=MU, contacts="default",
+               disk=dict(disk._asdict()), damper=dict(shape=a.design,
+                                                       shape_vector=[float(v) for v in (
+                                                           SHAPE.theta_l, SHAPE.theta_r,
+                                                           SHAPE.br_over_hr, SHAPE.bl2_over_hl)],
+                                                       mu=MU, contacts="default",
                                                        load="default", q_star_mm=Q_STAR_MM,
                                                        h_c_mm=H_C_MM, h_l_mm=H_L_MM),
                history=dict(reduction="assembly", ring="from rest"), forces=FORCES,
@@ -341,13 +384,13 @@ def main() -> dict:
                step_convergence={str(s): dict(amplitude_mm=r["amplitude_mm"], seconds=r["seconds"])
                                  for s, r in steps.items()})
     RESULTS.mkdir(exist_ok=True)
-    (RESULTS / "ring_check.json").write_text(json.dumps(doc, indent=1))
-    plot(doc)
+    (RESULTS / a.out).write_text(json.dumps(doc, indent=1))
+    plot(doc, RESULTS.parent.parent / a.figure)
     print(f"total {doc['seconds']:.0f} s")
     return doc
 
 
-def plot(doc: dict) -> None:
+def plot(doc: dict, path: Path) -> None:
     import matplotlib
 
     matplotlib.use("Agg")
@@ -376,7 +419,7 @@ def plot(doc: dict) -> None:
             ax.set_xlabel("frequency (Hz)")
         axes[gi][0].set_ylabel("peak tip amplitude (mm)")
     axes[0][0].legend(fontsize=6)
-    fig.savefig(RESULTS.parent.parent / "docs" / "ring_check_example.png", dpi=130)
+    fig.savefig(path, dpi=130)
 
 
 if __name__ == "__main__":

@@ -6,17 +6,18 @@ over 2-20 N, from gross slip and from assembly separately, at every engine order
 disk with its residual flexibility (`jaxdamp_optimize.row_objective.certify_row`; 135 scenarios,
 540 rows per design). Per design: the worst A*/F per engine order and history, where it binds,
 and the 95th percentile and median over every (scenario, force, engine order) of each
-history's peaks (the interior a designer also cares about). The band over every history is not
-in it: in series with the residual flexibility a row's band costs about six times its free
-platform one (docs/blade.md).
+history's peaks (the interior a designer also cares about). With --band-samples N also the band
+over every admissible history (`jaxdamp.row_band`, N sampled states) per scenario: its highest
+peak's worst, where it binds, and its percentiles.
 
-Writes results/row_certify_dense.json after each design. From the repository root:
-    PYTHONPATH=$PWD python benchmarks/row_certify_dense.py
+Writes results/row_certify_dense.json after each design (a design already in the file and not
+asked for is kept). From the repository root:
+    PYTHONPATH=$PWD python benchmarks/row_certify_dense.py [--band-samples 16] [--designs NAME,...]
 """
 
 from __future__ import annotations
 
-import itertools
+import argparse
 import json
 import time
 from pathlib import Path
@@ -28,11 +29,12 @@ jax.config.update("jax_enable_x64", True)
 import numpy as np  # noqa: E402
 from bench_common import loadavg, machine  # noqa: E402
 
-from jaxdamp import RESULTS, Contacts, LoadCase  # noqa: E402
+from jaxdamp import RESULTS, row_band  # noqa: E402
 from jaxdamp.modal_file import load_modal_family  # noqa: E402
 from jaxdamp_optimize import design_space, make_problem  # noqa: E402
 from jaxdamp_optimize.robust_objective import RobustSpec  # noqa: E402
-from jaxdamp_optimize.row_objective import (HISTORY_NAMES, RowTask, row_magnification,  # noqa: E402
+from jaxdamp_optimize.design import shape_of_vector  # noqa: E402
+from jaxdamp_optimize.row_objective import (HISTORY_NAMES, RowTask, certify_row,  # noqa: E402
                                             row_reference_shapes)
 
 OUT = Path(__file__).resolve().parent / "results"
@@ -46,6 +48,10 @@ def percentiles(values) -> dict:
 
 
 def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--band-samples", type=int, default=0, help="0: no band")
+    ap.add_argument("--designs", default=None, help="comma-separated names (default: all three)")
+    a = ap.parse_args()
     opt = json.loads((OUT / "row_optimisation.json").read_text())
     family = load_modal_family("example")
     orders = list(range(family.n_blades // 2 + 1))
@@ -53,50 +59,77 @@ def main():
     spec = RobustSpec(n_forces=N_FORCES)
     task = RowTask(family, tuple(orders), float(opt["h_l_mm"]))
     designs = {"row robust optimum": opt["designs"][0]["shape"], **row_reference_shapes()}
-    mus = np.linspace(min(problem.mus), max(problem.mus), N_MU)
-    factors = np.geomspace(1 / spec.kn_factor, spec.kn_factor, N_K)
-    fds = problem.load[0] * np.linspace(1 - spec.fd_spread, 1 + spec.fd_spread, N_FD)
-    forces = np.geomspace(*spec.force_range_n, N_FORCES)
-    grid = list(itertools.product(mus, factors, factors, fds))
-    doc = {"machine": machine("2-core VM"), "modes": "example (with its platform residual)",
-           "engine_orders": orders, "h_l_mm": task.h_l_mm, "mu": mus.tolist(),
-           "kn_factors": factors.tolist(), "kt_factors": factors.tolist(), "fd_n": fds.tolist(),
-           "force_n": forces.tolist(), "scenarios": len(grid), "designs": {}}
+    if a.designs:
+        designs = {n: designs[n] for n in a.designs.split(",")}
+    path = OUT / "row_certify_dense.json"
+    old = json.loads(path.read_text()) if path.exists() else {"designs": {}}
+    doc = None
     for name, shape in designs.items():
         t0 = time.perf_counter()
         v = np.asarray(shape, float)
-        worst = {h: np.full(len(orders), -np.inf) for h in HISTORY_NAMES}
-        peaks = {h: [] for h in HISTORY_NAMES}
-        failed, binding, top = {}, None, -np.inf
-        for mu, fn, ft, f_d in grid:
-            load = LoadCase(f_d, *problem.load[1:])
-            contacts = Contacts(problem.kn * fn, problem.kt * ft)
-            for h in HISTORY_NAMES:
-                mag, status = row_magnification(v, task, mu, contacts, load, forces, h)
+        peaks = {h: [] for h in (*HISTORY_NAMES, "band")}
+        failed, band_worst, band_top, band_binding = {}, np.full(len(orders), -np.inf), -np.inf, None
+        band_seconds = []
+
+        def collect(scenario, rows):
+            nonlocal band_top, band_binding
+            for h, (mag, status) in rows.items():
                 valid = np.asarray(RESULTS.valid(status))
                 for s in np.asarray(status)[~valid]:
-                    key = RESULTS.name_of(int(s))
-                    failed[f"{h}: {key}"] = failed.get(f"{h}: {key}", 0) + 1
-                scored = np.where(valid, mag, -np.inf)
-                worst[h] = np.maximum(worst[h], scored.max(axis=1))
+                    key = f"{h}: {RESULTS.name_of(int(s))}"
+                    failed[key] = failed.get(key, 0) + 1
                 peaks[h].extend(mag[valid].ravel().tolist())
-                if scored.max() > top:
-                    top = float(scored.max())
-                    e, j = np.unravel_index(int(np.argmax(scored)), scored.shape)
-                    binding = {"engine_order": orders[e], "mu": float(mu), "kn_factor": float(fn),
-                               "kt_factor": float(ft), "fd_n": float(f_d),
-                               "force_n": float(forces[j]), "history": h}
-        doc["designs"][name] = {
-            "shape": list(map(float, v)),
-            "worst_by_history": {h: worst[h].tolist() for h in HISTORY_NAMES},
-            "worst": top, "binding": binding,
+            if a.band_samples:
+                t1 = time.perf_counter()
+                band = row_band(shape_of_vector(v), scenario["mu"], scenario["contacts"],
+                                scenario["load"], modes=family, engine_orders=orders,
+                                force_n=forces, h_l_mm=task.h_l_mm, n_samples=a.band_samples)
+                band_seconds.append(time.perf_counter() - t1)
+                valid = np.asarray(RESULTS.valid(band.status))
+                for s in band.status[~valid]:
+                    key = f"band: {RESULTS.name_of(int(s))}"
+                    failed[key] = failed.get(key, 0) + 1
+                mag = np.where(valid, band.peak_max_mm / forces[None, :], -np.inf)
+                band_worst[:] = np.maximum(band_worst, mag.max(axis=1))
+                peaks["band"].extend(mag[valid].ravel().tolist())
+                if mag.max() > band_top:
+                    band_top = float(mag.max())
+                    e, j = np.unravel_index(int(np.argmax(mag)), mag.shape)
+                    band_binding = {"engine_order": orders[e], "force_n": float(forces[j]),
+                                    **{k: scenario[k] for k in ("mu", "kn_factor", "kt_factor",
+                                                                "fd_n")}}
+
+        forces = np.geomspace(*spec.force_range_n, N_FORCES)
+        cert = certify_row(name, v, problem, spec, task, n_forces=N_FORCES, n_mu=N_MU, n_k=N_K,
+                           n_fd=N_FD, on_scenario=collect)
+        if doc is None:
+            doc = {"machine": machine("2-core VM"), "modes": "example (with its platform residual)",
+                   "engine_orders": orders, "h_l_mm": task.h_l_mm, "force_n": list(cert.force_n),
+                   "scenarios": cert.scenarios, "grid": {"n_mu": N_MU, "n_k": N_K, "n_fd": N_FD,
+                                                         "mu": [min(problem.mus), max(problem.mus)],
+                                                         "k_factors": [1 / spec.kn_factor,
+                                                                       spec.kn_factor],
+                                                         "fd_spread": spec.fd_spread},
+                   "band_samples": a.band_samples, "designs": old["designs"]}
+        worst_eo = cert.worst_engine_order
+        entry = {
+            "shape": list(map(float, v)), "status": cert.status,
+            "worst_by_history": cert.worst_by_history,
+            "worst": cert.worst, "binding": {"engine_order": worst_eo, **(cert.worst_scenario or {})},
             "peaks_by_history": {h: percentiles(peaks[h]) for h in HISTORY_NAMES},
             "peaks_both_histories": percentiles(peaks["gross_slip"] + peaks["assembly"]),
             "no_valid_peak": failed, "seconds": time.perf_counter() - t0,
             "load_average_1min_at_end": loadavg()[0]}
-        (OUT / "row_certify_dense.json").write_text(json.dumps(doc, indent=1) + "\n")
-        print(name, f"{top:.4f}", binding, doc["designs"][name]["peaks_both_histories"],
-              failed, f"{doc['designs'][name]['seconds']:.0f} s", flush=True)
+        if a.band_samples:
+            entry["band"] = {"samples": a.band_samples, "worst_by_engine_order": band_worst.tolist(),
+                             "worst": band_top, "binding": band_binding,
+                             "peaks": percentiles(peaks["band"]),
+                             "seconds_per_scenario": float(np.median(band_seconds))}
+        doc["designs"][name] = entry
+        path.write_text(json.dumps(doc, indent=1) + "\n")
+        print(name, cert.worst, entry["binding"], entry["peaks_both_histories"],
+              entry.get("band", {}).get("worst"), entry.get("band", {}).get("peaks"), failed,
+              f"{entry['seconds']:.0f} s", flush=True)
 
 
 if __name__ == "__main__":

@@ -44,7 +44,6 @@ from .ellipse import elliptic_kernel
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, prepare_inputs
 from .qp3 import minimise_quadratic
-from .residual import through_residual
 from .loops import tree_where
 from .runtime import compile_ahead, map_in_parts, part_size, run_program
 from .sequence import corner_rows, loop_stiffness
@@ -83,33 +82,28 @@ class Band(NamedTuple):
                 f"{bounds}, n_valid={self.n_valid})")
 
 
-def _k_of_state(shape, mu, contacts, load, psi, T, P, n0, motion=None, residual=None):
-    """(k_re, k_im, status) of the steady cycle from the state T (N = P T + n0) at the path's
-    forward extreme: the in-phase path (motion None), a straight Motion, or an ellipse's X(0) =
-    a X_r (`ellipse.elliptic_kernel`). On a platform path values only (while loops trace faster).
-    residual: the path's residual flexibility c (mrad per N mm): the state's damper in series
-    with it at the path amplitude psi (`jaxdamp.residual.through_residual`; its own amplitude is
-    smaller), as the mode sees it."""
+def state_cycle(shape, mu, contacts, load, psi, T, P, n0, motion=None):
+    """(k_re, k_im, status) of the steady cycle from the admissible state T (N = P T + n0,
+    `admissible.admissible_samples`) at the path's forward extreme: the in-phase path (motion
+    None), a straight Motion, or an ellipse's X(0) = a X_r (`ellipse.elliptic_kernel`). On a
+    platform path values only (while loops trace faster). The states do not depend on psi: one
+    state's cycles over amplitudes are that state's curve (the row's band, `response.row_band`)."""
     N = P @ T + n0
-
-    def cycle(a):
-        if motion is None:
-            c = amplitude_kernel(shape, mu, contacts, load, a, N, T, initial="explicit")
-        elif motion.quadrature is None:
-            c = amplitude_kernel(shape, mu, contacts, load, a, N, T, initial="explicit",
-                                 motion=motion, loop="while")
-        else:
-            c = elliptic_kernel(shape, mu, contacts, load, a, motion, N, T, initial="explicit",
-                                loop="while")
-        return c.k_re, c.k_im, c.status
-
-    return cycle(psi) if residual is None else through_residual(cycle, psi, residual)[:3]
+    if motion is None:
+        c = amplitude_kernel(shape, mu, contacts, load, psi, N, T, initial="explicit")
+    elif motion.quadrature is None:
+        c = amplitude_kernel(shape, mu, contacts, load, psi, N, T, initial="explicit",
+                             motion=motion, loop="while")
+    else:
+        c = elliptic_kernel(shape, mu, contacts, load, psi, motion, N, T, initial="explicit",
+                            loop="while")
+    return c.k_re, c.k_im, c.status
 
 
-def _sample(shape, mu, contacts, load, psi, key, n_samples, motion=None, residual=None):
+def _sample(shape, mu, contacts, load, psi, key, n_samples, motion=None):
     T, valid_point, P, n0 = admissible_samples(shape, mu, key, n_samples)
-    k_re, k_im, status = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P, n0,
-                                                        motion, residual))(T)
+    k_re, k_im, status = jax.vmap(lambda t: state_cycle(shape, mu, contacts, load, psi, t, P, n0,
+                                                        motion))(T)
     status = jnp.where(valid_point, status, jnp.int32(RESULTS.singular))
     return T, P @ T.T + n0[:, None], k_re, k_im, status, valid_point
 
@@ -235,7 +229,7 @@ class BandKernel(NamedTuple):
 
 
 def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
-                steps: int = 6, starts: int = 2, motion=None, residual=None) -> BandKernel:
+                steps: int = 6, starts: int = 2, motion=None) -> BandKernel:
     """The band at psi (mrad), pure JAX (jit / vmap over amplitudes or designs; values only).
 
     The polytope's vertices and n_samples random admissible states are run as cycles; the `starts`
@@ -247,15 +241,11 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
     in-phase motion) for the curved-flat damper. The admissible states are the same on every path
     (the damper's equilibrium with F_D does not depend on where the platforms are); on a path the
     state is the one at X(0) = a X_r and the band is the samples' (steps must be 0: the
-    trust-region model is the in-phase cycle's closed-form first harmonic). residual: a path's
-    residual flexibility c (mrad per N mm, `jaxdamp.response.modes`): every state's damper in
-    series with it at the path amplitude psi (`_k_of_state`), the band of what the mode sees
-    (steps 0 too)."""
-    if (motion is not None or residual is not None) and steps > 0:
-        raise ValueError("steps must be 0 with a motion or a residual: the trust-region refinement "
-                         "runs on the in-phase path only")
-    T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples, motion,
-                                             residual)
+    trust-region model is the in-phase cycle's closed-form first harmonic)."""
+    if motion is not None and steps > 0:
+        raise ValueError("steps must be 0 with a motion: the trust-region refinement runs on the "
+                         "in-phase path only")
+    T, N, k_re, k_im, status, real = _sample(shape, mu, contacts, load, psi, key, n_samples, motion)
     P, n0, G, h = admissible_polytope(shape, mu)
     valid = RESULTS.valid(status)
     values = jnp.stack([k_re, k_re, k_im, k_im])  # (4, samples)
@@ -282,10 +272,10 @@ def band_kernel(shape, mu, contacts, load, psi, key, *, n_samples: int = 64,
         sign_s, which_s = jnp.repeat(signs, starts), jnp.repeat(which, starts)
         T_acc, v_acc, _, T_try = _trust_region(shape, mu, contacts, load, psi, T0, sign_s, which_s,
                                                scale, jnp.maximum(spread, 1e-6), steps)
-        # One batch of plain cycles (`_k_of_state`): every start's last proposal and accepted
+        # One batch of plain cycles (`state_cycle`): every start's last proposal and accepted
         # state, and the best samples; the bounds' confirmation re-runs are among them (one copy
         # of the cycle in the program instead of two).
-        k_re_c, k_im_c, st_c = jax.vmap(lambda t: _k_of_state(shape, mu, contacts, load, psi, t, P,
+        k_re_c, k_im_c, st_c = jax.vmap(lambda t: state_cycle(shape, mu, contacts, load, psi, t, P,
                                                               n0))(
             jnp.concatenate([T_try, T_acc, T_best]))
         k_c = jnp.where(jnp.concatenate([which_s, which_s, which]) == 0, k_re_c, k_im_c)
@@ -430,5 +420,5 @@ def amplitude_band(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Cont
 
 __all__ = ["Band", "BOUNDS", "BandKernel", "amplitude_band", "amplitude_bands", "amplitude_bands_unchecked",
            "compile_bands_ahead", "check_band_amplitudes", "check_band_options",
-           "band_kernel", "bands_program", "CONFIRM_TOL",
+           "band_kernel", "state_cycle", "bands_program", "CONFIRM_TOL",
            "admissible_polytope", "polytope_vertices", "recession_rays", "VERTEX_SLOTS"]

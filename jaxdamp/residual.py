@@ -1,11 +1,10 @@
 """The damper in series with a flexibility: the platforms' residual flexibility of a bladed disk's
 modes left out of the reduction (`jaxdamp.response.modes`), as the mode sees the damper.
 
-Core (pure JAX, values only): the band of a path (`band.band_kernel(..., residual=)`, each
-admissible state's cycle in series at the path's amplitude) and the curve as the mode sees it at
-given amplitudes (`response.stiffness.with_residual`: the damped FRFs) use it. The row's peaks
-do not: they are searched in the damper's own amplitude, where the series is explicit
-(`response.peaks.series_peaks`).
+Core (pure JAX, values only): the curve as the mode sees it at given amplitudes
+(`response.stiffness.with_residual`: the damped FRFs) uses it. The row's peaks and its band over
+contact histories do not: they are searched in the damper's own amplitude, where the series is
+explicit (`response.peaks.series_peaks`, `response.row_band`), one cycle per evaluation.
 """
 
 from __future__ import annotations
@@ -25,7 +24,7 @@ RESIDUAL_ITERATIONS = 16  # the map contracts by |c k / (1 + c k)| per step or f
 # states on the example disk (60sym, mu 0.5, nodal diameters 0/3/6/12, 0.3-300 mrad) converge in
 # 2-6. Where k jumps with the amplitude (h has no root) no count gets there (18 of 88 states at
 # 30 mrad of nodal diameter 6), and under vmap every lane pays for the bound: 50 (was the bound)
-# made a band in series cost ten times a free one
+# made a band in series (then solved this way per state) cost ten times a free one
 RESIDUAL_PATIENCE = 8  # consecutive evaluations without a valid cycle after which an amplitude
 # stops iterating (a cycle that does not settle has no trustworthy k to iterate on)
 

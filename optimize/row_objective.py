@@ -179,12 +179,14 @@ class RowCertified(NamedTuple):
 
 def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask, *,
                 n_forces: int = 4, n_mu: int = 3, n_k: int = 3, n_fd: int = 3,
-                progress=None) -> RowCertified:
+                progress=None, on_scenario=None) -> RowCertified:
     """Independent re-evaluation of one complete shape vector v across the row: every engine
     order, from gross slip and from assembly separately, over n_mu mu of the set's range, n_k kn
     and n_k kt factors (every pair) and n_fd F_D values applied explicitly (no scaling law), at
     n_forces forces over the range (one point on an axis is its middle: the nominal value).
-    progress(1) per scenario."""
+    progress(1) per scenario. on_scenario(scenario, rows): after each scenario, with scenario =
+    {mu, kn_factor, kt_factor, fd_n, contacts, load} and rows = {history: (A*/F (m, n_f) mm/N,
+    status (m, n_f))}: what a caller needs beyond the worst (percentiles, the band)."""
     v = np.asarray(v, float)
     margins_ok = bool(np.asarray(is_feasible(evaluate_shapes(problem, v[None])))[0])
 
@@ -204,8 +206,9 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
     for mu, fn, ft, f_d in grid:
         load = LoadCase(f_d, *problem.load[1:])
         contacts = Contacts(problem.kn * fn, problem.kt * ft)
+        rows = {}
         for h in HISTORY_NAMES:
-            mag, status = row_magnification(v, task, mu, contacts, load, forces, h)
+            mag, status = rows[h] = row_magnification(v, task, mu, contacts, load, forces, h)
             valid, usable = _counted(status, h)
             statuses.append(np.where(usable, RESULTS.ok, status).ravel())
             missing += np.sum(usable & ~valid, axis=1)
@@ -216,6 +219,9 @@ def certify_row(name: str, v, problem: Problem, spec: RobustSpec, task: RowTask,
                 j = np.unravel_index(int(np.argmax(scored)), scored.shape)[1]
                 binding = {"mu": float(mu), "kn_factor": float(fn), "kt_factor": float(ft),
                            "fd_n": float(f_d), "force_n": float(forces[j]), "history": h}
+        if on_scenario:
+            on_scenario({"mu": float(mu), "kn_factor": float(fn), "kt_factor": float(ft),
+                         "fd_n": float(f_d), "contacts": contacts, "load": load}, rows)
         if progress:
             progress(1)
     status = np.concatenate(statuses)

@@ -1,15 +1,24 @@
 """The band of peaks over every admissible contact history, per engine order of a blade row.
 
-At every amplitude the damper's band (`jaxdamp.band.band_kernel` with the path's motion, and in
-series with the path's residual flexibility where the family has one: every statically admissible
-state at X(0) = a X_r, sampled) bounds k_Im of every history's steady cycle. At resonance the peak
-equation is g(A) = A (eta k_b + 1e-3 r^2 k_Im(r A)) - F = 0, and a smaller k_Im gives a larger
-first root: the first roots of g with the band's lowest and highest k_Im bracket the peak of every
-history. Each is bracketed on a table of TABLE_POINTS amplitudes (TABLE_DECADES below the free
-blade's peak at the largest force: no damped peak lies above it, k_Im >= 0), then the bracket is
-halved BISECTIONS times (in log A) with the band computed at its middle. Every number is the
-band's at an amplitude it was computed at, nothing is interpolated (the band's lower k_Im rises
-from zero, where a stuck state is admissible, to the histories' within a few per cent of psi:
+Every history's steady cycle at an amplitude starts from a statically admissible state at X(0) =
+a X_r (`jaxdamp.band`), and those states do not depend on the amplitude: each sampled state s
+(the polytope's vertices and n_samples random ones, `admissible.admissible_samples`) has its own
+curve k_s. At resonance the peak equation is g(A) = A (eta k_b + 1e-3 r^2 Im k(r A)) - F = 0,
+increasing in k_Im, so a history's first root lies between the first psi where some state has
+g_s >= 0 (the lowest peak: the least of the states' first roots) and the first psi from which
+every state has g_s >= 0 (at most the largest of the states' last up-crossings: the highest
+peak; the two coincide where each g_s crosses once).
+
+Each state's roots are searched in the damper's own amplitude psi_d: where the family has a
+platform residual flexibility c the mode sees k / (1 + c k) at psi = psi_d |1 + c k(psi_d)|, both
+explicit at psi_d (as `peaks.series_peaks`'s), so every evaluation is one steady cycle, in series
+or not. The roots are bracketed on a table of TABLE_POINTS damper amplitudes (TABLE_DECADES below
+the free blade's peak at the largest force: no damped peak lies above it, k_Im >= 0, and psi_d <=
+psi), then each bracket is halved BISECTIONS times (in log psi_d), every state at its own
+amplitudes. A state without a valid cycle at an amplitude is absent there (as from the band at
+that amplitude, `band.band_kernel`); its psi there is bounded by psi_d times its extreme |1 + c k|
+over the table. Every number is a cycle's at an amplitude it was computed at, nothing is interpolated
+(a state's k_Im rises from zero, where it sticks, to the histories' within a few per cent of psi:
 a table between such points is off by tens of per cent). The result is the bracket's outer end:
 the highest peak is at most `peak_max_mm`, the lowest at least `peak_min_mm`, to `resolution`.
 """
@@ -24,7 +33,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_int
-from ..band import band_kernel
+from ..admissible import admissible_samples
+from ..band import state_cycle
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, excited_nodal_diameter
@@ -50,9 +60,10 @@ class RowBand(NamedTuple):
     valid cycle (its status), or not_converged where a root lies below the table; large_rotation
     where the highest peak turns the platforms beyond the small-rotation model
     (`row.outside_small_rotation`).
-    psi_table_mrad (m, TABLE_POINTS), k_im_table (m, TABLE_POINTS, 2): the band's lowest and
-    highest k_Im on the table (N mm/mrad, as the mode sees the damper; zero where no state gives
-    a valid cycle). engine_order, nodal_diameter, force_n, elliptic: as `RowResponse`'s.
+    psi_table_mrad (m, TABLE_POINTS), k_im_table (m, TABLE_POINTS, 2): the damper's own amplitudes
+    of the table (mrad; the platforms' where the family has no residual flexibility) and the
+    lowest and highest k_Im of the states' cycles there (N mm/mrad, as the mode sees the damper;
+    zero where no state gives a valid cycle). engine_order, nodal_diameter, force_n, elliptic: as `RowResponse`'s.
     n_samples: admissible states sampled per amplitude besides the polytope's vertices."""
 
     engine_order: np.ndarray
@@ -81,44 +92,90 @@ def row_band_program(n_samples: int, residual: bool = False):
     engine orders of one path kind (each kind compiles once, as `row_program`)."""
     def run(shape, mu, contacts, load, modes, motions, tip_forces, key, *residuals):
         design_status = interpolated_damper(shape, mu, contacts, load).status
+        T, real, P, n0 = admissible_samples(shape, mu, key, n_samples)
 
         def one(mode, motion, forces, *c):
-            def band_at(psi):
-                b = band_kernel(shape, mu, contacts, load, psi, key, n_samples=n_samples, steps=0,
-                                motion=motion, residual=c[0] if c else None)
-                ok = b.status == RESULTS.ok
-                return jnp.where(ok, b.bounds[2:], 0.0), b.status
+            c = c[0] if c else 0.0
+
+            def states_at(psi_d):  # (S,) each state at its own damper amplitude
+                k_re, k_im, status = jax.vmap(lambda t, p: state_cycle(
+                    shape, mu, contacts, load, p, t, P, n0, motion))(T, psi_d)
+                k = (k_re + 1j * k_im) / (1.0 + c * (k_re + 1j * k_im))  # as the mode sees it
+                psi = psi_d * jnp.abs(1.0 + c * (k_re + 1j * k_im))
+                return psi, jnp.imag(k), real & RESULTS.valid(status), status
 
             def g(psi, k_im, force):  # the peak equation at A = psi / r (N)
                 return psi / mode.r * (mode.eta * mode.k_b + 1e-3 * mode.r ** 2 * k_im) - force
 
             top = mode.r * jnp.max(forces) / (mode.eta * mode.k_b)
             table = top * jnp.logspace(-TABLE_DECADES, 0.0, TABLE_POINTS)
-            k_table, st_table = jax.vmap(band_at)(table)  # (P, 2): k_Im min, max
-            G = g(table[None, None, :], k_table.T[None], forces[:, None, None])  # (n_f, 2, P)
-            up = G >= 0.0
-            first = jnp.argmax(up, axis=-1)  # the first table point at or past the root
-            # none: the root is the free peak itself (a stuck damper at the largest force)
-            hi = jnp.where(jnp.any(up, axis=-1), table[first], top * (1.0 + 1e-9))
-            lo = jnp.where(first > 0, table[jnp.maximum(first - 1, 0)], table[0])
-            below = jnp.any(up, axis=-1) & (first == 0)
-            bad = RESULTS.worst(st_table)
+            S = T.shape[0]
+            psi_t, k_t, ok_t, st_t = jax.vmap(lambda p: states_at(jnp.full(S, p)))(table)  # (P, S)
+            up = g(psi_t[None], k_t[None], forces[:, None, None]) >= 0.0  # (n_f, P, S)
+            ok = jnp.broadcast_to(ok_t, up.shape)
+            idx = jnp.arange(TABLE_POINTS)[None, :, None]
+            # A state without a valid cycle at an amplitude is absent there, as from the band's
+            # bounds at that amplitude (`band.band_kernel`): it counts as short of its root for
+            # the lowest peak (the first amplitude where some state is up) and past it for the
+            # highest (the first amplitude from which every state is up).
+            first = jnp.min(jnp.where(ok & up, idx, TABLE_POINTS), axis=1)  # (n_f, S)
+            last_down = jnp.max(jnp.where(ok & ~up, idx, -1), axis=1)
+            hi_i = jnp.stack([first, last_down + 1])  # (2, n_f, S): lowest, highest peak's
+            lo_i = hi_i - 1
+            # psi at an amplitude without a valid cycle: psi_d times the state's least (for a
+            # lower end) or largest (an upper end) |1 + c k| over its valid table points (1
+            # without a residual flexibility); largest where the state sticks, at the table's
+            # start
+            ratio = psi_t / table[:, None]
+            r_lo = jnp.min(jnp.where(ok_t, ratio, jnp.inf), axis=0)
+            r_lo, r_hi = (jnp.where(jnp.isfinite(r), r, 1.0)[None, None, :] for r in
+                          (r_lo, jnp.max(jnp.where(ok_t, ratio, -jnp.inf), axis=0)))
+            cols = jnp.arange(S)
+
+            def psi_at(i, r):  # (2, n_f, S) table indices, clipped
+                i = jnp.clip(i, 0, TABLE_POINTS - 1)
+                return jnp.where(ok_t[i, cols], psi_t[i, cols], table[i] * r)
+
+            # none past the table: the root is the free peak itself (a stuck damper at the
+            # largest force; no damped peak lies above it); none before it: the table's start
+            beyond = top * (1.0 + 1e-9)
+            hi_d = jnp.where(hi_i < TABLE_POINTS, table[jnp.minimum(hi_i, TABLE_POINTS - 1)], beyond)
+            hi = jnp.where(hi_i < TABLE_POINTS, psi_at(hi_i, r_hi), beyond)
+            lo_d = table[jnp.maximum(lo_i, 0)]
+            lo = psi_at(lo_i, r_lo)
+            absent_rises = jnp.array([False, True])[:, None, None]
 
             def halve(carry, _):
-                lo, hi, bad = carry
-                mid = jnp.sqrt(lo * hi)
-                k_mid, st_mid = jax.vmap(jax.vmap(band_at))(mid)  # (n_f, 2, 2), (n_f, 2)
-                rising = g(mid, jnp.stack([k_mid[:, 0, 0], k_mid[:, 1, 1]], axis=1),
-                           forces[:, None]) >= 0.0
-                bad = RESULTS.combine(bad, st_mid)
-                return (jnp.where(rising, lo, mid), jnp.where(rising, mid, hi), bad), None
+                lo_d, hi_d, lo, hi = carry
+                mid = jnp.sqrt(lo_d * hi_d)
+                psi_m, k_m, ok_m, _ = jax.vmap(jax.vmap(states_at))(mid)  # (2, n_f, S)
+                rising = jnp.where(ok_m, g(psi_m, k_m, forces[None, :, None]) >= 0.0,
+                                   absent_rises)
+                return (jnp.where(rising, lo_d, mid), jnp.where(rising, mid, hi_d),
+                        jnp.where(rising, lo, jnp.where(ok_m, psi_m, mid * r_lo)),
+                        jnp.where(rising, jnp.where(ok_m, psi_m, mid * r_hi), hi)), None
 
-            bad = jnp.broadcast_to(bad, lo.shape)
-            (lo, hi, bad), _ = jax.lax.scan(halve, (lo, hi, bad), None, length=BISECTIONS)
+            (lo_d, hi_d, lo, hi), _ = jax.lax.scan(halve, (lo_d, hi_d, lo, hi), None,
+                                                   length=BISECTIONS)
+            counted = jnp.any(ok_t, axis=0)[None, :]  # states with a valid cycle on the table
+            low = jnp.argmin(jnp.where(counted, lo[0], jnp.inf), axis=1)  # (n_f,)
+            high = jnp.argmax(jnp.where(counted, hi[1], -jnp.inf), axis=1)
+            f = jnp.arange(forces.shape[0])
+            peak_min, peak_max = lo[0, f, low], hi[1, f, high]
+            resolution = jnp.stack([hi[1, f, high] / lo[1, f, high],
+                                    hi[0, f, low] / lo[0, f, low]], axis=1) - 1.0
+            # per table amplitude the band's status: ok where a state's cycle is valid, else the
+            # first real state's problem (as `band.band_kernel`'s)
+            first_bad = st_t[:, jnp.argmax(real)]
+            table_status = jnp.where(jnp.any(ok_t, axis=1), RESULTS.ok,
+                                     jnp.where(jnp.any(real), first_bad, RESULTS.singular))
+            below = jnp.any(counted & (first == 0), axis=1)  # a root below the table
             status = RESULTS.first({RESULTS.not_converged: below},
-                                   RESULTS.combine(design_status, bad))
-            status = RESULTS.worst(status, axis=1)
-            return hi[:, 0] / mode.r, lo[:, 1] / mode.r, hi / lo - 1.0, status, table, k_table
+                                   RESULTS.combine(design_status, RESULTS.worst(table_status)))
+            k_band = jnp.stack([jnp.min(jnp.where(ok_t, k_t, jnp.inf), axis=1),
+                                jnp.max(jnp.where(ok_t, k_t, -jnp.inf), axis=1)], axis=1)
+            k_band = jnp.where(jnp.any(ok_t, axis=1)[:, None], k_band, 0.0)
+            return (peak_max / mode.r, peak_min / mode.r, resolution, status, table, k_band)
 
         return jax.vmap(one)(modes, motions, tip_forces, *residuals)
 
@@ -147,9 +204,10 @@ def row_band(shape, mu=None, contacts=None, load=None, *, modes: ModalFamily, en
     (`row_response` with initial "assembly" or "gross_slip") lies in [peak_min_mm, peak_max_mm].
 
     The band on a path is sampled: the admissible polytope's vertices and n_samples random
-    admissible states per table amplitude (`jaxdamp.band.band_kernel`; the in-phase band's
-    trust-region refinement runs on the in-phase path only), so its bounds are inner bounds of
-    the exact band's, tighter as n_samples grows. Every excited nodal diameter needs a loss factor
+    admissible states (`admissible.admissible_samples`, the same at every amplitude; the in-phase
+    band's trust-region refinement runs on the in-phase path only), so its bounds are inner
+    bounds of the exact band's, tighter as n_samples grows. With a residual flexibility each
+    state's peak is searched in its own amplitude (module doc), as cheap as without. Every excited nodal diameter needs a loss factor
     > 0 (the table's top is the free peak). runner: as `row_response`'s."""
     (shape, mu, contacts, load), forces, orders, scenes, tip, residual = prepare_row(
         shape, mu, contacts, load, modes, engine_orders, force_n, h_l_mm)
