@@ -15,8 +15,8 @@ from jaxdamp.response.modes import family_from_blade_mode
 from jaxdamp_optimize.design import shape_of_vector
 from jaxdamp_optimize.problem import make_problem
 from jaxdamp_optimize.robust_objective import RobustSpec, objective_args, robust_values
-from jaxdamp_optimize.row_objective import (IN_PHASE_ROBUST_OPTIMUM, RowTask, optimize_row,
-                                            row_magnification, row_values)
+from jaxdamp_optimize.row_objective import (IN_PHASE_ROBUST_OPTIMUM, RowTask, certify_row,
+                                            optimize_row, row_magnification, row_values)
 
 from helpers import assert_tree_allclose
 
@@ -124,3 +124,25 @@ def test_the_descent_gradient_is_that_of_the_smooth_maximum():
     central = np.array(central)
     assert np.max(np.abs(central)) > 0
     assert_tree_allclose(grad[0], central, rtol=0.0, atol=1e-6 * np.max(np.abs(central)))
+
+
+@pytest.mark.slow  # two scenarios of a two-engine-order row, both histories
+def test_certify_row_hands_each_scenario_its_rows():
+    """on_scenario sees every scenario once with both histories' rows, and those rows are what
+    the certificate's worst per engine order and history is the maximum of."""
+    family = load_modal_family("example")
+    problem = make_problem(mus=(0.3, 0.7))
+    spec = RobustSpec(force_range_n=(3.0, 10.0))
+    task = RowTask(family, (0, 12), 10.0)
+    seen = []
+    cert = certify_row("60sym", SIXTY, problem, spec, task, n_forces=2, n_mu=2, n_k=1, n_fd=1,
+                       on_scenario=lambda s, rows: seen.append((s, rows)))
+    assert [s["mu"] for s, _ in seen] == [0.3, 0.7]
+    assert all((s["kn_factor"], s["kt_factor"]) == (1.0, 1.0) for s, _ in seen)
+    assert all(set(rows) == {"gross_slip", "assembly"} for _, rows in seen)
+    for h in ("gross_slip", "assembly"):
+        mags = [np.where(jd.RESULTS.valid(st), mag, -np.inf) for _, rows in seen
+                for mag, st in [rows[h]]]
+        worst = np.max(np.stack(mags), axis=(0, 2))
+        got = np.array([-np.inf if x is None else x for x in cert.worst_by_history[h]])
+        assert_tree_allclose(got, worst, rtol=0, atol=0)
