@@ -42,7 +42,11 @@ def payload_of(args) -> dict:
     for key in fixed:
         if key not in VARIABLES:
             raise CliError(f"--fix names must be among {', '.join(VARIABLES)}; got {key!r}")
-    free = [v for v in VARIABLES if v not in fixed and (v != "bl2_over_hl" or args.free_bl2)]
+    # 2b_L/h_L is the paper's fixed 0.8 on one blade; over a row (--modes) it is free by default
+    # (issue 61: the four shape variables; --fix bl2_over_hl=0.8 fixes it)
+    row = getattr(args, "modes", None) is not None
+    free = [v for v in VARIABLES if v not in fixed
+            and (v != "bl2_over_hl" or args.free_bl2 or row)]
     if not free:
         raise CliError("every design variable is fixed: nothing to optimise")
     fixed_all = {k: v for k, v in fixed.items()}
@@ -177,7 +181,9 @@ def register(sub):
     p.add_argument("--min-vertex-angle", type=float, default=DEFAULT_MIN_VERTEX_DEG,
                    help="minimum vertex angle 180 - theta_L - theta_R, deg, in [0, 180) (default "
                         f"{DEFAULT_MIN_VERTEX_DEG:g}; w_M diverges as the wedge closes; 0 disables)")
-    p.add_argument("--free-bl2", action="store_true", help="make 2b_L/h_L a design variable too")
+    p.add_argument("--free-bl2", action="store_true",
+                   help="make 2b_L/h_L a design variable too (the default with --modes; there "
+                        "--fix bl2_over_hl=0.8 fixes it)")
     p.add_argument("--fix", default=None,
                    help="fix variables, e.g. theta_l=45,theta_r=45 (names: " + ", ".join(VARIABLES) + ")")
     p.add_argument("--weights", default=None,

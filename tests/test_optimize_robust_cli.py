@@ -88,3 +88,26 @@ def test_row_text_names_the_worst_engine_order_and_the_missing_history():
     assert ("1.2500 | 0.9000 | 1.2500 at engine order 12 (mu 0.3, kn x0.5, kt x2, F_D 1200 N, "
             "2 N, assembly)") in text
     assert "60sym" in text and "not certified: not_converged in 2 of 96 scenarios" in text
+
+
+@pytest.mark.parametrize("extra, free", [
+    ([], ("theta_l", "theta_r", "br_over_hr")),
+    (["--modes", "example", "--h-l", "10"], ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl")),
+    (["--modes", "example", "--h-l", "10", "--fix", "bl2_over_hl=0.8"],
+     ("theta_l", "theta_r", "br_over_hr")),
+])
+def test_the_row_frees_2b_l_by_default(capsys, monkeypatch, extra, free):
+    """On one blade 2b_L/h_L is the paper's fixed 0.8 unless --free-bl2; over a row (--modes) the
+    four shape variables are free (issue 61), and --fix fixes it again."""
+    import jaxdamp_optimize.robust_cli as robust_cli
+
+    seen = []
+
+    def capture(args, problem):
+        seen.append(tuple(problem.space.free))
+        raise SystemExit(0)
+
+    monkeypatch.setattr(robust_cli, "robust_payload", capture)
+    with pytest.raises(SystemExit):
+        run(capsys, "--objective", "peak:worst", *extra)
+    assert seen == [free]
