@@ -307,7 +307,7 @@ def main() -> dict:
     print(f"row_response, free platforms: {bare_seconds:.0f} s", flush=True)
     rows = []
     for regime, per_nd in FORCES.items():
-        for e in orders:
+        for e in sorted(per_nd):
             force = per_nd[e]
             red = reds[e, force]
             one, two = cross_checks(disk, family, damper, e, red)
