@@ -20,8 +20,8 @@ __all__ = ["RESIDUAL_RTOL", "RESIDUAL_ITERATIONS", "RESIDUAL_PATIENCE", "through
 RESIDUAL_RTOL = 1e-12  # relative error of the damper's amplitude at which the series converged
 RESIDUAL_ITERATIONS = 16  # the map contracts by |c k / (1 + c k)| per step or faster (0.25 for
 # a damper a third as stiff as the support, c k = 1/3, the example disk's nodal diameter 0; 0.75 at
-# c k = 3), and secant steps get to RESIDUAL_RTOL in far fewer evaluations: the band's sampled
-# states on the example disk (60sym, mu 0.5, nodal diameters 0/3/6/12, 0.3-300 mrad) converge in
+# c k = 3), and secant steps get to RESIDUAL_RTOL in far fewer evaluations: admissible states'
+# cycles on the example disk (60sym, mu 0.5, nodal diameters 0/3/6/12, 0.3-300 mrad) converge in
 # 2-6. Where k jumps with the amplitude (h has no root) no count gets there (18 of 88 states at
 # 30 mrad of nodal diameter 6), and under vmap every lane pays for the bound: 50 (was the bound)
 # made a band in series (then solved this way per state) cost ten times a free one

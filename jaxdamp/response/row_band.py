@@ -16,10 +16,10 @@ or not. The roots are bracketed on a table of TABLE_POINTS damper amplitudes (TA
 the free blade's peak at the largest force: no damped peak lies above it, k_Im >= 0, and psi_d <=
 psi), then each bracket is halved BISECTIONS times (in log psi_d), every state at its own
 amplitudes. A state without a valid cycle at an amplitude is absent there (as from the band at
-that amplitude, `band.band_kernel`); its psi there is bounded by psi_d times its extreme |1 + c k|
-over the table. Every number is a cycle's at an amplitude it was computed at, nothing is interpolated
-(a state's k_Im rises from zero, where it sticks, to the histories' within a few per cent of psi:
-a table between such points is off by tens of per cent). The result is the bracket's outer end:
+that amplitude, `band.band_kernel`); its psi there is bounded by psi_d times its extreme
+|1 + c k| over the table. Every number is a cycle's at an amplitude it was computed at, nothing
+is interpolated (a state's k_Im rises from zero, where it sticks, to the histories' within a few
+per cent of psi: a table between such points is off by tens of per cent). The result is the bracket's outer end:
 the highest peak is at most `peak_max_mm`, the lowest at least `peak_min_mm`, to `resolution`.
 """
 
@@ -63,8 +63,9 @@ class RowBand(NamedTuple):
     psi_table_mrad (m, TABLE_POINTS), k_im_table (m, TABLE_POINTS, 2): the damper's own amplitudes
     of the table (mrad; the platforms' where the family has no residual flexibility) and the
     lowest and highest k_Im of the states' cycles there (N mm/mrad, as the mode sees the damper;
-    zero where no state gives a valid cycle). engine_order, nodal_diameter, force_n, elliptic: as `RowResponse`'s.
-    n_samples: admissible states sampled per amplitude besides the polytope's vertices."""
+    zero where no state gives a valid cycle). engine_order, nodal_diameter, force_n, elliptic:
+    as `RowResponse`'s. n_samples: admissible states sampled besides the polytope's vertices
+    (the same states at every amplitude)."""
 
     engine_order: np.ndarray
     nodal_diameter: np.ndarray
