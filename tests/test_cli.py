@@ -263,7 +263,7 @@ def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
 
 def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
     """JAXDAMP_COMPILE: auto compiles the one-design commands fast (runtime.compile_for_latency)
-    and leaves the long-running ones optimised; fast and optimized apply to every command; any
+    and leaves the long-running ones (and a blade row's response) optimised; fast and optimized apply to every command; any
     other value is refused in one line naming the variable and its values."""
     from jaxdamp import cli
 
@@ -272,7 +272,12 @@ def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
              ("auto", ["study", "--out", "x"], True), ("", ["sweep"], False),
              ("auto", ["fit-loops", "a.csv"], True), ("auto", ["calibrate"], False),
              ("fast", ["sweep"], True),
-             ("optimized", ["cycle"], False)]
+             ("optimized", ["cycle"], False),
+             # a blade row's response runs long programs: optimised, unless asked otherwise
+             ("auto", ["response", "--shape", "60sym"], True),
+             ("auto", ["response", "--modes", "example", "--h-l", "10"], False),
+             ("auto", ["response", "--modes=example"], False),
+             ("fast", ["response", "--modes", "example"], True)]
     for mode, argv, fast in cases:
         monkeypatch.setenv(cli.COMPILE_ENV, mode)
         monkeypatch.delenv("XLA_FLAGS", raising=False)
