@@ -71,27 +71,28 @@ def main():
         failed, band_worst, band_top, band_binding = {}, np.full(len(orders), -np.inf), -np.inf, None
         band_seconds = []
 
+        def tally(h, mag, status):
+            """Count the (engine order, force) rows without a valid peak by status, keep the valid
+            peaks for the percentiles; the magnitudes with -inf where there is none."""
+            valid = np.asarray(RESULTS.valid(status))
+            for s in np.asarray(status)[~valid]:
+                key = f"{h}: {RESULTS.name_of(int(s))}"
+                failed[key] = failed.get(key, 0) + 1
+            peaks[h].extend(np.asarray(mag)[valid].ravel().tolist())
+            return np.where(valid, mag, -np.inf)
+
         def collect(scenario, rows):
             nonlocal band_top, band_binding
             for h, (mag, status) in rows.items():
-                valid = np.asarray(RESULTS.valid(status))
-                for s in np.asarray(status)[~valid]:
-                    key = f"{h}: {RESULTS.name_of(int(s))}"
-                    failed[key] = failed.get(key, 0) + 1
-                peaks[h].extend(mag[valid].ravel().tolist())
+                tally(h, mag, status)
             if a.band_samples:
                 t1 = time.perf_counter()
                 band = row_band(shape_of_vector(v), scenario["mu"], scenario["contacts"],
                                 scenario["load"], modes=family, engine_orders=orders,
                                 force_n=forces, h_l_mm=task.h_l_mm, n_samples=a.band_samples)
                 band_seconds.append(time.perf_counter() - t1)
-                valid = np.asarray(RESULTS.valid(band.status))
-                for s in band.status[~valid]:
-                    key = f"band: {RESULTS.name_of(int(s))}"
-                    failed[key] = failed.get(key, 0) + 1
-                mag = np.where(valid, band.peak_max_mm / forces[None, :], -np.inf)
+                mag = tally("band", band.peak_max_mm / forces[None, :], band.status)
                 band_worst[:] = np.maximum(band_worst, mag.max(axis=1))
-                peaks["band"].extend(mag[valid].ravel().tolist())
                 if mag.max() > band_top:
                     band_top = float(mag.max())
                     e, j = np.unravel_index(int(np.argmax(mag)), mag.shape)
