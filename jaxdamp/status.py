@@ -42,32 +42,35 @@ class RESULTS(enum.IntEnum):
         if unknown:
             raise ValueError(f"conditions must be keyed by problem codes {[c.name for c in SEVERITY]}; "
                              f"got {sorted(unknown)}")
-        shape = jnp.broadcast_shapes(*(jnp.shape(c) for c in conditions.values()))
-        out = ok_status(shape)
+        xp = _array_module(*conditions.values(), status)
+        shape = np.broadcast_shapes(*(np.shape(c) for c in conditions.values()))
+        out = xp.zeros(shape, xp.int32)
         for code in SEVERITY:
             if code in conditions:
-                out = jnp.where((out == RESULTS.ok) & conditions[code], jnp.int32(code), out)
+                out = xp.where((out == RESULTS.ok) & conditions[code], xp.int32(code), out)
         return out if status is None else RESULTS.combine(status, out)
 
     @staticmethod
     def combine(*statuses):
         """The most severe (`SEVERITY`) of several statuses, elementwise (int32; broadcast)."""
-        rank = jnp.asarray(_RANK)
-        out = jnp.asarray(statuses[0], jnp.int32)
+        xp = _array_module(*statuses)
+        rank = xp.asarray(_RANK)
+        out = xp.asarray(statuses[0], xp.int32)
         for s in statuses[1:]:
-            s = jnp.asarray(s, jnp.int32)
-            out = jnp.where(rank[s] > rank[out], s, out)
+            s = xp.asarray(s, xp.int32)
+            out = xp.where(rank[s] > rank[out], s, out)
         return out
 
     @staticmethod
     def worst(status, axis=None):
         """The most severe (`SEVERITY`) status along `axis` (None: of all), int32."""
-        status = jnp.asarray(status, jnp.int32)
-        ranks = jnp.asarray(_RANK)[status]
+        xp = _array_module(status)
+        status = xp.asarray(status, xp.int32)
+        ranks = xp.asarray(_RANK)[status]
         if axis is None:
-            return status.reshape(-1)[jnp.argmax(ranks.reshape(-1))]
-        idx = jnp.expand_dims(jnp.argmax(ranks, axis=axis), axis)
-        return jnp.squeeze(jnp.take_along_axis(status, idx, axis=axis), axis)
+            return status.reshape(-1)[xp.argmax(ranks.reshape(-1))]
+        idx = xp.expand_dims(xp.argmax(ranks, axis=axis), axis)
+        return xp.squeeze(xp.take_along_axis(status, idx, axis=axis), axis)
 
     @staticmethod
     def name_of(status) -> str:
@@ -173,6 +176,14 @@ def number_repr(value, unit: str = "", fmt: str = ".6g") -> str:
     if v.size <= 4:
         return "[" + ", ".join(f"{float(x):{fmt}}" for x in v.reshape(-1)) + "]" + tail
     return f"<{v.shape}: {float(np.min(v)):{fmt}} to {float(np.max(v)):{fmt}}{tail}>"
+
+
+def _array_module(*values):
+    """jax.numpy where any value is a JAX array (a tracer inside jit/vmap included), else NumPy:
+    host-side statuses (a result's, the CLI's) combine without compiling one small XLA program per
+    operation (a blade row's response compiled 30 of them, about a second of its call)."""
+    leaves = jax.tree_util.tree_leaves(values)
+    return jnp if any(isinstance(v, jax.Array) for v in leaves) else np
 
 
 def ok_status(shape=()):

@@ -40,6 +40,31 @@ def test_statuses_combine_by_severity_not_by_code():
     assert list(np.asarray(RESULTS.worst(grid, axis=0))) == [RESULTS.shakedown, RESULTS.liftoff]
 
 
+def test_host_statuses_combine_in_numpy_as_traced_ones_do():
+    """On host arrays RESULTS.first / combine / worst compute in NumPy (no XLA program compiled
+    per operation: a blade row's response had 30 of them) and give the codes the same functions
+    give under jit, where they must stay traceable."""
+    import jax
+
+    rng = np.random.default_rng(3)
+    codes = np.array(list(RESULTS), np.int32)
+    grid = rng.choice(codes, size=(5, 4)).astype(np.int32)
+    other = rng.choice(codes, size=(5, 4)).astype(np.int32)
+    lift, slow = rng.random((5, 4)) < 0.3, rng.random((5, 4)) < 0.5
+
+    def all_of(g, o, a, b):
+        return (RESULTS.first({RESULTS.liftoff: a, RESULTS.not_converged: b}, o),
+                RESULTS.combine(g, o), RESULTS.worst(g), RESULTS.worst(g, axis=1),
+                RESULTS.worst(g, axis=0))
+
+    host = all_of(grid, other, lift, slow)
+    traced = jax.jit(all_of)(grid, other, lift, slow)
+    for h, t in zip(host, traced):
+        assert isinstance(h, (np.ndarray, np.integer)) and not isinstance(h, jax.Array)
+        assert np.asarray(h).dtype == np.int32
+        np.testing.assert_array_equal(h, np.asarray(t))
+
+
 def test_nothing_combines_statuses_by_their_codes():
     """No module ranks statuses by comparing codes (jnp.max / max of statuses): they combine
     through RESULTS.first / combine / worst only, in the one order."""

@@ -11,12 +11,11 @@ import functools
 from typing import NamedTuple
 
 import jax
-import jax.numpy as jnp
 import numpy as np
 
 from .._validate import check_int, check_values
 from ..conventions import SMALL_ROTATION_MRAD
-from ..runtime import batch_jit, padded_size, run_program
+from ..runtime import batch_jit, compile_ahead, padded_size, run_program
 from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
 from .peaks import Peaks, path_peaks
@@ -117,7 +116,8 @@ def row_program(initial: str = "assembly", residual: bool = False):
 
 
 def _stack(trees):
-    return jax.tree_util.tree_map(lambda *v: jnp.stack([jnp.asarray(x, float) for x in v]), *trees)
+    # NumPy on the host: a program's inputs need no XLA program of their own to be built.
+    return jax.tree_util.tree_map(lambda *v: np.stack([np.asarray(x, float) for x in v]), *trees)
 
 
 def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=None,
@@ -137,6 +137,7 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     per_order = [np.asarray(v)[:, forces] for v in per_order]
     elliptic = np.array([not s.straight for s in scenes])
     rows = [None] * len(scenes)
+    batches = []
     for kind in (False, True):
         idx = np.flatnonzero(elliptic == kind)
         if not idx.size:
@@ -145,11 +146,16 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
         take = np.concatenate([idx, np.full(padded_size(idx.size, buckets[0], buckets[2])
                                             - idx.size, idx[-1])])
         part = [scenes[i] for i in take]
-        modes_k = BladeMode(*(jnp.asarray([getattr(s.mode, f) for s in part], float)
-                              for f in BladeMode._fields))
-        residuals = () if residual is None else (jnp.asarray(residual[take]),)
-        args = (*design, modes_k, _stack([s.motion for s in part]), jnp.asarray(tip[take]), *extra,
-                *(jnp.asarray(v[take]) for v in per_order), *residuals)
+        modes_k = _stack([s.mode for s in part])
+        residuals = () if residual is None else (np.asarray(residual[take], float),)
+        batches.append((idx, (*design, modes_k, _stack([s.motion for s in part]),
+                              np.asarray(tip[take], float), *extra,
+                              *(np.asarray(v[take], float) for v in per_order), *residuals)))
+    # The elliptic batch compiles on a thread of its own while the straight one compiles and runs:
+    # on a first call the two compilations take the time of the longer one where two cores serve.
+    for _, args in batches[1:]:
+        compile_ahead(program, args, runner)
+    for idx, args in batches:
         got = jax.device_get(run_program(program, args, runner))
         for j, i in enumerate(idx):
             rows[i] = jax.tree_util.tree_map(lambda v: np.asarray(v)[j], got)
