@@ -152,3 +152,20 @@ def test_row_band_with_residual_flexibility_holds_every_history():
         assert ok_hi.sum() >= 8 and ok_lo.sum() >= 8
         assert np.all(np.asarray(g_hi)[ok_hi] >= -1e-9 * force), (force, g_hi)
         assert np.all(np.asarray(g_lo)[ok_lo] <= 1e-9 * force), (force, g_lo)
+
+
+@pytest.mark.slow  # the residual test's program (same shapes), run at a higher mu
+def test_row_band_is_never_above_the_free_blade_and_a_stuck_state_peaks_there():
+    """No history's peak lies above the free blade's F / (eta k_b) (k_Im >= 0, and so is Im k /
+    (1 + c k)): the band's highest peak is at most there, and where an admissible state sticks
+    (60sym at mu 0.7 on the six-blade disk's nodal diameter 0 with its residual) it is exactly
+    there, not at its bracket's outer end up to `resolution` above it."""
+    disk = LumpedDisk(n_blades=6)
+    family = jd.blocks.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+    kw = dict(modes=family, engine_orders=[0], force_n=np.array([2.0, 20.0]), h_l_mm=H_L)
+    band = jd.row_band(SHAPE, 0.7, n_samples=8, **kw)
+    free = jd.row_response(SHAPE, 0.7, **kw).free_peak_mm
+    assert np.all(band.status == 0) and np.all(band.resolution > 0.0)
+    assert np.all(band.peak_max_mm <= free)
+    np.testing.assert_allclose(band.peak_max_mm, free, rtol=1e-12, atol=0.0)
+    assert np.all(band.peak_min_mm < free)  # the band stays open below it

@@ -20,7 +20,8 @@ that amplitude, `band.band_kernel`); its psi there is bounded by psi_d times its
 |1 + c k| over the table. Every number is a cycle's at an amplitude it was computed at, nothing
 is interpolated (a state's k_Im rises from zero, where it sticks, to the histories' within a few
 per cent of psi: a table between such points is off by tens of per cent). The result is the bracket's outer end:
-the highest peak is at most `peak_max_mm`, the lowest at least `peak_min_mm`, to `resolution`.
+the highest peak is at most `peak_max_mm`, the lowest at least `peak_min_mm`, to `resolution`;
+the highest is never above the free blade's peak F / (eta k_b), where a stuck state's root lies.
 """
 
 from __future__ import annotations
@@ -54,7 +55,8 @@ class RowBand(NamedTuple):
     m) and force (second axis n_f).
 
     peak_max_mm / peak_min_mm: (m, n_f) the highest and the lowest peak tip amplitude any history
-    can give (mm; the bracket's outer ends, module doc). resolution: (m, n_f, 2) the relative
+    can give (mm; the bracket's outer ends, module doc; peak_max_mm at most the free blade's
+    peak F_tip / (eta k_b), a stuck damper's). resolution: (m, n_f, 2) the relative
     width of each final bracket (highest, lowest). status: (m, n_f) RESULTS code: the damper's
     design check (the in-phase Base-Cycle), an amplitude the band was computed at without any
     valid cycle (its status), or not_converged where a root lies below the table; large_rotation
@@ -162,7 +164,11 @@ def row_band_program(n_samples: int, residual: bool = False):
             low = jnp.argmin(jnp.where(counted, lo[0], jnp.inf), axis=1)  # (n_f,)
             high = jnp.argmax(jnp.where(counted, hi[1], -jnp.inf), axis=1)
             f = jnp.arange(forces.shape[0])
-            peak_min, peak_max = lo[0, f, low], hi[1, f, high]
+            # No history's peak lies above the free blade's, F / (eta k_b) (k_Im >= 0 and so is
+            # Im k / (1 + c k)): a stuck state's root is exactly there, and its bracket's outer
+            # end, up to `resolution` above it, is cut back to it.
+            free = mode.r * forces / (mode.eta * mode.k_b)
+            peak_min, peak_max = lo[0, f, low], jnp.minimum(hi[1, f, high], free)
             resolution = jnp.stack([hi[1, f, high] / lo[1, f, high],
                                     hi[0, f, low] / lo[0, f, low]], axis=1) - 1.0
             # per table amplitude the band's status: ok where a state's cycle is valid, else the
