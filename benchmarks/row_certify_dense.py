@@ -29,9 +29,8 @@ jax.config.update("jax_enable_x64", True)
 import numpy as np  # noqa: E402
 from bench_common import loadavg, machine  # noqa: E402
 
-from jaxdamp import RESULTS, row_band  # noqa: E402
+from jaxdamp import RESULTS, nodal_scene, row_band  # noqa: E402
 from jaxdamp.modal_file import load_modal_family  # noqa: E402
-from jaxdamp.response.modes import nodal_scenes  # noqa: E402
 from jaxdamp_optimize import design_space, make_problem  # noqa: E402
 from jaxdamp_optimize.robust_objective import RobustSpec  # noqa: E402
 from jaxdamp_optimize.design import shape_of_vector  # noqa: E402
@@ -45,7 +44,7 @@ N_MU, N_K, N_FD, N_FORCES = 5, 3, 3, 6
 def free_peaks_per_newton(family, orders, q_star_mm, h_l_mm) -> np.ndarray:
     """The free blade's peak A/F per engine order (mm/N): F_tip / (F eta k_b), the same in every
     scenario (mu, contacts and F_D do not change the modes): no history's peak lies above it."""
-    scenes = nodal_scenes(family, orders, float(q_star_mm), h_l_mm)
+    scenes = [nodal_scene(family, e, float(q_star_mm), h_l_mm) for e in orders]
     return np.array([float(s.force_per_unit / (s.mode.eta * s.mode.k_b)) for s in scenes])
 
 
