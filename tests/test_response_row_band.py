@@ -32,6 +32,12 @@ def _path(engine_order):
     return nodal_scene(load_modal_family("example"), engine_order, LOAD.q_star, H_L)
 
 
+def _six_blade_family():
+    """The six-blade lumped disk's family with its platform residual flexibility (h_c 20 mm)."""
+    disk = LumpedDisk(n_blades=6)
+    return jd.blocks.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+
+
 def test_bad_arguments_are_refused_before_any_work():
     fam = load_modal_family("example")
     with pytest.raises(ValueError) as e:
@@ -121,8 +127,7 @@ def test_row_band_with_residual_flexibility_holds_every_history():
     platforms' amplitude (`residual.through_residual`; the band searches each state's peak in
     its own amplitude psi_d instead): at r A_max every state with a valid cycle is at or past its
     root (g >= 0), at r A_min none has reached it (g <= 0)."""
-    disk = LumpedDisk(n_blades=6)
-    family = jd.blocks.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+    family = _six_blade_family()
     forces = np.array([2.0, 20.0])
     kw = dict(modes=family, engine_orders=[0], force_n=forces, h_l_mm=H_L)
     band = jd.row_band(SHAPE, MU, n_samples=8, **kw)
@@ -160,8 +165,7 @@ def test_row_band_is_never_above_the_free_blade_and_a_stuck_state_peaks_there():
     (1 + c k)): the band's highest peak is at most there, and where an admissible state sticks
     (60sym at mu 0.7 on the six-blade disk's nodal diameter 0 with its residual) it is exactly
     there, not at its bracket's outer end up to `resolution` above it."""
-    disk = LumpedDisk(n_blades=6)
-    family = jd.blocks.validate_family(modal_family(disk, LOAD.q_star, 20.0, residual=True))
+    family = _six_blade_family()
     kw = dict(modes=family, engine_orders=[0], force_n=np.array([2.0, 20.0]), h_l_mm=H_L)
     band = jd.row_band(SHAPE, 0.7, n_samples=8, **kw)
     free = jd.row_response(SHAPE, 0.7, **kw).free_peak_mm

@@ -151,10 +151,13 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
         batches.append((idx, (*design, modes_k, _stack([s.motion for s in part]),
                               np.asarray(tip[take], float), *extra,
                               *(np.asarray(v[take], float) for v in per_order), *residuals)))
-    # The elliptic batch compiles on a thread of its own while the straight one compiles and runs:
-    # on a first call the two compilations take the time of the longer one where two cores serve.
-    for _, args in batches[1:]:
-        compile_ahead(program, args, runner)
+    # Through a runner of saved programs (the CLI's) the elliptic batch compiles on a thread of
+    # its own while the straight one compiles and runs: the example row's first call 27 -> 23 s on
+    # 2 cores. A plain call traces both first, holding Python's lock, and gained nothing (45-48 s
+    # either way), so it starts no thread on every call of a loop.
+    if runner is not None:
+        for _, args in batches[1:]:
+            compile_ahead(program, args, runner)
     for idx, args in batches:
         got = jax.device_get(run_program(program, args, runner))
         for j, i in enumerate(idx):
