@@ -12,17 +12,17 @@ import jax.numpy as jnp
 import numpy as np
 
 from ..geometry import is_wedge
-from ..loops import batched_together
 from ..motion import in_phase_motion, validate_motion
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .._validate import check_values, traced
+from .root_search import grid_apart_then_roots, grid_then_roots
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (DamperStiffness, check_history, damper_stiffness_kernel,
                         path_cycle_kernel, path_damper, with_residual)
 
-__all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS", "ROOT_RTOL",
+__all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS",
            "SHARED_GRID_FACTOR", "Peaks", "peak_residual", "peak_frequency_hz", "peak_response",
            "peak_program", "ResponseCurves", "curves_program", "response_curves", "design_peaks",
            "PATH_LOOP", "PATH_REPEATS", "path_peaks", "series_peaks", "path_curves_program",
@@ -81,67 +81,16 @@ def peak_frequency_hz(damper: DamperStiffness, mode: BladeMode, amplitude_mm):
     return jnp.where(ok, mode.f0_hz * jnp.sqrt(jnp.where(ok, w, 1.0)), 0.0)
 
 
-ROOT_RTOL = 1e-13  # relative step (or bracket width) at which a root has converged
-
-
-def _bracketed_roots(g, lo, hi, glo, ghi, steps):
-    """Roots of g in the brackets [lo, hi] (arrays of one shape) from g(lo) = glo, g(hi) = ghi of
-    opposite signs: the Illinois variant of regula falsi (superlinear, the bracket is kept), at
-    most `steps` evaluations per bracket, a bracket stopping when its step or width is below
-    ROOT_RTOL of its root. g maps an array of amplitudes to their residuals elementwise.
-
-    Every bracket advances in one call of g per step (a bracket that has converged keeps its
-    values), so that the damper curve appears once in the loop, on the brackets' array: vmapping
-    a scalar search instead made JAX batch the curve's nested loops once per vmap level (tracing
-    the in-phase response program took 26 s of a 49 s first call).
-
-    Values only, and derivative-free: the damper curve's values run its fast program (loops that
-    stop when done), while a Newton step would need its derivative program. `_root_ift`
-    differentiates the roots by the implicit function theorem, never through this loop, so it may
-    be a while loop (it runs until every bracket has converged)."""
-
-    def body(c):
-        i, lo0, hi0, glo0, ghi0, x0, side0, done0 = c
-        active = (i < steps) & ~done0
-        d = ghi0 - glo0
-        ok = d != 0
-        x_new = jnp.where(ok, (lo0 * ghi0 - hi0 * glo0) / jnp.where(ok, d, 1.0), 0.5 * (lo0 + hi0))
-        x_new = jnp.clip(x_new, lo0, hi0)
-        gx = g(x_new)
-        right = jnp.sign(gx) == jnp.sign(ghi0)  # the root is left of x_new: x_new becomes hi
-        # Illinois: halve the value kept at the end that did not move twice in a row.
-        glo = jnp.where(right, jnp.where(side0 > 0, 0.5 * glo0, glo0), gx)
-        ghi = jnp.where(right, gx, jnp.where(side0 < 0, 0.5 * ghi0, ghi0))
-        lo, hi = jnp.where(right, lo0, x_new), jnp.where(right, x_new, hi0)
-        side = jnp.where(right, 1, -1)
-        tol = ROOT_RTOL * jnp.abs(x_new)
-        done = (gx == 0) | (jnp.abs(x_new - x0) <= tol) | (hi - lo <= tol)
-        new = (lo, hi, glo, ghi, x_new, side, done)
-        old = (lo0, hi0, glo0, ghi0, x0, side0, done0)
-        # the count as an int32 step: int32 + bool has no strict promotion path
-        return (i + active.astype(i.dtype), *(jnp.where(active, n, o) for n, o in zip(new, old)))
-
-    def more(c):
-        return jnp.any((c[0] < steps) & ~c[7])
-
-    start = (jnp.zeros(jnp.shape(lo), jnp.int32), lo, hi, glo, ghi, hi,
-             jnp.zeros(jnp.shape(lo), jnp.int32), (hi - lo <= 0) | (glo == 0))
-    x = jax.lax.while_loop(more, body, batched_together(start))[5]
-    return jnp.where(glo == 0, lo, x)
-
-
-def _root_ift(g, g_values, lo, hi, glo, ghi, steps):
-    """Roots of g in the brackets [lo, hi] (arrays; g elementwise, so its Jacobian is diagonal),
-    differentiable by the implicit function theorem: dA* = -g_theta / g_A, through whatever g
-    closes over (hoisted by jax.closure_convert). The search runs on g_values: g's values, with
-    nothing to differentiate.
+def _root_ift(g, x):
+    """The roots x of g (arrays; g elementwise, so its Jacobian is diagonal), found by a values-
+    only search (`root_search`), differentiable by the implicit function theorem:
+    dA* = -g_theta / g_A, through whatever g closes over (hoisted by jax.closure_convert).
 
     A custom JVP rather than jax.lax.custom_root: custom_root traces its tangent solve (the
     damper curve's JVP, the largest trace of the response program: 12 of 39 s under a profiler)
     on every call, differentiated or not; a custom JVP rule is traced only under
     differentiation."""
-    lo, hi, glo, ghi = (jax.lax.stop_gradient(v) for v in (lo, hi, glo, ghi))
-    x = _bracketed_roots(g_values, lo, hi, glo, ghi, steps)
+    x = jax.lax.stop_gradient(x)
     g_closed, consts = jax.closure_convert(g, x)
 
     @jax.custom_jvp
@@ -178,30 +127,13 @@ def _amplitude_grid(damper: DamperStiffness, mode: BladeMode, forces, n_grid: in
     return jnp.concatenate([jnp.zeros(1), grid])
 
 
-def _brackets(grid, g0, force, max_roots: int):
-    """(lo, hi, g(lo), g(hi), found, n_roots): the first max_roots sign changes of g = g0 - force
-    on the grid (g0: the residual at zero force on the grid; force (n_f, 1)), in ascending order,
-    each as a bracket (n_f, max_roots); an empty bracket where a force has fewer roots."""
-    cells_n = grid.size - 1
-    gg = g0[None, :] - force
-    change = (jnp.sign(gg[:, :-1]) != jnp.sign(gg[:, 1:])) & (gg[:, :-1] != 0)
-    n_roots = jnp.sum(change, axis=1).astype(jnp.int32)
-    # The first max_roots sign changes, in ascending order (cells without a change sort last).
-    cells = jnp.argsort(jnp.where(change, jnp.arange(cells_n), cells_n + 1), axis=1)[:, :max_roots]
-    found = jnp.arange(max_roots, dtype=jnp.int32)[None, :] < n_roots[:, None]
-    lo = grid[cells]
-    hi = jnp.where(found, grid[cells + 1], lo)  # an empty bracket: nothing to refine
-    glo = jnp.take_along_axis(gg, cells, axis=1)
-    ghi = jnp.take_along_axis(gg, cells + 1, axis=1)
-    return lo, hi, glo, ghi, found, n_roots
-
-
 SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
 
 
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
                   max_roots: int = MAX_ROOTS, amplitude_cap_mm=None,
-                  differentiable: bool = True, frequencies: bool = True) -> Peaks:
+                  differentiable: bool = True, frequencies: bool = True,
+                  grid_in_loop: bool = False) -> Peaks:
     """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
@@ -219,7 +151,9 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     theorem, and nothing of the damper curve's derivative is traced: a program several times
     faster to build, for searches that no gradient passes through). frequencies=False: the
     frequencies are left zero, for a caller that evaluates the curve at the roots itself (one
-    call of the curve fewer in its program: `path_peaks`).
+    call of the curve fewer in its program: `path_peaks`). grid_in_loop: the grid is evaluated in
+    the search's loop (`root_search.grid_then_roots`: one copy of the curve in the program instead
+    of two, for an expensive curve such as a path's cycles); else in one call before it.
 
     mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
     (`prepare_scene`: its mode, checked already). damper: a DamperStiffness (checked when
@@ -246,22 +180,15 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
         return peak_program(src.method, src.options)(*src.design, mode, f)
     forces = f.reshape(-1)
     grid = _amplitude_grid(damper, mode, forces, n_grid, amplitude_cap_mm, f.ndim > 0)
-    # The searches run on the curve's values (see DamperStiffness.values); g(a) = a im(a) - F, so
-    # the grid's residual at F = 0 serves every force.
+    # The search runs on the curve's values (see DamperStiffness.values); g(a) = a im(a) - F, so
+    # the residual at F = 0 serves every force (arrays (n_f, ...)).
     values = damper._replace(k_of_psi=damper.values)
-    a_im = jax.lax.stop_gradient(peak_residual(values, mode, 0.0, grid))
-    # Every force at once (arrays (n_f, ...)): the curve appears once per use in the program.
-    force = forces[:, None]
-    lo, hi, glo, ghi, found, n_roots = _brackets(grid, a_im, force, max_roots)
-
-    def g_values(a):
-        return peak_residual(values, mode, jax.lax.stop_gradient(force), a)
-
+    force = jax.lax.stop_gradient(forces[:, None])
+    search = grid_then_roots if grid_in_loop else grid_apart_then_roots
+    roots, _, found, n_roots = search(lambda a: (peak_residual(values, mode, 0.0, a), ()), grid,
+                                      force, max_roots, REFINE_STEPS)
     if differentiable:
-        roots = _root_ift(lambda a: peak_residual(damper, mode, force, a), g_values,
-                          lo, hi, glo, ghi, REFINE_STEPS)
-    else:
-        roots = _bracketed_roots(g_values, lo, hi, glo, ghi, REFINE_STEPS)
+        roots = _root_ift(lambda a: peak_residual(damper, mode, forces[:, None], a), roots)
     roots = jnp.where(found, roots, 0.0)
     freqs = (jnp.where(found, peak_frequency_hz(damper, mode, jnp.where(found, roots, 1.0)), 0.0)
              if frequencies else jnp.zeros_like(roots))
@@ -406,7 +333,8 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
             shape, mu, contacts, load, a, motion, initial, PATH_LOOP, PATH_REPEATS))(psi)
 
     if residual is None:
-        peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False)
+        peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False,
+                              grid_in_loop=True)
         at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
         k_re, k_im, status = cycles(mode.r * flat)
         peaks, on_grids = _at_roots_and_grids(peaks, damper, mode, at_roots, grids, k_re, k_im)
@@ -432,9 +360,11 @@ def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
     `peak_response`'s grid (in psi_d: psi_d <= psi, as |1 + c k| >= 1 for Re k >= 0) and refined
     as its roots are, one cycle per evaluation. Every root is a consistent (A, psi_d), so the
     search needs no uniqueness of the series' fixed point. cycles(psi_d) -> (k_re, k_im, status)
-    at each amplitude of a 1-D array (evaluated once at the roots: the peaks' frequencies and
-    statuses); psi_a_mrad is psi_d at the first root. Values only; unchecked, traceable (jit,
-    vmap)."""
+    at each amplitude of a 1-D array: the damper's curve (`damper.values`') with its status,
+    evaluated on the grid and in the search, whose last evaluation per root gives the peaks'
+    frequencies and statuses (two copies of the cycle in the program: three before, the third
+    at the roots after the search); the damper gives the grid's scale and its status.
+    psi_a_mrad is psi_d at the first root. Values only; unchecked, traceable (jit, vmap)."""
     r = mode.r
 
     def series(psi_d, k_re, k_im):  # (A, the spring the mode sees) at the damper's amplitude
@@ -442,23 +372,22 @@ def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
         z = 1.0 + c * k
         return psi_d * jnp.abs(z) / r, k / z
 
-    def g0(psi_d):  # the peak equation's left side at psi_d (N)
-        a, k = series(psi_d, *damper.values(psi_d))
-        return a * (mode.eta * mode.k_b + 1e-3 * r ** 2 * jnp.imag(k))
+    def g0(psi_d):  # (the peak equation's left side at psi_d (N), the cycles there)
+        got = tuple(v.reshape(psi_d.shape) for v in cycles(psi_d.reshape(-1)))
+        a, k = series(psi_d, *got[:2])
+        return a * (mode.eta * mode.k_b + 1e-3 * r ** 2 * jnp.imag(k)), got
 
     grid = r * _amplitude_grid(damper, mode, forces, N_GRID)
-    force = forces[:, None]
-    lo, hi, glo, ghi, found, n_roots = _brackets(grid, g0(grid), force, MAX_ROOTS)
-    psi_d = _bracketed_roots(lambda p: g0(p) - force, lo, hi, glo, ghi, REFINE_STEPS)
+    psi_d, (k_re, k_im, status), found, n_roots = grid_then_roots(g0, grid, forces[:, None],
+                                                                   MAX_ROOTS, REFINE_STEPS)
     at = jnp.where(found, psi_d, 1.0)
-    k_re, k_im, status = cycles(at.reshape(-1))
-    a, k = series(at, k_re.reshape(at.shape), k_im.reshape(at.shape))
+    a, k = series(at, k_re, k_im)
     roots = jnp.where(found, a, 0.0)
     spring = damper._replace(k_of_psi=lambda _: (jnp.real(k), jnp.imag(k)))
     freqs = jnp.where(found, peak_frequency_hz(spring, mode, jnp.where(found, a, 1.0)), 0.0)
     peaks = _peaks_of(roots, freqs, found, n_roots, jnp.where(found[:, 0], psi_d[:, 0], 0.0),
                       damper.status)
-    return peaks, status.reshape(at.shape)[:, 0]
+    return peaks, status[:, 0]
 
 
 @functools.cache
