@@ -361,9 +361,10 @@ def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
     as its roots are, one cycle per evaluation. Every root is a consistent (A, psi_d), so the
     search needs no uniqueness of the series' fixed point. cycles(psi_d) -> (k_re, k_im, status)
     at each amplitude of a 1-D array: the damper's curve (`damper.values`') with its status,
-    evaluated on the grid and in the search, whose last evaluation per root gives the peaks'
-    frequencies and statuses (two copies of the cycle in the program: three before, the third
-    at the roots after the search); the damper gives the grid's scale and its status.
+    evaluated on the grid and in the search in one loop (`root_search.grid_then_roots`), whose
+    last evaluation per root gives the peaks' frequencies and statuses: one copy of the cycle in
+    the program (three before: the grid, the search and the roots after it); the damper gives
+    the grid's scale and its status.
     psi_a_mrad is psi_d at the first root. Values only; unchecked, traceable (jit, vmap)."""
     r = mode.r
 
