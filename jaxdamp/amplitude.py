@@ -195,7 +195,8 @@ def amplitude_kernel(shape, mu, contacts, load, psi_a, N_init=None, T_init=None,
     needs it, and under vmap every lane pays for MAX_PAIRS pairs. "while" stops when done (under
     vmap: when the last lane is done, usually after 1-2 pairs); values and forward mode only.
     "auto" (default) computes values with "while" and derivatives (jvp, jacfwd, grad, vjp) with
-    "scan", through a custom JVP rule.
+    "scan", through a custom JVP rule. "forward" is "while": forward-mode derivatives that cost
+    the pairs the cycle took (reverse mode raises).
 
     pair_budget: at most this many pairs of halves run (an int <= max_pairs, may be traced: one
     compiled program serves every budget, as `curves.amplitude_curves`' two stages share one);

@@ -180,22 +180,22 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     amplitude a (mrad): pure JAX (jit / vmap / jvp), no validation. initial: "assembly",
     "gross_slip" (module doc) or "explicit" (N_init, T_init at tau = 0, units of F_D). loop: as
     `amplitude_kernel`'s, but "auto" differentiates a replay of the value pass's choices
-    (`loops.values_by_replay`: one 3x3 solve per tract instead of a choice among every set)."""
+    (`loops.values_by_replay`: one 3x3 solve per tract instead of a choice among every set) and
+    "forward" replays them in while loops (forward mode only: the periods and tracts the cycle
+    took, not max_periods of max_tracts)."""
     impl = functools.partial(elliptic_impl, initial=initial, max_tracts=max_tracts,
                              max_periods=max_periods)
     args = (shape, mu, contacts, load, amplitude, motion, N_init, T_init)
     check_loop(loop)
-    if loop == "auto":
-        return values_by_replay(impl, *args)
+    if loop in ("auto", "forward"):
+        return values_by_replay(impl, *args, replay_loop="scan" if loop == "auto" else "while")
     return impl(*args, loop=loop)
 
 
 def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
                    max_tracts, max_periods, loop, record=False, tape=None):
     """The cycle (loop "scan" or "while"); record: (cycle, tape), the tape of every run's choices;
-    tape: replay those choices (`engine.run(replay=...)`, a masked scan)."""
-    if tape is not None:
-        loop = "scan"
+    tape: replay those choices (`engine.run(replay=...)`; loop "scan" or "while" as for values)."""
 
     def recorded(part):  # what the value pass recorded for this part of the cycle (a replay)
         return None if tape is None else tape[part]

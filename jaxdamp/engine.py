@@ -142,8 +142,8 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     (`tract.along(tract.make_mechanics(...), direction)`); the pads may not open, and a normal
     force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
     loop: as `loops.bounded_loop`. record: return (Tracts, Tape), what the run chose; replay (a
-    `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing (a
-    masked scan whatever `loop` says). Unchecked, traceable."""
+    `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing.
+    Unchecked, traceable."""
     to_gross = p_end is None
     on_line = isinstance(path, Line)
     n_pads, n_basis = N.shape[0], pads.nw.shape[0]
@@ -162,13 +162,18 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     # pad open or at N = 0 choose again among every set (`stages.second_look`). A masked scan
     # (reverse mode cannot pass second_look) chooses among every set, and a replay takes the
     # recorded sets (`Tape`: one solve and one event root per tract, what derivatives replay).
-    if replay is not None:
-        if not pads_open:
-            raise ValueError("replay: a run of pads that may open (closed=None)")
-        loop = "scan"
-    reduced = seated_reduction(pads) if pads_open and n_pads == 3 and loop == "while" else None
+    # A recording run (the value pass inside a derivative program, `loops.values_by_replay`)
+    # chooses among every set at once: the same sets (the first look's contract), one choice in
+    # the program instead of two: the example row's elliptic derivative program traced and
+    # compiled in 34 s instead of 47 s, and ran as fast (docs/motions.md, 2026-11-29). A replay
+    # runs as `loop` says: a masked scan (reverse mode passes) or a while loop that stops where
+    # the recorded run ended (forward mode only).
+    if replay is not None and not pads_open:
+        raise ValueError("replay: a run of pads that may open (closed=None)")
+    two_looks = loop == "while" and not record and replay is None
+    reduced = seated_reduction(pads) if pads_open and n_pads == 3 and two_looks else None
     chooser = (second_look(choose_seated, choose_all, lambda ch: ~ch.consistent)
-               if loop == "while" else choose_all)
+               if two_looks else choose_all)
     # Pads that may not open: one at N = 0 at the start has lifted off.
     lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
     init = dict(N=N, T=T, p=p_start, done=lift0, gross=jnp.array(False),

@@ -53,8 +53,6 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
         return jax.lax.scan(step, batched_together(init), xs, length=length)
     if loop != "while":
         raise ValueError(f"loop must be scan or while; got {loop!r}")
-    if xs is not None:
-        raise ValueError("xs: a while loop runs without rows of inputs (loop='scan')")
     rows = zeros_of(rows, length)
 
     def cond(c):
@@ -63,7 +61,8 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
 
     def body(c):
         i, carry, acc = c
-        carry, out = step(carry, None)
+        carry, out = step(carry, None if xs is None else
+                          jax.tree_util.tree_map(lambda x: x[i], xs))
         return i + 1, carry, jax.tree_util.tree_map(lambda a, o: a.at[i].set(o), acc, out)
 
     _, end, acc = jax.lax.while_loop(cond, body, batched_together((jnp.array(0), init, rows)))
@@ -87,7 +86,11 @@ def repeat_until(run, init, length: int, loop: str, stopped):
     return jax.lax.scan(step, batched_together(init), jnp.arange(length))[0]
 
 
-LOOPS = ("auto", "scan", "while")
+# A kernel's loop option: "scan" (masked; every mode), "while" (stops when done; values and
+# forward mode), "auto" (the values of "while", the derivatives of a masked scan: every mode),
+# "forward" (the values of "while", forward-mode derivatives by loops that stop when done, so
+# that a derivative costs the iterations the cycle took, not the bound's; reverse mode raises).
+LOOPS = ("auto", "scan", "while", "forward")
 
 
 def check_loop(loop: str) -> None:
@@ -110,12 +113,13 @@ def values_by_while(impl, *args):
     return run(*args)
 
 
-def values_by_replay(impl, *args):
+def values_by_replay(impl, *args, replay_loop: str = "scan"):
     """impl(*args, loop=...) for loop="auto", where impl(..., record=True) also returns the tape of
     its runs' choices and impl(..., tape=tape) replays them: the values of loop="while", the
-    derivatives of the replay (a masked scan of one state set per tract, no choice among
-    candidates: 19x faster to run batched than the masked scan that chooses, its gradient about
-    a third faster to compile; docs/motions.md, "Derivatives").
+    derivatives of the replay (one state set per tract, no choice among candidates: as a masked
+    scan 19x faster to run batched than the masked scan that chooses, its gradient about a third
+    faster to compile; docs/motions.md, "Derivatives"). replay_loop: "scan" (every mode), or
+    "while" (loop="forward": the replay stops where the recorded cycle ended; forward mode only).
     The replay follows the same sequence of events, so within it its derivatives are the cycle's;
     at a switch they are the one-sided derivatives of the sequence the value pass took."""
     @jax.custom_jvp
@@ -125,7 +129,7 @@ def values_by_replay(impl, *args):
     @run.defjvp
     def run_jvp(primals, tangents):
         out, tape = impl(*primals, loop="while", record=True)
-        _, dout = jax.jvp(lambda *a: impl(*a, loop="scan", tape=tape), primals, tangents)
+        _, dout = jax.jvp(lambda *a: impl(*a, loop=replay_loop, tape=tape), primals, tangents)
         return out, dout
 
     return run(*args)
@@ -133,11 +137,11 @@ def values_by_replay(impl, *args):
 
 def run_by_loop(impl, args: tuple, loop: str):
     """impl(*args, loop) for a kernel's `loop` option, checked: "scan" and "while" as given, "auto"
-    through `values_by_while`."""
+    through `values_by_while`, "forward" as "while" (forward mode passes a while loop)."""
     check_loop(loop)
     if loop == "auto":
         return values_by_while(impl, *args)
-    return impl(*args, loop)
+    return impl(*args, "while" if loop == "forward" else loop)
 
 
 __all__ = ["LOOPS", "zeros_of", "batched_together", "bounded_loop", "repeat_until", "check_loop",

@@ -30,17 +30,28 @@ import numpy as np
 CPU_BATCH_OPTIONS = {"xla_cpu_experimental_ynn_fusion_type": ""}
 
 
+# Measured (issue 60): XLA's older loop emitters (not the fusion emitters) for the row's derivative
+# program (`response.row_gradient_program`): on the 2-core VM (2026-11-29) the example row's
+# elliptic batch traced and compiled in 34 s instead of 38 s, its straight one in 20 s instead of
+# 23 s, and both ran as fast. Not for every program: the values' row programs compiled a little
+# faster and their elliptic batch ran 15 % slower (0.46 s against 0.40 s a call).
+LOOP_EMITTERS = {"xla_cpu_use_fusion_emitters": False}
+
+
 @functools.cache
-def batch_compiler_options() -> dict:
-    """CPU_BATCH_OPTIONS where the default backend is a CPU whose XLA accepts them, else {}.
-    Resolved at the first batched call (asking for the backend starts it)."""
+def batch_compiler_options(extra: tuple = ()) -> dict:
+    """CPU_BATCH_OPTIONS and the options `extra` ((name, value) pairs, a program's own), where the
+    default backend is a CPU whose XLA accepts them, else {}; an XLA that rejects `extra` gets
+    CPU_BATCH_OPTIONS alone. Resolved at the first batched call (asking for the backend starts
+    it)."""
     if jax.default_backend() != "cpu":
         return {}
+    options = {**CPU_BATCH_OPTIONS, **dict(extra)}
     try:
-        jax.jit(lambda x: x + 1.0, compiler_options=CPU_BATCH_OPTIONS).lower(1.0).compile()
+        jax.jit(lambda x: x + 1.0, compiler_options=options).lower(1.0).compile()
     except Exception:  # noqa: BLE001 - an older or newer XLA without the option: use its defaults
-        return {}
-    return dict(CPU_BATCH_OPTIONS)
+        return batch_compiler_options() if extra else {}
+    return options
 
 
 # Measured (issue 32): XLA options that make XLA compile about twice as fast and run slower, for
@@ -188,16 +199,17 @@ def padded_size(n: int, min_step: int, steps_per_octave: int = 1) -> int:
 
 
 class _BatchJit:
-    """jax.jit(fun, **kwargs) built at the first call with `batch_compiler_options()`: building it
-    at import would start JAX's backend as a side effect."""
+    """jax.jit(fun, **kwargs) built at the first call with `batch_compiler_options(cpu_options)`:
+    building it at import would start JAX's backend as a side effect."""
 
-    def __init__(self, fun, kwargs):
+    def __init__(self, fun, kwargs, cpu_options: tuple = ()):
         functools.update_wrapper(self, fun)
         self._fun, self._kwargs, self._jitted = fun, kwargs, None
+        self.cpu_options = cpu_options
 
     def _get(self):
         if self._jitted is None:
-            options = batch_compiler_options()
+            options = batch_compiler_options(self.cpu_options)
             self._jitted = jax.jit(self._fun, **self._kwargs,
                                    **({"compiler_options": options} if options else {}))
         return self._jitted
@@ -212,15 +224,16 @@ class _BatchJit:
         return getattr(self._get(), name)
 
 
-def batch_jit(fun=None, **kwargs):
-    """`jax.jit` for batched programs, compiled with `batch_compiler_options()`. Use as
-    batch_jit(fun, static_argnames=...) or as a decorator, @batch_jit or
-    @batch_jit(static_argnames=...)."""
+def batch_jit(fun=None, *, cpu_options: dict | None = None, **kwargs):
+    """`jax.jit` for batched programs, compiled with `batch_compiler_options()` and the program's own
+    `cpu_options` (XLA CPU options, e.g. `LOOP_EMITTERS`). Use as batch_jit(fun,
+    static_argnames=...) or as a decorator, @batch_jit or @batch_jit(static_argnames=...)."""
+    extra = tuple(sorted((cpu_options or {}).items()))
     if fun is None:
-        return lambda f: _BatchJit(f, kwargs)
-    return _BatchJit(fun, kwargs)
+        return lambda f: _BatchJit(f, kwargs, extra)
+    return _BatchJit(fun, kwargs, extra)
 
 
-__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LATENCY_OPTIONS", "batch_compiler_options",
+__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LOOP_EMITTERS", "LATENCY_OPTIONS", "batch_compiler_options",
            "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
            "part_size", "compile_ahead", "run_program"]

@@ -2,7 +2,8 @@
 differentiate a replay of the choices its value pass made, so the replay must be the same cycle.
 Here the replay of a recorded tape reproduces the value pass's cycle (both pad sets, pads that
 open and close, both histories), and the derivatives of the replay agree with those of the masked
-scan that chooses among every set (the program they replace) and with central differences."""
+scan that chooses among every set (the program they replace) and with central differences; the
+forward-mode replay in while loops (loop="forward") gives the same derivatives."""
 
 from __future__ import annotations
 
@@ -41,15 +42,20 @@ def test_a_replay_of_the_recorded_choices_is_the_value_pass_s_cycle(shape, phi, 
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", jd.SmallRotationWarning)
         cycle, tape = jax.jit(lambda *a: run(*a, loop="while", record=True))(*args)
-        again = jax.jit(lambda *a, t: run(*a, loop="scan", tape=t))(*args, t=tape)
-    assert jd.RESULTS.name_of(cycle.status) == jd.RESULTS.name_of(again.status) == "ok"
-    assert int(again.periods) == int(cycle.periods)
+        # The replay as a masked scan (loop="auto"'s derivatives) and in while loops that stop
+        # where the recorded run did (loop="forward"'s).
+        replays = [jax.jit(lambda *a, t, loop=loop: run(*a, loop=loop, tape=t))(*args, t=tape)
+                   for loop in ("scan", "while")]
     scale = max(abs(float(cycle.k_re)), abs(float(cycle.k_im)))
-    assert_tree_allclose((again.k_re, again.k_im), (cycle.k_re, cycle.k_im), rtol=0,
-                         atol=1e-9 * scale)
-    assert_tree_allclose(again.energy, cycle.energy, rtol=0, atol=1e-9 * float(jnp.sum(cycle.energy)))
-    assert_tree_allclose((again.open_fraction, again.slip_fraction),
-                         (cycle.open_fraction, cycle.slip_fraction), rtol=0, atol=1e-9)
+    for again in replays:
+        assert jd.RESULTS.name_of(cycle.status) == jd.RESULTS.name_of(again.status) == "ok"
+        assert int(again.periods) == int(cycle.periods)
+        assert_tree_allclose((again.k_re, again.k_im), (cycle.k_re, cycle.k_im), rtol=0,
+                             atol=1e-9 * scale)
+        assert_tree_allclose(again.energy, cycle.energy, rtol=0,
+                             atol=1e-9 * float(jnp.sum(cycle.energy)))
+        assert_tree_allclose((again.open_fraction, again.slip_fraction),
+                             (cycle.open_fraction, cycle.slip_fraction), rtol=0, atol=1e-9)
     # What the tape holds: per tract the event that ended it (kind * P + pad) or -1 (the
     # period's end), consistent choices wherever a tract ran.
     n_pads = cycle.energy.shape[0]
@@ -80,6 +86,9 @@ def test_the_replay_s_derivatives_are_the_choosing_scan_s_and_central_difference
         replay = jax.jit(jax.jacfwd(lambda x: k(x, "auto")))(x0)
         scan = jax.jit(jax.jacfwd(lambda x: k(x, "scan")))(x0)
         reverse = jax.jit(jax.jacrev(lambda x: k(x, "auto")))(x0)
+        forward = jax.jit(jax.jacfwd(lambda x: k(x, "forward")))(x0)  # the replay's while loops
+        with pytest.raises(ValueError, match="Reverse-mode differentiation does not work"):
+            jax.jacrev(lambda x: k(x, "forward"))(x0)
         value = jax.jit(lambda x: k(x, "while"))
         h = np.array([1e-6, 1e-3])
         central = np.stack([(np.asarray(value(x0.at[i].add(h[i])))
@@ -88,6 +97,7 @@ def test_the_replay_s_derivatives_are_the_choosing_scan_s_and_central_difference
     scale = float(np.max(np.abs(central)))
     assert_tree_allclose(replay, scan, rtol=0, atol=1e-9 * scale)
     assert_tree_allclose(reverse, replay, rtol=0, atol=1e-12 * scale)
+    assert_tree_allclose(forward, replay, rtol=0, atol=1e-12 * scale)
     assert_tree_allclose(replay, central, rtol=0, atol=1e-6 * scale)
 
 

@@ -49,6 +49,26 @@ def test_rejected_options_fall_back_to_xla_defaults(fresh_options, monkeypatch):
     np.testing.assert_array_equal(f(jnp.ones((4, 3))), np.full(4, 3.0))
 
 
+def test_a_programs_own_options_reach_its_compilation(fresh_options, monkeypatch):
+    """batch_jit(cpu_options=...): the program's options join the batch options where XLA takes
+    them; options this XLA rejects leave the batch options alone (the row's derivative program
+    asks for `LOOP_EMITTERS`, and so does its saved form, `jaxdamp.cli.exported`)."""
+    if jax.default_backend() != "cpu" or not runtime.batch_compiler_options():
+        pytest.skip("the options are for the CPU backend's XLA that knows them")
+    own = tuple(runtime.LOOP_EMITTERS.items())
+    assert runtime.batch_compiler_options(own) == {**runtime.CPU_BATCH_OPTIONS,
+                                                   **runtime.LOOP_EMITTERS}
+    assert runtime.batch_compiler_options((("xla_not_an_option", 1),)) == runtime.CPU_BATCH_OPTIONS
+    seen = []
+    real_jit = jax.jit
+    monkeypatch.setattr(runtime.jax, "jit", lambda f, **kw: seen.append(kw) or real_jit(f, **kw))
+    f = runtime.batch_jit(lambda x: 2.0 * x, cpu_options=runtime.LOOP_EMITTERS)
+    assert float(f(3.0)) == 6.0 and f.cpu_options == own
+    assert seen[-1]["compiler_options"] == {**runtime.CPU_BATCH_OPTIONS, **runtime.LOOP_EMITTERS}
+    from jaxdamp.response.row_gradient import row_gradient_program
+    assert row_gradient_program("assembly", False).cpu_options == own
+
+
 def test_decorator_forms_pass_jit_arguments():
     @runtime.batch_jit(static_argnames=("power",))
     def f(x, power):

@@ -114,21 +114,22 @@ def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
 
 
 @functools.cache
-def _loaded(exported_bytes: bytes):
+def _loaded(exported_bytes: bytes, cpu_options: tuple):
     exp, out_tree = pickle.loads(exported_bytes)
-    options = batch_compiler_options()
+    options = batch_compiler_options(cpu_options)
     return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
 
 
 _LOADING = threading.Lock()
 
 
-def _runner(exported_bytes: bytes):
-    """(the deserialized program jitted once per process with the batch compiler options, its
-    output structure). One jitted function per program also where threads call it together (the
-    library runs programs side by side): a jitted function compiles once for both."""
+def _runner(exported_bytes: bytes, cpu_options: tuple = ()):
+    """(the deserialized program jitted once per process with the batch compiler options and the
+    program's own (`runtime.batch_jit`'s cpu_options), its output structure). One jitted function
+    per program also where threads call it together (the library runs programs side by side): a
+    jitted function compiles once for both."""
     with _LOADING:
-        return _loaded(exported_bytes)
+        return _loaded(exported_bytes, cpu_options)
 
 
 def forget_loaded() -> None:
@@ -175,7 +176,7 @@ def _through_saved(name: str, program, args: tuple, variant: str):
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree, identity)}.bin"
     with _path_lock(path):
         data = _saved_or_export(path, program, leaves, in_tree)
-    run, out_tree = _runner(data)
+    run, out_tree = _runner(data, getattr(program, "cpu_options", ()))
     # Committed to one device, every input: a saved program's outputs come back committed (they
     # carry the export's shardings), and JAX compiles a jitted function anew for a committed input
     # it first saw uncommitted (the fit's solver step, fed its own theta back, compiled twice,

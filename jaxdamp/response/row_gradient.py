@@ -28,7 +28,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from ..runtime import batch_jit
+from ..runtime import LOOP_EMITTERS, batch_jit
 from ..status import RESULTS
 from .frf import dynamic_stiffness
 from .peaks import PATH_REPEATS
@@ -48,13 +48,14 @@ VARIABLES = ("theta_l", "theta_r", "br_over_hr", "bl2_over_hl", "mu", "F_D", "kn
 
 
 def peak_equations(a, psi, shape, mu, contacts, load, mode: BladeMode, motion, force_n, c,
-                   initial: str = "assembly"):
+                   initial: str = "assembly", loop: str = "auto"):
     """(e1, e2) of the module docstring at peak amplitudes a (mm) and the damper's own amplitudes
     psi (mrad), arrays of one shape: zero at a peak. c: the residual flexibility (mrad per N mm;
-    0 without). One steady cycle per amplitude (`path_cycle_kernel`, loop "auto": its forward
-    derivative replays the recorded choices). Unchecked, traceable."""
+    0 without). One steady cycle per amplitude (`path_cycle_kernel`; loop "auto": its derivative
+    replays the recorded choices in a masked scan, every mode; "forward": in loops that stop
+    where the cycle did, forward mode only). Unchecked, traceable."""
     k_re, k_im, _ = jax.vmap(lambda p: path_cycle_kernel(
-        shape, mu, contacts, load, p, motion, initial, "auto", PATH_REPEATS))(psi)
+        shape, mu, contacts, load, p, motion, initial, loop, PATH_REPEATS))(psi)
     k = k_re + 1j * k_im
     z = 1.0 + c * k
     seen = k / z  # what the mode sees through the residual flexibility
@@ -144,7 +145,9 @@ def row_gradient_program(initial: str = "assembly", residual: bool = False):
     dA*/d`VARIABLES` (m, n_f, 9), vmapped over the engine orders of one path kind
     (`row.run_by_path_kind`). The equations' forward derivatives in ten directions at once (A,
     psi_d and the nine variables; `peak_amplitudes_at`'s rule, under jacfwd, would redo the
-    first two per variable), then the 2x2 solve per peak and variable."""
+    first two per variable; forward mode only, so the cycles' replays stop where they ended
+    instead of running PATH_REPEATS masked periods), then the 2x2 solve per peak and variable.
+    Compiled with XLA's loop emitters (`runtime.LOOP_EMITTERS`: measured faster to compile)."""
     def run(shape, mu, contacts, load, modes, motions, tips, roots, psi, valid, *residuals):
         p0 = variables_of(shape, mu, load, motions.h_l[0])
         n = p0.size
@@ -155,7 +158,8 @@ def row_gradient_program(initial: str = "assembly", residual: bool = False):
             def along(da, dpsi, dp):
                 return jax.jvp(lambda a_, s_, p: peak_equations(
                     a_, s_, *with_variables(p, shape, mu, contacts, load), mode,
-                    motion._replace(h_l=p[8]), force, c, initial), (a, s, p0), (da, dpsi, dp))[1]
+                    motion._replace(h_l=p[8]), force, c, initial, "forward"), (a, s, p0),
+                    (da, dpsi, dp))[1]
 
             zeros = jnp.zeros((n + 2,) + a.shape)
             ones_a, ones_s = zeros.at[0].set(1.0), zeros.at[1].set(1.0)
@@ -165,7 +169,7 @@ def row_gradient_program(initial: str = "assembly", residual: bool = False):
 
         return jax.vmap(one)(modes, motions, tips, roots, psi, valid, *residuals)
 
-    return batch_jit(run)
+    return batch_jit(run, cpu_options=LOOP_EMITTERS)
 
 
 class RowGradient(NamedTuple):
