@@ -34,7 +34,7 @@ COMMANDS = [
     "grad --shape 74R --mu 0.5",
     "response --shape 60sym --mu 0.5 --force-n 2,5,20 --band",
     # docs/blade.md's row (issue 60): a row of 13 engine orders (2 straight, 11 elliptic paths,
-    # padded to 4 and 16) at up to 4 forces, from assembly, with the example's residual
+    # padded to 4 and 12) at up to 4 forces, from assembly, with the example's residual
     "response --shape 60sym --mu 0.5 --modes example --engine-order all --h-l 10 --force-n 2,5",
     "study --no-figures --no-progress --out {tmp}/study",  # the README's main job
     # issue 32's fit: three moment loops of 720 samples (`write_sample_loops`); another count of

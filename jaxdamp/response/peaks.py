@@ -16,7 +16,7 @@ from ..motion import in_phase_motion, validate_motion
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
 from .._validate import check_values, traced
-from .root_search import grid_apart_then_roots, grid_then_roots
+from .root_search import GRID_CHUNK, grid_apart_then_roots, grid_then_roots
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
 from .stiffness import (DamperStiffness, check_history, damper_stiffness_kernel,
@@ -133,7 +133,7 @@ SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_gr
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
                   max_roots: int = MAX_ROOTS, amplitude_cap_mm=None,
                   differentiable: bool = True, frequencies: bool = True,
-                  grid_in_loop: bool = False) -> Peaks:
+                  search_width: int | None = None) -> Peaks:
     """Every peak amplitude A* (mm) at modal force F (N) and its frequency (Hz); see `Peaks`.
 
     Search: since k_Im >= 0 and g(0) = -F < 0, every root lies in (0, F / (eta k_b)]; the grid is
@@ -151,9 +151,10 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     theorem, and nothing of the damper curve's derivative is traced: a program several times
     faster to build, for searches that no gradient passes through). frequencies=False: the
     frequencies are left zero, for a caller that evaluates the curve at the roots itself (one
-    call of the curve fewer in its program: `path_peaks`). grid_in_loop: the grid is evaluated in
-    the search's loop (`root_search.grid_then_roots`: one copy of the curve in the program instead
-    of two, for an expensive curve such as a path's cycles); else in one call before it.
+    call of the curve fewer in its program: `path_peaks`). search_width: None, the grid is
+    evaluated in one call before the search; an int, in the search's loop, that many amplitudes a
+    step (`root_search.grid_then_roots`: one copy of the curve in the program instead of two, for
+    an expensive curve such as a path's cycles).
 
     mode: a BladeMode (checked here when concrete and the compiled program runs), or a Scene
     (`prepare_scene`: its mode, checked already). damper: a DamperStiffness (checked when
@@ -184,7 +185,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     # the residual at F = 0 serves every force (arrays (n_f, ...)).
     values = damper._replace(k_of_psi=damper.values)
     force = jax.lax.stop_gradient(forces[:, None])
-    search = grid_then_roots if grid_in_loop else grid_apart_then_roots
+    search = (grid_apart_then_roots if search_width is None
+              else functools.partial(grid_then_roots, width=search_width))
     roots, _, found, n_roots = search(lambda a: (peak_residual(values, mode, 0.0, a), ()), grid,
                                       force, max_roots, REFINE_STEPS)
     if differentiable:
@@ -312,7 +314,8 @@ PATH_REPEATS = 64
 
 
 def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
-               initial: str = "assembly", frf_points: int = 0, residual=None):
+               initial: str = "assembly", frf_points: int = 0, residual=None,
+               search_width: int = GRID_CHUNK):
     """(the damper on the path, its peaks at force_n (1-D), and with frf_points > 0 the damped
     FRFs' (amplitudes, k_re, k_im), (n_f, frf_points) each): `path_damper` (values only: while
     loops) and `peak_response`; then one batch of steady cycles at every root (the peaks'
@@ -323,7 +326,9 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     dissipation). residual: the path's residual flexibility c (mrad per N mm, `modes`; None: the
     program without it): the damper in series with it (`with_residual`; its peaks searched in
     the damper's own amplitude, `series_peaks`), its peaks' psi_a_mrad the damper's own
-    amplitude. Unchecked, traceable (jit, vmap)."""
+    amplitude. search_width: the cycles a step of the peak search evaluates
+    (`root_search.grid_then_roots`); a caller that vmaps this over many paths passes fewer
+    (`row.ROW_SEARCH_WIDTH`). Unchecked, traceable (jit, vmap)."""
     damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
                          repeats=PATH_REPEATS)
     forces = jnp.asarray(force_n, float)
@@ -334,13 +339,13 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
 
     if residual is None:
         peaks = peak_response(damper, mode, forces, differentiable=False, frequencies=False,
-                              grid_in_loop=True)
+                              search_width=search_width)
         at_roots, grids, flat = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
         k_re, k_im, status = cycles(mode.r * flat)
         peaks, on_grids = _at_roots_and_grids(peaks, damper, mode, at_roots, grids, k_re, k_im)
         at_peak = status[:at_roots.size].reshape(at_roots.shape)[:, 0]
     else:
-        peaks, at_peak = series_peaks(damper, mode, forces, residual, cycles)
+        peaks, at_peak = series_peaks(damper, mode, forces, residual, cycles, search_width)
         damper, on_grids = with_residual(damper, residual), None
         if frf_points:  # the FRFs' amplitudes are the path's: the series solved at each
             _, grids, _ = _root_and_frf_amplitudes(mode, forces, peaks, frf_points)
@@ -350,7 +355,8 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     return damper, peaks._replace(status=jnp.where(told, at_peak, peaks.status)), on_grids
 
 
-def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
+def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles,
+                 search_width: int = GRID_CHUNK):
     """(Peaks (fields (n_f, ...)), the status of the damper's cycle at each first root (n_f,)) of
     the damper in series with a flexibility c (mrad per N mm) at the forces (1-D), searched in the
     damper's own amplitude psi_d: there the series is explicit, no fixed point to iterate
@@ -365,7 +371,8 @@ def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
     last evaluation per root gives the peaks' frequencies and statuses: one copy of the cycle in
     the program (three before: the grid, the search and the roots after it); the damper gives
     the grid's scale and its status.
-    psi_a_mrad is psi_d at the first root. Values only; unchecked, traceable (jit, vmap)."""
+    psi_a_mrad is psi_d at the first root. search_width: the amplitudes a step of the search
+    evaluates (`grid_then_roots`' width). Values only; unchecked, traceable (jit, vmap)."""
     r = mode.r
 
     def series(psi_d, k_re, k_im):  # (A, the spring the mode sees) at the damper's amplitude
@@ -379,8 +386,8 @@ def series_peaks(damper: DamperStiffness, mode: BladeMode, forces, c, cycles):
         return a * (mode.eta * mode.k_b + 1e-3 * r ** 2 * jnp.imag(k)), got
 
     grid = r * _amplitude_grid(damper, mode, forces, N_GRID)
-    psi_d, (k_re, k_im, status), found, n_roots = grid_then_roots(g0, grid, forces[:, None],
-                                                                   MAX_ROOTS, REFINE_STEPS)
+    psi_d, (k_re, k_im, status), found, n_roots = grid_then_roots(
+        g0, grid, forces[:, None], MAX_ROOTS, REFINE_STEPS, search_width)
     at = jnp.where(found, psi_d, 1.0)
     a, k = series(at, k_re, k_im)
     roots = jnp.where(found, a, 0.0)

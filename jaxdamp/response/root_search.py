@@ -20,7 +20,8 @@ from ..loops import batched_together, tree_where
 __all__ = ["ROOT_RTOL", "GRID_CHUNK", "grid_then_roots", "grid_apart_then_roots"]
 
 ROOT_RTOL = 1e-13  # relative step (or bracket width) at which a root has converged
-# `grid_then_roots` takes at least this many grid points per step
+# `grid_then_roots`' amplitudes per step for one curve (a caller vmapping it over many passes
+# fewer: `row.ROW_SEARCH_WIDTH`)
 GRID_CHUNK = 16
 
 
@@ -44,13 +45,13 @@ def _proposal(c):
     return jnp.clip(x_new, lo0, hi0)
 
 
-def _search_step(c, evaluated, steps):
-    """The state after each active bracket took its step to `_proposal(c)`, where g gave
-    evaluated = (residual, aux)."""
+def _search_step(c, evaluated, steps, scheduled=True):
+    """The state after each active bracket that was `scheduled` (all by default) took its step
+    to `_proposal(c)`, where g gave evaluated = (residual, aux)."""
     i, lo0, hi0, glo0, ghi0, x0, side0, done0, aux0 = c
     gx, aux = evaluated
     x_new = _proposal(c)
-    active = (i < steps) & ~done0
+    active = (i < steps) & ~done0 & scheduled
     right = jnp.sign(gx) == jnp.sign(ghi0)  # the root is left of x_new: x_new becomes hi
     # Illinois: halve the value kept at the end that did not move twice in a row.
     glo = jnp.where(right, jnp.where(side0 > 0, 0.5 * glo0, glo0), gx)
@@ -93,7 +94,7 @@ def grid_apart_then_roots(g0, grid, force, max_roots: int, steps: int):
     return end[5], end[8], found, n_roots
 
 
-def grid_then_roots(g0, grid, force, max_roots: int, steps: int):
+def grid_then_roots(g0, grid, force, max_roots: int, steps: int, width: int = GRID_CHUNK):
     """(roots, aux there, found, n_roots), arrays (n_f, max_roots): `_brackets` of g = g0 - force
     on the grid, and the root in each bracket, as one loop whose every step calls g0 once on one
     array: one copy of the damper curve in the program (a grid evaluated apart, a search and the
@@ -103,11 +104,15 @@ def grid_then_roots(g0, grid, force, max_roots: int, steps: int):
 
     g0(x) -> (the residual at zero force, aux) on an array of amplitudes: aux a pytree of arrays
     of x's shape computed on the way (the curve's values and status; () for none), kept at each
-    bracket's last evaluation, which is its root. force (n_f, 1). The first steps take the grid
-    in chunks of the brackets' count (at least GRID_CHUNK); the step that ends it finds the
-    brackets, the first max_roots sign changes per force; then every bracket steps at once by
-    the Illinois variant of regula falsi (superlinear, the bracket is kept), at most `steps`
-    evaluations each, a bracket stopping when its step or width is below ROOT_RTOL of its root.
+    bracket's last evaluation, which is its root. force (n_f, 1). Every step evaluates `width`
+    amplitudes: the first steps take the grid in chunks; the step that ends it finds the
+    brackets, the first max_roots sign changes per force; then the brackets step by the Illinois
+    variant of regula falsi (superlinear, the bracket is kept), the first `width` of those still
+    searching at each step, at most `steps` evaluations each, a bracket stopping when its step
+    or width is below ROOT_RTOL of its root. A bracket's evaluations do not depend on when it
+    steps, so the roots do not depend on `width`; its cost does: most brackets are empty (a force
+    has one root where the curve has no fold), and a step's cycles cost in proportion to its
+    amplitudes under vmap (each waits on the step's slowest).
 
     Values only, and derivative-free: the damper curve's values run its fast program (loops that
     stop when done), while a Newton step would need its derivative program. `peaks`
@@ -116,11 +121,10 @@ def grid_then_roots(g0, grid, force, max_roots: int, steps: int):
     vmapped scalar search: vmap made JAX batch the curve's nested loops once per vmap level
     (tracing the in-phase response program took 26 s of a 49 s first call)."""
     n_brackets = force.shape[0] * max_roots
-    chunk = max(n_brackets, GRID_CHUNK)
-    n_chunks = -(-grid.size // chunk)
-    padded = jnp.concatenate([grid, jnp.full(n_chunks * chunk - grid.size, grid[-1])])
+    n_chunks = -(-grid.size // width)
+    padded = jnp.concatenate([grid, jnp.full(n_chunks * width - grid.size, grid[-1])])
     shape = (force.shape[0], max_roots)
-    aux_like = jax.eval_shape(lambda x: g0(x)[1], jax.ShapeDtypeStruct((chunk,), grid.dtype))
+    aux_like = jax.eval_shape(lambda x: g0(x)[1], jax.ShapeDtypeStruct((width,), grid.dtype))
 
     def blank(leaf_shape):  # zeros in aux's structure, every leaf of leaf_shape
         return jax.tree_util.tree_map(lambda v: jnp.zeros(leaf_shape, v.dtype), aux_like)
@@ -135,11 +139,17 @@ def grid_then_roots(g0, grid, force, max_roots: int, steps: int):
     def body(c):
         k = c["k"]
         on_grid_step = k < n_chunks
-        x_grid = jax.lax.dynamic_slice(padded, (jnp.minimum(k, n_chunks - 1) * chunk,), (chunk,))
-        x_search = jnp.concatenate([_proposal(c["search"]).reshape(-1),
-                                    jnp.ones(chunk - n_brackets)])
-        gx, aux = g0(jnp.where(on_grid_step, x_grid, x_search))
-        at = jnp.minimum(k, n_chunks - 1) * chunk
+        at = jnp.minimum(k, n_chunks - 1) * width
+        # The search's slots: the first `width` brackets still searching, in order; a free slot
+        # evaluates the grid's smallest amplitude (a cheap cycle) and writes nowhere.
+        searching = ((c["search"][0] < steps) & ~c["search"][7]).reshape(-1)
+        which = jnp.argsort(~searching, stable=True)[:width]
+        which = jnp.concatenate([which, jnp.zeros(max(width - n_brackets, 0), which.dtype)])
+        which = jnp.where(jnp.arange(width) < jnp.sum(searching), which, n_brackets)
+        proposals = jnp.append(_proposal(c["search"]).reshape(-1), grid[0])
+        x = jnp.where(on_grid_step, jax.lax.dynamic_slice(padded, (at,), (width,)),
+                      proposals[which])
+        gx, aux = g0(x)
         put = lambda whole, part: jnp.where(on_grid_step,  # noqa: E731
                                             jax.lax.dynamic_update_slice(whole, part, (at,)), whole)
         on_grid = put(c["on_grid"], gx)
@@ -149,9 +159,12 @@ def grid_then_roots(g0, grid, force, max_roots: int, steps: int):
             grid, on_grid[:grid.size], force, max_roots,
             jax.tree_util.tree_map(lambda v: v[:grid.size], at_grid))
         started = _search_start(lo, hi, glo, ghi, a_lo, a_hi)
-        brackets = lambda v: v[:n_brackets].reshape(shape)  # noqa: E731
-        stepped = _search_step(c["search"], (brackets(gx) - force,
-                                             jax.tree_util.tree_map(brackets, aux)), steps)
+        to_brackets = lambda v: (jnp.zeros((n_brackets,) + v.shape[1:], v.dtype)  # noqa: E731
+                                 .at[which].set(v, mode="drop").reshape(shape + v.shape[1:]))
+        scheduled = to_brackets(jnp.ones(width, bool))
+        stepped = _search_step(c["search"], (to_brackets(gx) - force,
+                                             jax.tree_util.tree_map(to_brackets, aux)), steps,
+                               scheduled)
         last = k == n_chunks - 1
         search = tree_where(last, started, tree_where(on_grid_step, c["search"], stepped))
         return dict(k=k + 1, on_grid=on_grid, at_grid=at_grid, search=search,

@@ -22,8 +22,20 @@ from .peaks import Peaks, path_peaks
 from .scene import BladeMode, prepare_scene
 from .stiffness import check_history
 
-ENGINE_ORDER_BUCKET = 4  # engine orders of one path kind are padded to a power of two, at least 4
+# Engine orders of one path kind, and forces, are padded to at least 4, then to a multiple of a
+# quarter of their power of two (`runtime.padded_size(n, 4, BUCKETS_PER_OCTAVE)`: 5-8 -> 8,
+# 9-12 -> 12, 13-16 -> 16, 17-20 -> 20, ...): a padded order costs what a real one does. The
+# example disk's 11 elliptic orders padded to 12 instead of 16 (powers of two until 2026-11-29):
+# its row's values and derivatives for 3 mu 2.49-2.64 -> 1.79-2.16 s (2-core VM, same hour).
+ENGINE_ORDER_BUCKET = 4
 FORCE_BUCKET = 4
+BUCKETS_PER_OCTAVE = 4
+# The cycles a step of each engine order's peak search evaluates (`root_search.grid_then_roots`):
+# a step's batch is every order's slots, so a row needs fewer per order than one design's 16. On
+# the example disk's row (4 forces, 3 mu; 2-core VM, 2026-11-29) the values program ran 2.85 s
+# in all with 16 (12 of a search step's 16 brackets empty), 1.74 s with 4, 1.94 s with 8 and
+# 2.41 s with 2 (more steps).
+ROW_SEARCH_WIDTH = 4
 
 __all__ = ["RowResponse", "row_program", "row_response", "engine_orders_of", "run_by_path_kind",
            "check_engine_orders", "prepare_row", "row_of_prepared", "flexible_row",
@@ -108,7 +120,7 @@ def row_program(initial: str = "assembly", residual: bool = False):
     def run(shape, mu, contacts, load, modes, motions, tip_forces, *residuals):
         def one(mode, motion, forces, *c):
             return path_peaks(shape, mu, contacts, load, mode, motion, forces, initial,
-                              residual=c[0] if c else None)[1]
+                              residual=c[0] if c else None, search_width=ROW_SEARCH_WIDTH)[1]
 
         return jax.vmap(one)(modes, motions, tip_forces, *residuals)
 
@@ -121,13 +133,14 @@ def _stack(trees):
 
 
 def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=None,
-                     buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, 1), per_order=()) -> list:
+                     buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, BUCKETS_PER_OCTAVE),
+                     per_order=()) -> list:
     """Run a row program on the engine orders of each path kind (straight, elliptic) as one
     batch: program(*design, modes, motions, tip forces (m, n_f), *extra[, residuals (m,)]) with
     the engine orders and the forces padded (repeating the last) to `runtime.padded_size(n,
     minimum, steps per octave)` with buckets = (the orders' minimum, the forces' minimum, steps
-    per octave: 1, powers of two); residual: the (m,) residual flexibilities, or None for the
-    program without them (`flexible_row`). per_order: arrays (m, n_f) per engine order and force
+    per octave; 1 would be powers of two); residual: the (m,) residual flexibilities, or None
+    for the program without them (`flexible_row`). per_order: arrays (m, n_f) per engine order and force
     (the values' roots, `row_gradient`), padded as the tip forces and passed after extra.
     runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
     its batch's host outputs (force axes still padded), in scenes' order."""
