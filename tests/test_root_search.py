@@ -47,9 +47,9 @@ def test_every_root_of_a_cubic_whatever_the_width(width):
         assert int(n_roots[i]) == want.size
         assert np.asarray(found[i]).tolist() == [j < want.size for j in range(MAX_ROOTS)]
         got = np.asarray(roots[i])[:want.size]
-        np.testing.assert_allclose(got, want, rtol=1e-12, atol=0.0)
+        assert_tree_allclose(got, want, rtol=1e-12, atol=0.0)
         # aux is g0's at each root's last evaluation
-        np.testing.assert_allclose(np.asarray(twice[i])[:want.size], 2.0 * got, rtol=1e-15)
+        assert_tree_allclose(np.asarray(twice[i])[:want.size], 2.0 * got, rtol=1e-15, atol=0.0)
         assert np.asarray(right[i])[:want.size].tolist() == (got > 2.0).tolist()
 
 
