@@ -295,7 +295,8 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                    gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
         return new, out
 
-    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis, record), replay)
+    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis, record), replay,
+                           like=(pads, path, p_start, p_end))
     failed = end["failed"] | ~end["done"]
     status = RESULTS.first({RESULTS.liftoff: end["liftoff"], RESULTS.unseated: failed & end["unseated"],
                             RESULTS.singular: failed})

@@ -23,24 +23,65 @@ def tree_where(mask, new, old):
     return jax.tree_util.tree_map(lambda x, y: jnp.where(mask, x, y), new, old)
 
 
-def batched_together(carry):
-    """The carry unchanged, each leaf tied to all the others (select(p, x, x), which XLA folds
-    away): under vmap, where one leaf is batched every leaf is.
+def _tie(leaves, refs):
+    """The leaves unchanged, each tied by select(p, x, x) to a probe that reads every leaf and
+    ref (XLA folds the select and drops the probe)."""
+    probe = jnp.array(True)
+    for x in leaves + refs:
+        probe = probe & jnp.all(x == x)
+    return [jnp.where(probe, x, x) for x in leaves]
+
+
+def batched_together(carry, like=None):
+    """The carry unchanged, each leaf tied to all the others and to the leaves of `like` (the
+    loop's inputs: select(p, x, x), which XLA folds away): under vmap, where one of them is
+    batched every leaf of the carry is.
 
     Why: JAX's batching rule for a loop finds which carries vmap batches by a fixpoint, batching
     the body once per pass and once more for a batched predicate, and a loop nested in the body
     repeats this within every pass. A carry batched from the start takes one pass, so the
-    kernels' nested loops are batched once per level instead of up to three times."""
+    kernels' nested loops are batched once per level instead of once per pass (three for a
+    tract run, tests/test_loops.py). `like`: a carry that starts from values the batch shares
+    (a row's design, batched over its paths) would otherwise start unbatched."""
     leaves, tree = jax.tree_util.tree_flatten(carry)
-    if len(leaves) < 2:
+    refs = jax.tree_util.tree_leaves(like)
+    if len(leaves) + len(refs) < 2:
         return carry
-    probe = jnp.array(True)
-    for x in leaves:
-        probe = probe & jnp.all(x == x)
-    return jax.tree_util.tree_unflatten(tree, [jnp.where(probe, x, x) for x in leaves])
+    return jax.tree_util.tree_unflatten(tree, _tie(leaves, refs))
 
 
-def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
+@jax.custom_jvp
+def _differentiated_together(carry, like):
+    return batched_together(carry, like)
+
+
+@_differentiated_together.defjvp
+def _differentiated_together_jvp(primals, tangents):
+    # Every inexact leaf's tangent is returned as an array (zeros where the carry's is zero), tied
+    # to the tangents of `like`, so that under jvp the loop carries a tangent for every float from
+    # its first pass, and under vmap (jacfwd) those tangents are batched from it too. The tie
+    # reads the tangents (a comparison): forward mode only, as the while loops it serves.
+    carry, like = primals
+    dcarry, dlike = tangents
+    leaves, tree = jax.tree_util.tree_flatten(dcarry)
+    inexact = [jnp.issubdtype(t.dtype, jnp.inexact) for t in leaves]
+    refs = [t for t in jax.tree_util.tree_leaves(dlike) if jnp.issubdtype(t.dtype, jnp.inexact)]
+    tied = iter(_tie([t for t, f in zip(leaves, inexact) if f], refs))
+    dout = [next(tied) if f else t for t, f in zip(leaves, inexact)]
+    return batched_together(carry, like), jax.tree_util.tree_unflatten(tree, dout)
+
+
+def looped_together(carry, like=None):
+    """`batched_together` for a `lax.while_loop`'s carry, and under jvp a tangent for every float
+    of the carry from the start, tied to the tangents of `like`: JAX's JVP rule for a loop finds
+    which carries have tangents by a fixpoint as its batching rule does (one tracing of the body's
+    JVP per pass, a loop nested in the body repeating it within every pass), and vmap over those
+    tangents (jacfwd) batches them by its own."""
+    like = jax.tree_util.tree_map(jnp.asarray, like)
+    return _differentiated_together(carry, like)
+
+
+def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None, like=None):
     """(final carry, stacked outputs) of up to `length` calls of step(carry, x) -> (carry, out),
     x the row of `xs` (a pytree with a leading axis of `length`; None: x is None).
 
@@ -48,9 +89,10 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
     once carry["done"] is True; the rows of the steps not run are zeros (the step's outputs for
     finished steps must be inactive rows, e.g. zero travel). rows: the shapes and dtypes of one
     step's outputs (a dict, as `engine._rows` builds for a tract), which spares tracing the step once more to find them
-    (tracing is most of a CLI call's cost)."""
+    (tracing is most of a CLI call's cost). like: the inputs the carry should be batched with
+    (`batched_together`)."""
     if loop == "scan":
-        return jax.lax.scan(step, batched_together(init), xs, length=length)
+        return jax.lax.scan(step, batched_together(init, like), xs, length=length)
     if loop != "while":
         raise ValueError(f"loop must be scan or while; got {loop!r}")
     rows = zeros_of(rows, length)
@@ -65,7 +107,7 @@ def bounded_loop(step, init, length: int, loop: str, rows: dict, xs=None):
                           jax.tree_util.tree_map(lambda x: x[i], xs))
         return i + 1, carry, jax.tree_util.tree_map(lambda a, o: a.at[i].set(o), acc, out)
 
-    _, end, acc = jax.lax.while_loop(cond, body, batched_together((jnp.array(0), init, rows)))
+    _, end, acc = jax.lax.while_loop(cond, body, looped_together((jnp.array(0), init, rows), like))
     return end, acc
 
 
@@ -77,7 +119,7 @@ def repeat_until(run, init, length: int, loop: str, stopped):
     if loop == "while":
         return jax.lax.while_loop(lambda c: (c[0] < length) & ~stopped(c[1]),
                                   lambda c: (c[0] + 1, run(c[1], c[0])),
-                                  batched_together((jnp.array(0), init)))[1]
+                                  looped_together((jnp.array(0), init)))[1]
 
     def step(carry, k):
         new = run(carry, k)
@@ -144,5 +186,5 @@ def run_by_loop(impl, args: tuple, loop: str):
     return impl(*args, "while" if loop == "forward" else loop)
 
 
-__all__ = ["LOOPS", "zeros_of", "batched_together", "bounded_loop", "repeat_until", "check_loop",
-           "values_by_while", "values_by_replay", "run_by_loop"]
+__all__ = ["LOOPS", "zeros_of", "batched_together", "looped_together", "bounded_loop",
+           "repeat_until", "check_loop", "values_by_while", "values_by_replay", "run_by_loop"]

@@ -198,6 +198,13 @@ def padded_size(n: int, min_step: int, steps_per_octave: int = 1) -> int:
     return -(-n // step) * step
 
 
+def options_jit(fun, cpu_options: tuple = (), **kwargs):
+    """jax.jit(fun, **kwargs) compiled with `batch_compiler_options(cpu_options)`, built now (call it
+    at first use: the options probe JAX's backend)."""
+    options = batch_compiler_options(cpu_options)
+    return jax.jit(fun, **kwargs, **({"compiler_options": options} if options else {}))
+
+
 class _BatchJit:
     """jax.jit(fun, **kwargs) built at the first call with `batch_compiler_options(cpu_options)`:
     building it at import would start JAX's backend as a side effect."""
@@ -209,9 +216,7 @@ class _BatchJit:
 
     def _get(self):
         if self._jitted is None:
-            options = batch_compiler_options(self.cpu_options)
-            self._jitted = jax.jit(self._fun, **self._kwargs,
-                                   **({"compiler_options": options} if options else {}))
+            self._jitted = options_jit(self._fun, self.cpu_options, **self._kwargs)
         return self._jitted
 
     def __call__(self, *args, **kwargs):
@@ -235,5 +240,5 @@ def batch_jit(fun=None, *, cpu_options: dict | None = None, **kwargs):
 
 
 __all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LOOP_EMITTERS", "LATENCY_OPTIONS", "batch_compiler_options",
-           "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
+           "options_jit", "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
            "part_size", "compile_ahead", "run_program"]

@@ -32,7 +32,7 @@ import jax
 from jax import export as jexport
 
 from ..paper.files import write_bytes
-from ..runtime import batch_compiler_options
+from ..runtime import options_jit
 from . import cache_dir
 
 __all__ = ["call", "compile_only", "Runner", "SHIPPED_DIR", "sources_digest", "program_identity"]
@@ -116,8 +116,7 @@ def _key(name: str, variant: str, leaves, in_tree, identity: str = "") -> str:
 @functools.cache
 def _loaded(exported_bytes: bytes, cpu_options: tuple):
     exp, out_tree = pickle.loads(exported_bytes)
-    options = batch_compiler_options(cpu_options)
-    return jax.jit(exp.call, **({"compiler_options": options} if options else {})), out_tree
+    return options_jit(exp.call, cpu_options), out_tree
 
 
 _LOADING = threading.Lock()

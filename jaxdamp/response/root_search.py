@@ -172,7 +172,7 @@ def grid_then_roots(g0, grid, force, max_roots: int, steps: int, width: int = GR
                     n_roots=jnp.where(last, n_roots, c["n_roots"]))
 
     end = jax.lax.while_loop(lambda c: (c["k"] < n_chunks) | _searching(c["search"], steps), body,
-                             batched_together(init))
+                             batched_together(init, like=(grid, force)))
     return end["search"][5], end["search"][8], end["found"], end["n_roots"]
 
 
