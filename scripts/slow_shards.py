@@ -1,39 +1,56 @@
-"""Write tests/slow_shards.json: every test marked slow assigned to one of the SLOW_SHARDS shards
-that CI rotates through (tests/conftest.py), balanced by measured worker-seconds.
+"""Write tests/slow_shards.json: every slow test assigned to one of the shards that CI rotates
+through (tests/conftest.py), balanced by measured worker-seconds.
 
-Usage (from the repository root, after a run of the slow tier that lists every duration):
-    .venv/bin/python -m pytest -n 2 --dist loadfile -m slow --durations=0 > slow.log
-    .venv/bin/python scripts/slow_shards.py slow.log
+Usage (from the repository root, after runs that list their durations):
+    .venv/bin/python -m pytest -n 2 --dist loadfile --junitxml=run.xml ...
+    .venv/bin/python scripts/slow_shards.py [--shards N] run.xml [more.xml | durations.log ...]
 
-Each test's setup, call and teardown seconds are summed; the tests are placed longest first on
-the shard with the least work so far (the greedy rule that keeps the largest shard within 4/3 of
-the best balance). Under `--dist loadfile` a file's tests of one shard run on one worker, so the
-file each test belongs to is kept in the listing beside its seconds.
+Inputs: JUnit XML files (`--junitxml`) or pytest output with `--durations=0`; each test's setup,
+call and teardown seconds are summed, the latest input winning. A slow test is one marked slow in
+its file (`pytest --collect-only -m slow`), or one with no mark that an input measured over
+tests/conftest.py's SLOW_SECONDS ("slow_by_measure", which conftest marks). A slow test no input
+measured keeps the seconds the file last held for it (or, new, the median). The tests are placed
+longest first on the shard with the least work so far (the greedy rule that keeps the largest
+shard within 4/3 of the best balance). The number of shards stays what the file holds unless
+--shards says otherwise.
 """
 
 from __future__ import annotations
 
 import json
 import re
+import statistics
+import subprocess
 import sys
+import xml.etree.ElementTree as ET
 from collections import defaultdict
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-SLOW_SHARDS = 4  # tests/conftest.py's
+TABLE = ROOT / "tests" / "slow_shards.json"
+SLOW_SECONDS = 5.0  # tests/conftest.py's
 LINE = re.compile(r"^\s*([0-9.]+)s (setup|call|teardown)\s+(\S+)")
 
 
-def durations(log_text: str) -> dict[str, float]:
+def durations(path: Path) -> dict[str, float]:
+    """{test id: seconds} of a JUnit XML file or of pytest's `--durations=0` output."""
     seconds: dict[str, float] = defaultdict(float)
-    for line in log_text.splitlines():
-        m = LINE.match(line)
-        if m:
-            seconds[m.group(3)] += float(m.group(1))
+    text = path.read_text()
+    if text.lstrip().startswith("<"):
+        for case in ET.fromstring(text).iter("testcase"):
+            if case.find("skipped") is not None:
+                continue
+            file = case.get("classname").replace(".", "/") + ".py"
+            seconds[f"{file}::{case.get('name')}"] += float(case.get("time"))
+    else:
+        for line in text.splitlines():
+            m = LINE.match(line)
+            if m:
+                seconds[m.group(3)] += float(m.group(1))
     return dict(seconds)
 
 
-def balance(seconds: dict[str, float], n: int = SLOW_SHARDS) -> tuple[dict[str, int], list[float]]:
+def balance(seconds: dict[str, float], n: int) -> tuple[dict[str, int], list[float]]:
     load = [0.0] * n
     shards = {}
     for nodeid, s in sorted(seconds.items(), key=lambda kv: (-kv[1], kv[0])):
@@ -43,20 +60,50 @@ def balance(seconds: dict[str, float], n: int = SLOW_SHARDS) -> tuple[dict[str, 
     return shards, load
 
 
+def marked_slow(old_by_measure) -> set[str]:
+    """The ids marked slow in their files (conftest's marks by measure taken out)."""
+    out = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-o", "addopts=", "-m", "slow",
+                          "-p", "no:cacheprovider"], cwd=ROOT, capture_output=True, text=True)
+    ids = {line for line in out.stdout.splitlines() if "::" in line}
+    return ids - set(old_by_measure)
+
+
 def main(argv) -> int:
-    if len(argv) != 2:
-        print(__doc__.strip().splitlines()[3], file=sys.stderr)
+    args = argv[1:]
+    old = json.loads(TABLE.read_text()) if TABLE.exists() else {}
+    n = int(old.get("n_shards", 4))
+    if args[:1] == ["--shards"]:
+        n, args = int(args[1]), args[2:]
+    if not args:
+        print(__doc__.strip().splitlines()[4], file=sys.stderr)
         return 2
-    seconds = durations(Path(argv[1]).read_text())
-    if not seconds:
-        print(f"{argv[1]}: no durations (run pytest with --durations=0)", file=sys.stderr)
-        return 2
-    shards, load = balance(seconds)
+    measured: dict[str, float] = {}
+    for a in args:
+        got = durations(Path(a))
+        if not got:
+            print(f"{a}: no durations (run pytest with --junitxml or --durations=0)", file=sys.stderr)
+            return 2
+        measured.update(got)
+    old_by_measure = old.get("slow_by_measure", {})
+    marked = marked_slow(old_by_measure)
+    by_measure = {k: v for k, v in old_by_measure.items() if k not in measured}
+    by_measure.update({k: round(v, 1) for k, v in measured.items()
+                       if k not in marked and v > SLOW_SECONDS})
+    known = dict(old.get("seconds", {}))
+    known.update({k: round(v, 1) for k, v in measured.items()})
+    slow = marked | set(by_measure)
+    fallback = statistics.median([known[k] for k in slow if k in known] or [60.0])
+    seconds = {k: known.get(k, fallback) for k in slow}
+    shards, load = balance(seconds, n)
     out = {"about": "tests marked slow -> the CI shard that runs them (scripts/slow_shards.py)",
+           "n_shards": n,
            "worker_seconds_per_shard": [round(v, 1) for v in load],
-           "shards": dict(sorted(shards.items()))}
-    (ROOT / "tests" / "slow_shards.json").write_text(json.dumps(out, indent=1) + "\n")
-    print("worker-seconds per shard:", ", ".join(f"{v:.0f}" for v in load))
+           "shards": dict(sorted(shards.items())),
+           "slow_by_measure": dict(sorted(by_measure.items())),
+           "seconds": dict(sorted(seconds.items()))}
+    TABLE.write_text(json.dumps(out, indent=1) + "\n")
+    print(f"{len(slow)} slow tests ({len(by_measure)} by measure) in {n} shards; worker-seconds "
+          "per shard:", ", ".join(f"{v:.0f}" for v in load))
     return 0
 
 

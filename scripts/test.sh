@@ -9,18 +9,17 @@ bash scripts/setup.sh
 # its own programs (no persistent compilation cache: tests/conftest.py says why), a whole test file
 # at a time (--dist loadfile), so that a file's programs compile in one worker, not in both. No
 # reruns: a worker that crashes fails the run (docs/performance.md, "Worker crashes").
-# Every test not marked slow, and one quarter of those marked slow (over 10 worker-seconds each,
-# nearly all XLA compilation of long end-to-end programs): the shard is the commit count of the
-# checkout modulo 4 (tests/conftest.py, tests/slow_shards.json), so consecutive landings rotate
-# through the slow tier (README). `--shard K` picks shard K; `--full` runs every test and prints
-# the time it took.
-shard=$(( $(git rev-list --count HEAD 2>/dev/null || echo 0) % 4 ))
-tier=(--slow-shard "$shard")
+# Every test not marked slow, and one shard of those marked slow (the heavy end-to-end tests,
+# nearly all XLA compilation of long programs): the shard is the commit count of the checkout
+# modulo the number of shards (`--slow-shard auto`; tests/conftest.py, tests/slow_shards.json), so
+# consecutive landings rotate through the slow tier (README). `--shard K` picks shard K; `--full`
+# runs every test and prints the time it took.
+tier=(--slow-shard auto)
 full=0
 if [[ "${1:-}" == "--full" ]]; then tier=(); full=1; shift
-elif [[ "${1:-}" == "--shard" ]]; then tier=(--slow-shard "${2:?--shard needs K in 0..3}"); shift 2
+elif [[ "${1:-}" == "--shard" ]]; then tier=(--slow-shard "${2:?--shard needs K}"); shift 2
 fi
-[[ $full == 1 ]] && echo "test.sh: every test, the slow tier whole" || echo "test.sh: slow shard ${tier[1]} of 4"
+[[ $full == 1 ]] && echo "test.sh: every test, the slow tier whole"
 start=$SECONDS
 # --durations: every run lists its 25 slowest tests, where the next cut of the suite starts.
 .venv/bin/python -m pytest -n 2 --dist loadfile --durations=25 "${tier[@]}" "$@"

@@ -1,5 +1,6 @@
 import json
 import os
+import subprocess
 import zlib
 from pathlib import Path
 
@@ -69,37 +70,84 @@ HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
 
 
 # The slow tier in shards (README, "Two commands"): CI runs every test but those marked slow, and
-# one shard of those, the commit count of main modulo SLOW_SHARDS (scripts/test.sh); `--full`
-# runs them all. tests/slow_shards.json assigns each slow test to a shard, balanced by measured
-# worker-seconds (scripts/slow_shards.py writes it from a `--durations=0` run of the slow tier); a
-# slow test it does not name yet goes to the shard of a stable hash of its id.
-SLOW_SHARDS = 4
+# one shard of those, the commit count of the checkout modulo the number of shards
+# (`--slow-shard auto`, scripts/test.sh); `--full` runs them all. tests/slow_shards.json holds
+# the number of shards and assigns each slow test to one, balanced by measured worker-seconds
+# (scripts/slow_shards.py writes it from a `--durations=0` run of the slow tier); a slow test it
+# does not name yet goes to the shard of a stable hash of its id. It also names, under
+# "slow_by_measure", tests that carry no mark in their file but took over SLOW_SECONDS in a CI
+# run (most often the first test of a file to compile a long program, or one case of a
+# parametrized test): they are slow too, marked here before `-m` and the shards select.
+SLOW_SECONDS = 5.0
 SHARDS_FILE = Path(__file__).with_name("slow_shards.json")
 
 
 def pytest_addoption(parser):
     parser.addoption("--slow-shard", default=None, metavar="K",
-                     help=f"run the tests marked slow of shard K in [0, {SLOW_SHARDS}) only "
-                          "(tests/slow_shards.json), with every test not marked slow")
+                     help="run the tests marked slow of shard K only (tests/slow_shards.json; "
+                          "auto: the commit count modulo the number of shards), with every "
+                          "test not marked slow")
 
 
-def slow_shard_of(nodeid: str, assigned: dict) -> int:
+def slow_shards() -> tuple[int, dict, dict]:
+    """(the number of shards, {test id: its shard}, {test id slow by measure: its seconds}) of
+    tests/slow_shards.json."""
+    table = json.loads(SHARDS_FILE.read_text())
+    return int(table["n_shards"]), table["shards"], table.get("slow_by_measure", {})
+
+
+def slow_shard_of(nodeid: str, assigned: dict, n_shards: int) -> int:
     """The shard of a slow test: its entry in tests/slow_shards.json, else a stable hash."""
     if nodeid in assigned:
         return int(assigned[nodeid])
-    return zlib.crc32(nodeid.encode()) % SLOW_SHARDS
+    return zlib.crc32(nodeid.encode()) % n_shards
 
 
-def pytest_collection_modifyitems(config, items):
+def commit_count() -> int:
+    """The checkout's commit count (0 outside a git checkout), which picks CI's shard."""
+    try:
+        out = subprocess.run(["git", "rev-list", "--count", "HEAD"], capture_output=True,
+                             text=True, cwd=Path(__file__).parent, check=True).stdout
+    except (OSError, subprocess.CalledProcessError):
+        return 0
+    return int(out.strip() or 0)
+
+
+def chosen_shard(config):
+    """The shard of `--slow-shard` (None: every slow test), checked."""
     shard = config.getoption("--slow-shard")
-    if shard is not None:
-        k = int(shard)
-        if not 0 <= k < SLOW_SHARDS:
-            raise pytest.UsageError(f"--slow-shard must be an integer in [0, {SLOW_SHARDS}); got {shard}")
-        assigned = json.loads(SHARDS_FILE.read_text())["shards"]
+    if shard is None:
+        return None
+    n_shards = slow_shards()[0]
+    k = commit_count() % n_shards if shard == "auto" else shard
+    try:
+        k = int(k)
+    except ValueError:
+        k = -1
+    if not 0 <= k < n_shards:
+        raise pytest.UsageError(f"--slow-shard must be auto or an integer in [0, {n_shards}); "
+                                f"got {shard}")
+    return k
+
+
+def pytest_report_header(config):
+    k = chosen_shard(config)
+    n_shards = slow_shards()[0]
+    return f"slow tier: {'every test' if k is None else f'shard {k} of {n_shards}'}"
+
+
+@pytest.hookimpl(tryfirst=True)  # before `-m` deselects by the marks
+def pytest_collection_modifyitems(config, items):
+    n_shards, assigned, by_measure = slow_shards()
+    for item in items:
+        if item.nodeid in by_measure and not item.get_closest_marker("slow"):
+            item.add_marker(pytest.mark.slow)
+    k = chosen_shard(config)
+    if k is not None:
         keep, drop = [], []
         for item in items:
-            is_out = item.get_closest_marker("slow") and slow_shard_of(item.nodeid, assigned) != k
+            is_out = (item.get_closest_marker("slow")
+                      and slow_shard_of(item.nodeid, assigned, n_shards) != k)
             (drop if is_out else keep).append(item)
         if drop:
             config.hook.pytest_deselected(items=drop)
