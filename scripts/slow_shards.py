@@ -62,8 +62,9 @@ def balance(seconds: dict[str, float], n: int) -> tuple[dict[str, int], list[flo
 
 def marked_slow(old_by_measure) -> set[str]:
     """The ids marked slow in their files (conftest's marks by measure taken out)."""
-    out = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-o", "addopts=", "-m", "slow",
-                          "-p", "no:cacheprovider"], cwd=ROOT, capture_output=True, text=True)
+    out = subprocess.run([sys.executable, "-m", "pytest", "--collect-only", "-q", "-o", "addopts=",
+                          "-m", "slow", "-p", "no:cacheprovider"],
+                         cwd=ROOT, capture_output=True, text=True)
     ids = {line for line in out.stdout.splitlines() if "::" in line}
     return ids - set(old_by_measure)
 
@@ -75,7 +76,7 @@ def main(argv) -> int:
     if args[:1] == ["--shards"]:
         n, args = int(args[1]), args[2:]
     if not args:
-        print(__doc__.strip().splitlines()[4], file=sys.stderr)
+        print(__doc__.strip().splitlines()[5], file=sys.stderr)  # the script's usage line
         return 2
     measured: dict[str, float] = {}
     for a in args:

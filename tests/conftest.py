@@ -1,3 +1,4 @@
+import functools
 import json
 import os
 import subprocess
@@ -73,7 +74,7 @@ HEAVY_FIRST = ("test_fit_loops.py", "test_gradients.py", "test_amplitude.py",
 # one shard of those, the commit count of the checkout modulo the number of shards
 # (`--slow-shard auto`, scripts/test.sh); `--full` runs them all. tests/slow_shards.json holds
 # the number of shards and assigns each slow test to one, balanced by measured worker-seconds
-# (scripts/slow_shards.py writes it from a `--durations=0` run of the slow tier); a slow test it
+# (scripts/slow_shards.py writes it from runs' JUnit files or `--durations=0` lists); a slow test it
 # does not name yet goes to the shard of a stable hash of its id. It also names, under
 # "slow_by_measure", tests that carry no mark in their file but took over SLOW_SECONDS in a CI
 # run (most often the first test of a file to compile a long program, or one case of a
@@ -89,6 +90,7 @@ def pytest_addoption(parser):
                           "test not marked slow")
 
 
+@functools.cache  # read once per process (the header, the collection)
 def slow_shards() -> tuple[int, dict, dict]:
     """(the number of shards, {test id: its shard}, {test id slow by measure: its seconds}) of
     tests/slow_shards.json."""
@@ -103,6 +105,7 @@ def slow_shard_of(nodeid: str, assigned: dict, n_shards: int) -> int:
     return zlib.crc32(nodeid.encode()) % n_shards
 
 
+@functools.cache
 def commit_count() -> int:
     """The checkout's commit count (0 outside a git checkout), which picks CI's shard."""
     try:
