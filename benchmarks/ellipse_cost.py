@@ -7,7 +7,9 @@ program (best of 5): the same per-cycle comparison with the call overhead spread
 And a whole curve of 256 amplitudes (0.5-20 mrad) as one vmapped program (best of 5), with the
 number of periods (ellipse) or pairs of halves (in-phase) each lane ran: under vmap every lane pays
 for the slowest one. The elliptic path is the interblade phase angle 90 deg (h_C = 20 mm, h_L = 10 mm),
-the out-of-phase (straight) path is timed beside them.
+the out-of-phase (straight) path is timed beside them. And batches of 256 random shapes, curved-
+flat and wedge, at three phase angles against the in-phase batch of the same curved-flat designs
+(`random_shapes`).
 
 Run: python benchmarks/ellipse_cost.py -> benchmarks/results/ellipse_cost.json
 On an accelerator: python benchmarks/ellipse_cost.py --out FILE --designs 256,8192,65536 (the
@@ -83,10 +85,49 @@ def main(out: Path = RESULTS / "ellipse_cost.json", designs=(256,)) -> dict:
                  in_phase_pairs=np.bincount(np.asarray(r_in.cycles)).tolist(),
                  ellipse_periods=np.bincount(np.asarray(r_el.periods)).tolist(),
                  ellipse_max_tracts_per_period=int(np.max(np.sum(np.asarray(r_el.period.active), 1))))
-    doc = dict(machine=machine(), one_cycle=one, batch_of_designs=batch, curve=curve)
+    doc = dict(machine=machine(), one_cycle=one, batch_of_designs=batch, curve=curve,
+               random_shapes=random_shapes(jd, c, load))
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(doc, indent=1))
     return doc
+
+
+def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
+    """Batches of n random designs (seeded; pads_vs_marcher.py's ranges: base angles 45-80 deg,
+    2b_L/h_L 0.5-0.9, b_R/h_R -0.2-0.3 for the curved pad, 2b/h 0.5-0.9 on a wedge's right flank,
+    mu 0.3-0.7) from assembly, at phi = 45, 90 and 135 deg and 2 and 10 mrad: the elliptic batch
+    (curved-flat, and the wedge of the same base angles, spacings and mu) against the in-phase
+    batch of the curved-flat designs, one vmapped program each (best of 5), with the statuses."""
+    import jax.numpy as jnp
+
+    rng = np.random.default_rng(seed)
+    tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
+    br, br2, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
+    curved = jd.DamperShape(*(jnp.asarray(v) for v in (tl, tr, br, bl2)))
+    wedge = curved._replace(br_over_hr=jnp.zeros(n), br2_over_hr=jnp.asarray(br2))
+    mu = jnp.asarray(mu)
+    rows = []
+    for psi in (2.0, 10.0):
+        p = jnp.asarray(psi)
+        in_phase = jax.jit(jax.vmap(lambda s, m: jd.amplitude_kernel(s, m, contacts, load, p,
+                                                                     initial="assembly")))
+        t_in = best(lambda: in_phase(curved, mu).k_im, 5)
+        st_in = np.bincount(np.asarray(in_phase(curved, mu).status), minlength=10).tolist()
+        for phi in (45.0, 90.0, 135.0):
+            motion = jd.interblade_motion(phi, 20.0, 100.0, 10.0)
+            el = jax.jit(jax.vmap(lambda s, m: jd.elliptic_kernel(s, m, contacts, load, p, motion,
+                                                                  initial="assembly")))
+            row = dict(psi_a_mrad=psi, ibpa_deg=phi, designs=n, in_phase_ms=1e3 * t_in,
+                       in_phase_statuses=st_in)
+            for name, shapes in (("curved_flat", curved), ("wedge", wedge)):
+                t_el = best(lambda: el(shapes, mu).k_im, 5)
+                row[f"{name}_ellipse_ms"] = 1e3 * t_el
+                row[f"{name}_ratio_in_phase"] = t_el / t_in
+                row[f"{name}_statuses"] = np.bincount(np.asarray(el(shapes, mu).status),
+                                                      minlength=10).tolist()
+            rows.append(row)
+            print(row, flush=True)
+    return rows
 
 
 if __name__ == "__main__":

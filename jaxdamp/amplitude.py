@@ -241,11 +241,11 @@ def _amplitude_impl(shape, mu, contacts, load, psi_a, N_init, T_init, motion, pa
     # (`periodic.iterate_to_periodic`).
     n_halves = history_halves(initial, max_pairs)
 
-    def leg(r, N, T, j, k):
+    def leg(r, N, T, j, k, idle):
         forward = (k % 2 == 0) | (k == -2)  # k: index within the pair iteration (< 0: preliminary)
         direction = jnp.where(forward, -1.0, 1.0)
         length = jnp.where(k == -2, a_dv, travel)
-        half = run_half(mech, N, T, direction, length, max_tracts=max_tracts, loop=loop)
+        half = run_half(mech, N, T, direction, length, max_tracts=max_tracts, loop=loop, idle=idle)
         in_pairs = k >= 0
         r = dict(fwd=tree_where(in_pairs & forward, half, r["fwd"]),
                  bwd=tree_where(in_pairs & ~forward, half, r["bwd"]),

@@ -2,9 +2,9 @@
 
 At a tract's start every pad's state for the tract must be chosen (stick, slip, open, closing):
 `choose` tries every candidate set (per pad a strong or weak choice, the closing pad's slip
-direction) and keeps the consistent one with the most pads strong; `choose_seated` tries the
-closed sets only (three pads: in closed form from their all-stick reduction), the engine's first
-look, which is `choose`'s choice wherever no pad is open or at N = 0; `choose_closed` is the
+direction) and keeps the consistent one with the most pads strong; `propose` tries one set, the
+previous tract's with the pads whose events ended it changed, by the same rules (the engine's
+first look: one solve instead of 16 or 32); `choose_closed` is the
 paper's in-phase model (three closed pads, 8 sets in closed form). A run records what it chose
 (`Tape`) and a replay takes those sets again (`replayed_choice`: one solve per tract), which is
 what the derivatives differentiate (`loops.values_by_replay`). The engine's step (`engine.run`)
@@ -13,15 +13,14 @@ calls these; the contact laws are in `jaxdamp.engine`'s module docstring.
 
 from __future__ import annotations
 
-import functools
 from typing import NamedTuple
 
 import jax.numpy as jnp
 import numpy as np
 
 from .linalg import rowdot, solve3
-from .tract import (CANDIDATE_SETS, LIMIT_TOL, OPEN, RATE_TOL, SLIP, Mechanics, candidate_rates,
-                    make_mechanics)
+from .tract import (CANDIDATE_SETS, LIMIT_TOL, OPEN, RATE_TOL, SLIP, STICK, Mechanics,
+                    candidate_rates)
 
 # Tolerance of the second-order check of a state set on an ellipse (units of F_D; of s_a for
 # slips): see `choose`.
@@ -102,6 +101,45 @@ def _along(weights, x):
     return sum(weights[b] * x[:, b] for b in range(x.shape[1]))
 
 
+def _pad_classes(pads: Pads, N, T):
+    """(mu, zero, gap, limit, inside, t_sign) per pad at the forces (N, T): at N = 0, open (a gap:
+    an open pad's virtual N < 0), on the friction limit, inside the cone; the sign of T."""
+    mu = jnp.broadcast_to(pads.mu, N.shape)
+    zero = jnp.abs(N) <= LIMIT_TOL
+    gap = N < -LIMIT_TOL
+    limit = ~zero & ~gap & (jnp.abs(T) >= mu * N - LIMIT_TOL)
+    inside = ~zero & ~gap & ~limit
+    return mu, zero, gap, limit, inside, jnp.where(T >= 0.0, 1.0, -1.0)
+
+
+def _judged(pads: Pads, N, T, heading, ahead, closed, slipping, signs, r: Rates):
+    """(first, second) (C,) bool for C state sets (closed, slipping, signs (C, P)) with rates r:
+    consistent to first order along `heading` (a stick pad on its limit stays in the cone, a
+    slipping pad slides against its friction force, a pad at N = 0 closes or opens as its state
+    says; and the set's system is regular), and still so at `ahead` basis increments on (the
+    second-order check; all True where ahead is None)."""
+    mu, zero, _, limit, _, t_sign = _pad_classes(pads, N, T)
+    zero2, limit2, mu2 = zero[None], limit[None], mu[None]
+    dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
+    tol = RATE_TOL * jnp.max(jnp.maximum(pads.kn, pads.kt))
+    stick = closed & ~slipping
+    ok_pad = jnp.where(stick & limit2, t_sign[None] * dT - mu2 * dN <= tol, True)
+    ok_pad &= jnp.where(slipping, signs * dslip <= RATE_TOL, True)
+    ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
+    ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
+    ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
+    first = r.ok & jnp.all(ok_pad, axis=1)
+    if ahead is None:
+        return first, jnp.ones_like(first)
+    N1, T1, slid = (N[None] + _along(ahead, r.dN), T[None] + _along(ahead, r.dT),
+                    _along(ahead, r.dslip))
+    stays = jnp.where(stick & (limit2 | zero2), jnp.abs(T1) <= mu2 * N1 + LOOKAHEAD_TOL, True)
+    stays &= jnp.where(slipping, signs * slid <= LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)), True)
+    stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
+    stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
+    return first, jnp.all(stays, axis=1)
+
+
 class Choice(NamedTuple):
     closed: jnp.ndarray  # (P,) bool
     slipping: jnp.ndarray  # (P,) bool
@@ -112,8 +150,7 @@ class Choice(NamedTuple):
     consistent: jnp.ndarray  # () bool: some candidate set is consistent
 
 
-def choose(pads: Pads, N, T, heading, ahead=None, seated: bool = False,
-           reduced: tuple[Mechanics, ...] | None = None) -> Choice:
+def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     """The state set of a tract starting at (N, T) with the platforms moving along `heading` (B,)
     (basis weights of the path's direction of motion, scaled to unit pad speed).
 
@@ -122,21 +159,9 @@ def choose(pads: Pads, N, T, heading, ahead=None, seated: bool = False,
     N = 0 opens (if its gap grows) or closes, in stick or slipping. Among the sets consistent to
     first order, those still consistent at `ahead` (B,) basis increments on (an ellipse's
     second-order check: a rate can be zero at a tract's start without changing sign), if any;
-    then the one with the most pads strong (stick, closed), closing pads preferably in stick.
-
-    seated=True: only the 2^P sets of closed pads (stick or slip) are tried, and the choice is
-    consistent only where no pad is open or at N = 0. There the sets with an open or closing pad
-    are not allowed anyway, so the choice is `choose`'s, at half the candidate sets (`run`'s first
-    look; the lanes it leaves inconsistent choose again among every set). reduced (three pads,
-    seated): `seated_reduction(pads)`, whose closed-form rates (`tract.candidate_rates`) replace
-    the sets' 3x3 solves."""
+    then the one with the most pads strong (stick, closed), closing pads preferably in stick."""
     n_pads = N.shape[0]
-    mu = jnp.broadcast_to(pads.mu, N.shape)
-    zero = jnp.abs(N) <= LIMIT_TOL
-    gap = N < -LIMIT_TOL
-    limit = ~zero & ~gap & (jnp.abs(T) >= mu * N - LIMIT_TOL)
-    inside = ~zero & ~gap & ~limit
-    t_sign = jnp.where(T >= 0.0, 1.0, -1.0)
+    _, zero, gap, limit, inside, t_sign = _pad_classes(pads, N, T)
     zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
 
     # Every weak/strong choice per pad, pads at N = 0 that close in stick; then the sets in which
@@ -153,69 +178,52 @@ def choose(pads: Pads, N, T, heading, ahead=None, seated: bool = False,
     pad = np.arange(n_pads)
     column = jnp.clip(pad - (pad > z), 0, n_pads - 2)  # each pad's column among the others
     weak2 = jnp.where(pad[None] == z, False, jnp.asarray(candidate_table(n_pads - 1))[:, column])
-    weak = weak1 if seated else jnp.concatenate([weak1, weak2, weak2])
-    n1, n2 = weak1.shape[0], 0 if seated else weak2.shape[0]
+    weak = jnp.concatenate([weak1, weak2, weak2])
+    n1, n2 = weak1.shape[0], weak2.shape[0]
     direction = np.repeat([0.0, 1.0, -1.0], [n1, n2, n2])[:, None]
     closing = ~weak & zero2 & (direction != 0.0)
     closed = ~(weak & (zero2 | gap2))
     slipping = (weak & limit2) | closing
     signs = jnp.where(closing, direction, t_sign[None])
-    if reduced is None:
-        r = _rates(pads, closed, slipping, signs)
-    else:  # the same sets (weak: slipping, every pad closed) in closed form, per basis direction
-        per = [candidate_rates(m, t_sign, 1.0) for m in reduced]
-        r = Rates(*(jnp.stack([getattr(x, f) for x in per], axis=1) for f in ("dN", "dT", "dslip")),
-                  functools.reduce(jnp.logical_and, [x.ok for x in per]))
+    r = _rates(pads, closed, slipping, signs)
     first = np.arange(weak.shape[0]) < n1
     allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
                & (first | zero[z]))
-    dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
-    scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
-    tol = RATE_TOL * scale
-    mu2 = mu[None]
-    stick = closed & ~slipping
-    # Seated, the conditions of pads at N = 0 are moot (such a choice is not consistent).
-    at_zero = not seated
-    ok_pad = jnp.where(stick & limit2, t_sign[None] * dT - mu2 * dN <= tol, True)
-    ok_pad &= jnp.where(slipping, signs * dslip <= RATE_TOL, True)
-    if at_zero:
-        ok_pad &= jnp.where(stick & zero2, (dN >= -tol) & (jnp.abs(dT) - mu2 * dN <= tol), True)
-        ok_pad &= jnp.where(slipping & zero2, dN >= -tol, True)
-        ok_pad &= jnp.where(~closed & zero2, dN <= tol, True)
-    good = allowed & r.ok & jnp.all(ok_pad, axis=1)
+    good, second = _judged(pads, N, T, heading, ahead, closed, slipping, signs, r)
+    good = allowed & good
     if ahead is not None:
-        N1, T1, slid = (N[None] + _along(ahead, r.dN), T[None] + _along(ahead, r.dT),
-                        _along(ahead, r.dslip))
-        stays = jnp.where(stick & (limit2 | zero2), jnp.abs(T1) <= mu2 * N1 + LOOKAHEAD_TOL, True)
-        stays &= jnp.where(slipping, signs * slid <= LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)),
-                           True)
-        if at_zero:
-            stays &= jnp.where(~closed & zero2, N1 <= LOOKAHEAD_TOL, True)
-            stays &= jnp.where(closed & zero2, N1 >= -LOOKAHEAD_TOL, True)
-        second = good & jnp.all(stays, axis=1)
+        second = good & second
         good = jnp.where(jnp.any(second), second, good)
     score = jnp.where(good, 10 + 4 * jnp.sum(~weak, axis=1) + first, 0)
     best = jnp.argmax(score)
-    consistent = good[best] & ~jnp.any(zero | gap) if seated else good[best]
     return Choice(closed[best], slipping[best], signs[best], r.dN[best], r.dT[best],
-                  r.dslip[best], consistent)
+                  r.dslip[best], good[best])
 
 
-def choose_seated(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
-    """`run`'s first look: `choose` among the closed sets."""
-    return choose(pads, N, T, heading, ahead, seated=True, reduced=reduced)
-
-
-def choose_all(pads: Pads, N, T, heading, ahead, reduced) -> Choice:
-    """`run`'s second look: `choose` among every set (`reduced` is the first look's)."""
-    return choose(pads, N, T, heading, ahead)
-
-
-def seated_reduction(pads: Pads) -> tuple[Mechanics, ...]:
-    """The all-stick reduction of three pads (`tract.make_mechanics`) per basis direction of the
-    path: what `choose(seated=True, reduced=...)` needs, computed once per run."""
-    return tuple(make_mechanics(pads.a, pads.c, pads.nw[b], pads.tw[b], pads.kn, pads.kt, pads.mu)
-                 for b in range(pads.nw.shape[0]))
+def propose(pads: Pads, N, T, heading, ahead, last) -> Choice:
+    """`run`'s first look: the previous tract's state set with the pads whose events ended it
+    changed (slips, opens, or sticks where it closed or its slip reversed; unchanged where the
+    path's end ended it), its rates (one 3x3 solve) and whether it is consistent by `choose`'s
+    rules, to first and second order. last: (state (P,), kind (P,), known): the previous tract's
+    states, the kind of event that ended it per pad (`run`'s kinds; -1 for none; more than one
+    pad where events tie) and whether there was one (a run's first tract may have none: then
+    it is not consistent). Where it is consistent it is
+    `choose`'s choice (checked on every tract of the cases of benchmarks/pads_vs_marcher.py and
+    ellipse_vs_marcher.py); where not, `run` chooses among every set (`stages.second_look`)."""
+    state, kind, known = last
+    _, zero, gap, limit, _, t_sign = _pad_classes(pads, N, T)
+    state = jnp.where((kind == 0) | (kind == 1), SLIP, state)
+    state = jnp.where(kind == 2, OPEN, state)
+    state = jnp.where(kind >= 3, STICK, state)
+    closed, slipping = state != OPEN, state == SLIP
+    # A set `choose` tries: an open pad at N = 0 or with a gap, a slipping one on its limit with
+    # T's sign, a stuck one closed (closing slipping is not proposed).
+    allowed = known & jnp.all(jnp.where(closed, jnp.where(slipping, limit, ~gap), zero | gap))
+    r = _rates(pads, closed[None], slipping[None], t_sign[None])
+    good, second = _judged(pads, N, T, heading, ahead, closed[None], slipping[None],
+                           t_sign[None], r)
+    return Choice(closed, slipping, t_sign, r.dN[0], r.dT[0], r.dslip[0],
+                  allowed & good[0] & second[0])
 
 
 def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
@@ -298,6 +306,6 @@ def empty_tape(n_pads: int, max_tracts: int, n_runs: int) -> Tape:
                 jnp.full((n_runs, max_tracts), -1))
 
 
-__all__ = ["LOOKAHEAD_TOL", "Pads", "Rates", "Choice", "Tape", "candidate_table", "choose", "choose_seated",
-           "choose_all", "seated_reduction", "choose_closed", "set_stiffness", "one_set",
+__all__ = ["LOOKAHEAD_TOL", "Pads", "Rates", "Choice", "Tape", "candidate_table", "choose", "propose",
+           "choose_closed", "set_stiffness", "one_set",
            "replayed_choice", "empty_tape"]

@@ -128,10 +128,10 @@ def _pairs(mech, N0, T0, liftoff0, empty, max_tracts, max_pairs, loop):
     # 14 (the value program's compile stayed at 3.4 s; docs/performance-history.md). A pair
     # always runs both halves (whole_rounds), and the cycle stops after a backward half that
     # closed it or after a pair with a failed half.
-    def leg(records, N, T, j, k):
+    def leg(records, N, T, j, k, idle):
         forward = j % 2 == 0
         half = run_half(mech, N, T, jnp.where(forward, -1.0, 1.0), max_tracts=max_tracts,
-                        loop=loop)
+                        loop=loop, idle=idle)
         records = dict(fwd=tree_where(forward, half, records["fwd"]),
                        bwd=tree_where(~forward, half, records["bwd"]), nhalf=j + 1)
         return half.N_end, half.T_end, half.status != RESULTS.ok, records

@@ -43,7 +43,8 @@ from ._validate import check_int, check_range, check_scalar, check_values
 from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
-from .engine import TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tracts, to_gross_slip
+from .engine import (TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tracts, end_set,
+                     to_gross_slip)
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
 from .loops import check_loop, values_by_replay
@@ -55,7 +56,7 @@ from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
 from .runtime import run_program
 from .statics import contact_columns
 from .status import RESULTS, number_repr, status_repr
-from .tract import OPEN, SLIP
+from .tract import OPEN, SLIP, STICK
 
 MAX_TRACTS = 32  # per period: each pad may stick and slip twice per turn of the ellipse
 MAX_PERIODS = 16  # periods run until the forces at tau = 0 repeat
@@ -220,27 +221,33 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     # Assembly's half period from tau = pi runs as the periods' loop's first pass (one compiled
     # elliptic run in the program instead of two: one cycle's compile 6.5-7.3 -> 4.9-5.9 s).
     half_first = int(initial == "assembly")
+    stuck = (jnp.full(n_pads, STICK), jnp.array(True))  # a run's first proposal: every pad stuck
     if initial == "assembly":
         to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
                               max_tracts=max_tracts, loop=loop, record=record,
-                              replay=recorded("pre"))
+                              replay=recorded("pre"), start_set=stuck)
         to_start, pre_tape = to_start if record else (to_start, None)
         N0, T0 = to_start.N_end, to_start.T_end
         pre = to_start.status[None]
+        # The ellipse leaves X(pi) in another direction: pads slipping there are proposed stuck.
+        state, known = end_set(to_start)
+        pre_set = (jnp.where(state == SLIP, STICK, state), known)
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
         got = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,
-                            loop=loop, record=record, replay=recorded("pre"))
+                            loop=loop, record=record, replay=recorded("pre"), start_set=stuck)
         up, reached = got[:2]
         pre_tape = got[2] if record else None
         unreachable = ok0 & ~reached
         ok0 = ok0 & reached
         N0, T0 = up.N_end, up.T_end
         pre = no_runs
+        pre_set = end_set(up)
     elif initial == "explicit":
         N0, T0 = jnp.asarray(N_init, float), jnp.asarray(T_init, float)
         ok0 = jnp.min(N0) > 0.0
         pre = no_runs
+        pre_set = (stuck[0], jnp.array(False))
         pre_tape = None
     else:
         raise ValueError(f"initial must be one of assembly, gross_slip, explicit; got {initial!r}")
@@ -248,13 +255,16 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     N0 = jnp.where(bad0, jnp.ones(n_pads), N0)  # keep the masked iteration finite
     T0 = jnp.where(bad0, 0.0, T0)
 
-    def leg(records, N, T, j, k):
+    def leg(records, N, T, j, k, idle):
         whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
         start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
-        _, legs = records
+        before, legs = records
         rows = jax.tree_util.tree_map(lambda x: x[j], recorded("legs"))  # None: no replay
+        # The period starts in the set the previous one ended in (the first: the move's).
+        state, known = end_set(before)
         arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop,
-                         record=record, replay=rows)
+                         record=record, replay=rows, idle=idle,
+                         start_set=(jnp.where(known, state, pre_set[0]), known | pre_set[1]))
         if record:
             arc, rows = arc
             legs = jax.tree_util.tree_map(lambda x, r: x.at[j].set(r), legs, rows)

@@ -32,9 +32,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .choice import (LOOKAHEAD_TOL, Choice, Pads, Rates, Tape, candidate_table, choose, choose_all,
-                     choose_closed, choose_seated, empty_tape, one_set, replayed_choice,
-                     seated_reduction, set_stiffness)
+from .choice import (LOOKAHEAD_TOL, Choice, Pads, Rates, Tape, candidate_table, choose,
+                     choose_closed, empty_tape, one_set, propose, replayed_choice, set_stiffness)
 from .linalg import combine, rowdot, solve3
 from .loops import bounded_loop, zeros_of
 from .paths import Line
@@ -43,6 +42,7 @@ from .status import RESULTS
 from .tract import LIMIT_TOL, NO_EVENT, OPEN, RATE_TOL, SLIP, STICK, Mechanics
 
 TRAVEL_TOL = 1e-12  # path left (fraction of a run's) below which a run has ended; slip below it is none
+TIE_TOL = 1e-9  # events nearer than this (of the larger of the tract's length and 1) are tied
 NO_EVENT_LIMIT = 1e5  # mm: a run to gross slip with no event nearer than this fails (no gross slip)
 
 
@@ -132,7 +132,7 @@ def _rows(n_pads: int, n_basis: int, record: bool = False) -> dict:
 
 def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         loop: str = "scan", closed: Mechanics | None = None, record: bool = False,
-        replay: Tape | None = None):
+        replay: Tape | None = None, start_set=None, idle=None):
     """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
     (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
     where no force changes any more. On a line with an end, gross slip before the end is followed
@@ -143,7 +143,10 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
     loop: as `loops.bounded_loop`. record: return (Tracts, Tape), what the run chose; replay (a
     `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing.
-    Unchecked, traceable."""
+    start_set: (state (P,), known ()): the states of the tract before the run's start (the last
+    tract of the previous period), which the run's first tract proposes first (`propose`).
+    idle: a bool; where True the run does nothing (no tracts, status ok: a batch's lane whose
+    iteration has stopped, `periodic.iterate_to_periodic`). Unchecked, traceable."""
     to_gross = p_end is None
     on_line = isinstance(path, Line)
     n_pads, n_basis = N.shape[0], pads.nw.shape[0]
@@ -157,28 +160,43 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     span = None if to_gross else jnp.abs(jnp.asarray(p_end, float) - p_start)
     # A line's direction of motion is the same all along it.
     line_heading = path.heading(pads, p_start) if on_line else None
-    # Values: each tract's state choice tries the closed sets first (three pads: in closed form
-    # from their all-stick reduction, computed once per run), and the lanes of a batch that have a
-    # pad open or at N = 0 choose again among every set (`stages.second_look`). A masked scan
-    # (reverse mode cannot pass second_look) chooses among every set, and a replay takes the
-    # recorded sets (`Tape`: one solve and one event root per tract, what derivatives replay).
-    # A recording run (the value pass inside a derivative program, `loops.values_by_replay`)
-    # chooses among every set at once: the same sets (the first look's contract), one choice in
-    # the program instead of two: the example row's elliptic derivative program traced and
-    # compiled in 34 s instead of 47 s, and ran as fast (docs/motions.md, 2026-11-29). A replay
-    # runs as `loop` says: a masked scan (reverse mode passes) or a while loop that stops where
-    # the recorded run ended (forward mode only).
+    # Values: each tract's state choice first proposes the previous tract's set with the pads
+    # whose events ended it changed (`propose`: one solve, verified by `choose`'s rules), and
+    # the lanes of a batch whose proposal fails choose among every set (`stages.second_look`);
+    # on random shapes one tract in eight or fewer. A masked scan (reverse mode cannot pass
+    # second_look) chooses among every set, and a replay takes the recorded sets (`Tape`: one
+    # solve and one event root per tract, what derivatives replay). A recording run (the value
+    # pass inside a derivative program, `loops.values_by_replay`) chooses among every set at
+    # once: the same sets (the first look's contract), one choice in the program instead of
+    # two: the example row's elliptic derivative program traced and compiled in 34 s instead of
+    # 47 s, and ran as fast (docs/motions.md, 2026-11-29). A replay runs as `loop` says: a
+    # masked scan (reverse mode passes) or a while loop that stops where the recorded run ended
+    # (forward mode only).
     if replay is not None and not pads_open:
         raise ValueError("replay: a run of pads that may open (closed=None)")
-    two_looks = loop == "while" and not record and replay is None
-    reduced = seated_reduction(pads) if pads_open and n_pads == 3 and two_looks else None
-    chooser = (second_look(choose_seated, choose_all, lambda ch: ~ch.consistent)
-               if two_looks else choose_all)
+    two_looks = pads_open and loop == "while" and not record and replay is None
+
+    def proposed(pads, N, T, heading, ahead, last, done):
+        # A finished lane asks for no second look (its choice is not used).
+        ch = propose(pads, N, T, heading, ahead, last)
+        return ch._replace(consistent=ch.consistent | done)
+
+    def every_set(pads, N, T, heading, ahead, last, done):
+        return choose(pads, N, T, heading, ahead)
+
+    chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent) if two_looks
+               else every_set)
     # Pads that may not open: one at N = 0 at the start has lifted off.
     lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
-    init = dict(N=N, T=T, p=p_start, done=lift0, gross=jnp.array(False),
+    done0 = lift0 if idle is None else lift0 | idle
+    init = dict(N=N, T=T, p=p_start, done=done0, gross=jnp.array(False),
                 failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
                 gross_dslip=jnp.zeros((n_basis, n_pads)))
+    if two_looks:
+        # The previous tract's states and the kinds of event that ended it per pad (`propose`):
+        # none before a run's first tract unless the caller knows the set it starts in.
+        state0, known0 = ((jnp.zeros(n_pads, int), False) if start_set is None else start_set)
+        init["last"] = (jnp.asarray(state0), jnp.full(n_pads, -1), jnp.asarray(known0))
 
     def step(carry, row):
         N, T, p0 = carry["N"], carry["T"], carry["p"]
@@ -186,7 +204,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         if replay is not None:
             ch = replayed_choice(pads, row)
         elif pads_open:
-            ch = chooser(pads, N, T, heading, path.ahead(p0), reduced)
+            ch = chooser(pads, N, T, heading, path.ahead(p0), carry.get("last"), carry["done"])
         else:
             ch = choose_closed(closed, N, T, heading)
         stick = ch.closed & ~ch.slipping
@@ -293,6 +311,15 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                                                  & jnp.any(N <= LIMIT_TOL)),
                    liftoff=carry["liftoff"] | lifted,
                    gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
+        if two_looks:
+            # Per pad, the first kind of event at the tract's end (the one taken, and those tied
+            # with it or with the path's end: the same event of symmetric pads, a slip reversing
+            # at the end of a period), or -1: what the next tract's first look changes.
+            tied = (cand <= dp + TIE_TOL * jnp.maximum(dp, 1.0)).reshape(-1, n_pads)
+            changes = jnp.where(jnp.any(tied, axis=0), jnp.argmax(tied, axis=0), -1)
+            state0, _, known = carry["last"]
+            new["last"] = (jnp.where(advance, state, state0),
+                           jnp.where(advance, changes, carry["last"][1]), known | advance)
         return new, out
 
     end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis, record), replay,
@@ -307,6 +334,13 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     return (tracts, tape) if record else tracts
 
 
+def end_set(tracts: Tracts):
+    """(state (P,), known): the states of a run's last tract, which the next run starts in
+    (`run(start_set=...)`); known False where the run had none."""
+    last = jnp.max(jnp.where(tracts.active, jnp.arange(tracts.active.shape[0]), -1))
+    return tracts.state[jnp.maximum(last, 0)], last >= 0
+
+
 def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
     """A Tracts of zeros (the initial value of an iteration over runs)."""
     zp = jnp.zeros(n_pads)
@@ -317,21 +351,21 @@ def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
 
 def to_gross_slip(pads: Pads, N, T, start_ok, *, max_tracts: int, loop: str = "scan",
                   closed: Mechanics | None = None, record: bool = False,
-                  replay: Tape | None = None):
+                  replay: Tape | None = None, start_set=None):
     """(run, reached): the one move to gross slip, a straight run along the pads' one direction
     (B = 1) from (N, T) until every pad that can slip does (`run` with no end: the gross-slip
     history's move from assembly); reached: it got there (ok, gross slip; a pad that opens or
     lifts off first leaves no gross-slip state). Where start_ok is False the start is masked
-    (N = 1, T = 0), which keeps the masked run finite. closed, replay: as `run`'s; record: the
-    run's `Tape` comes third."""
+    (N = 1, T = 0), which keeps the masked run finite. closed, replay, start_set: as `run`'s;
+    record: the run's `Tape` comes third."""
     N = jnp.where(start_ok, N, jnp.ones_like(N))
     T = jnp.where(start_ok, T, 0.0)
     up = run(pads, Line(), N, T, 0.0, None, max_tracts=max_tracts, loop=loop, closed=closed,
-             record=record, replay=replay)
+             record=record, replay=replay, start_set=start_set)
     up, tape = up if record else (up, None)
     reached = (up.status == RESULTS.ok) & up.gross_slip
     return (up, reached, tape) if record else (up, reached)
 
 
 __all__ = ["Pads", "Rates", "Choice", "Tracts", "Tape", "candidate_table", "choose", "choose_closed",
-           "seated_reduction", "LOOKAHEAD_TOL", "assemble", "run", "to_gross_slip", "empty_tracts", "empty_tape", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]
+           "propose", "LOOKAHEAD_TOL", "assemble", "run", "to_gross_slip", "end_set", "empty_tracts", "empty_tape", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

@@ -105,17 +105,18 @@ def gross_slip_from_assembly(mech: Mechanics, *, max_tracts: int, loop: str = "s
 
 
 def run_half(mech: Mechanics, N, T, direction, travel=None, *, max_tracts: int,
-             loop: str = "scan") -> Half:
+             loop: str = "scan", idle=None) -> Half:
     """Tracts from a reversal at (N, T) (units of F_D) with the platforms moving in `direction`
     (+1 when dv increases, -1 when it decreases), until gross slip (travel=None) or over `travel`
     mm of relative platform motion.
 
     loop="scan" runs max_tracts masked steps (reverse-mode differentiable); loop="while" stops when
-    the half is done (the same numbers; values and forward mode only). Unchecked, traceable.
+    the half is done (the same numbers; values and forward mode only). idle: `engine.run`'s.
+    Unchecked, traceable.
     """
     moving = along(mech, direction)
     tr = run_tracts(_pads(mech, moving), Line(), N, T, 0.0, travel, max_tracts=max_tracts, loop=loop,
-                    closed=moving)
+                    closed=moving, idle=idle)
     # Back-slide (Appendix A): a contact still sliding on the limit line it had at the reversal,
     # tract after tract (named here: the engine's states are stick, slip and open).
     start_sign = jnp.where(T >= 0.0, 1.0, -1.0)

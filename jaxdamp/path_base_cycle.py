@@ -108,10 +108,10 @@ def _impl(shape, mu, contacts, load, motion, max_tracts, max_pairs, loop):
     # One loop over moves to gross slip, so that the program holds one compiled run: move 0 from
     # assembly along +X_r, then pairs of halves, forward (-X_r) and backward (+X_r), until the
     # state at the start of a pair repeats (`periodic.iterate_to_periodic`).
-    def leg(r, N, T, j, k):
+    def leg(r, N, T, j, k, idle):
         forward = j % 2 == 1
         run = run_tracts(along_line(pads, jnp.where(forward, -1.0, 1.0)), Line(), N, T,
-                         0.0, None, max_tracts=max_tracts, loop=loop)
+                         0.0, None, max_tracts=max_tracts, loop=loop, idle=idle)
         # A run that ends anywhere but in gross slip (its tracts ran out, e.g. two pads taking
         # turns to stick and slip) leaves no gross-slip state, and no Base-Cycle.
         unseated = run.status == RESULTS.unseated

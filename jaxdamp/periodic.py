@@ -59,10 +59,12 @@ def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_le
     CLOSE_TOL), a leg fails, or max_rounds rounds (at most round_budget, which may be traced) have
     run.
 
-    leg(records, N, T, j, k) -> (N_end, T_end, bad, records): runs leg j from (N, T), where
+    leg(records, N, T, j, k, idle) -> (N_end, T_end, bad, records): runs leg j from (N, T), where
     k = j - pre_legs is its index within the rounds (negative for a preliminary leg; the round's
     first leg where k % legs_per_round == 0), and returns the caller's records updated (a pytree)
-    and bad, whether the leg failed. A failed leg stops the iteration at once, or with
+    and bad, whether the leg failed. idle: the iteration has stopped, and what the leg returns is
+    dropped (it runs only as a lane of a batch whose other lanes go on: its tract runs should
+    start done, `engine.run(idle=...)`, so that they do not keep the batch's loops going). A failed leg stops the iteration at once, or with
     whole_rounds at the end of its round (the Base-Cycle's pair always runs both halves).
     stop0: True where there is nothing to iterate (the start failed). loop: `loops.repeat_until`'s.
 
@@ -76,7 +78,7 @@ def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_le
         k = j - pre_legs
         starts = (k >= 0) & (k % legs_per_round == 0)
         ends = (k >= 0) & (k % legs_per_round == legs_per_round - 1)
-        N1, T1, bad, records = leg(c["records"], c["N"], c["T"], j, k)
+        N1, T1, bad, records = leg(c["records"], c["N"], c["T"], j, k, stopped(c))
         there = jnp.concatenate([N1, T1])
         top = jnp.where(starts, jnp.concatenate([c["N"], c["T"]]), c["top"])
         gap = closure_gap(top, there)
@@ -93,14 +95,14 @@ def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_le
                     failed=jnp.where(ends, False, failed) if whole_rounds else failed,
                     stop=stop, rounds=c["rounds"] + ends.astype(jnp.int32), records=records)
 
-    no = jnp.array(False)
-    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(2 * n),
-                gap=jnp.asarray(jnp.inf), closed=no, failed=no, stop=jnp.asarray(stop0),
-                rounds=jnp.array(0, jnp.int32), records=records)
     if round_budget is None:
         stopped = lambda c: c["stop"]  # noqa: E731
     else:
         stopped = lambda c: c["stop"] | (c["rounds"] >= round_budget)  # noqa: E731
+    no = jnp.array(False)
+    init = dict(N=N0, T=T0, top=jnp.concatenate([N0, T0]), prev=jnp.zeros(2 * n),
+                gap=jnp.asarray(jnp.inf), closed=no, failed=no, stop=jnp.asarray(stop0),
+                rounds=jnp.array(0, jnp.int32), records=records)
     return repeat_until(step, init, pre_legs + legs_per_round * max_rounds, loop, stopped)
 
 

@@ -53,6 +53,56 @@ def test_the_candidate_table_has_every_weak_and_strong_choice():
     assert len({tuple(w) for w in weak}) == 16  # no repeats: every choice per pad, once
 
 
+def test_a_consistent_proposal_is_the_choice_among_every_set():
+    """`propose`'s contract, which lets the engine skip the choice among every set: at every
+    tract start of the wedge's cycle (its pads open, close, stick and slip), each of the 81
+    stick/slip/open sets, proposed unchanged, is either not consistent or exactly `choose`'s
+    choice; and the chosen set itself is a consistent proposal, except where a pad closes
+    slipping (not proposed: its slip direction is not T's; the choice among every set takes
+    those). An event changes its pad as its kind says (slips, opens, sticks where it closed or
+    its slip reversed)."""
+    from itertools import product
+
+    from jaxdamp.choice import choose, propose
+    from jaxdamp.conventions import travel_mm
+    from jaxdamp.paths import Ellipse
+    from jaxdamp.tract import STICK
+
+    c = cycle()
+    sh, mu, contacts, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
+    pads = path_pads(sh, mu, contacts, load, path_parts(PATH))
+    path = Ellipse(travel_mm(jnp.asarray(20.0), load.q_star))
+    sets = jnp.asarray(list(product((STICK, SLIP, OPEN), repeat=4)))
+    no_event = jnp.full(4, -1)
+
+    @jax.jit
+    def judged(N, T, p0):
+        heading, ahead = path.heading(pads, p0), path.ahead(p0)
+        full = choose(pads, N, T, heading, ahead)
+        prop = jax.vmap(lambda st: propose(pads, N, T, heading, ahead,
+                                           (st, no_event, jnp.array(True))))(sets)
+        same = ((prop.closed == full.closed[None]) & (prop.slipping == full.slipping[None])).all(1)
+        closing_slip = jnp.any(full.slipping & (jnp.abs(N) <= 1e-10))
+        return prop.consistent, same & full.consistent, closing_slip
+
+    period = c.period
+    starts = np.flatnonzero(np.asarray(period.active))
+    closing = 0
+    for k in starts:
+        ok, same, closing_slip = (np.asarray(x) for x in judged(period.N0[k], period.T0[k],
+                                                                  period.p0[k]))
+        assert not np.any(ok & ~same), k
+        assert np.any(ok & same) or closing_slip, k
+        closing += int(closing_slip)
+    assert closing < len(starts) // 4  # most tracts are proposed right
+    state = jnp.asarray([STICK, SLIP, STICK, OPEN])
+    kinds = jnp.asarray([0, 4, 2, 3])  # slips up, slip reverses, opens, closes
+    heading = path.heading(pads, 0.0)
+    got = propose(pads, period.N0[0], period.T0[0], heading, None, (state, kinds, jnp.array(True)))
+    assert np.array_equal(np.asarray(got.closed), [True, True, False, True])
+    assert np.array_equal(np.asarray(got.slipping), [True, False, False, False])
+
+
 def test_a_wedge_with_opening_pads_agrees_with_the_time_marcher():
     from jaxdamp.baselines import march_ellipse
 

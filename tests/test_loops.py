@@ -142,7 +142,8 @@ def test_a_tract_loop_on_batched_paths_is_batched_in_one_pass(monkeypatch):
     the path (`batched_together(like=...)`), so the body is batched once (the predicate's
     batching of it is the same and cached) instead of once per pass of a fixpoint (three here
     without the tie, each batching every loop nested in the body). The same tracts as each
-    path run alone."""
+    path run alone, to rounding (the rates are O(1-100) per mm; a lane's vectorised solve rounds
+    differently from a single run's, and a rate that is zero alone may come out as 1e-15)."""
     from jax._src.interpreters import batching
     from jaxdamp.conventions import CENTRIFUGAL_LOAD, travel_mm
     from jaxdamp.ellipse import path_pads
@@ -169,7 +170,7 @@ def test_a_tract_loop_on_batched_paths_is_batched_in_one_pass(monkeypatch):
     monkeypatch.undo()
     for i, s_a in enumerate(travel):
         assert_tree_allclose(jax.tree_util.tree_map(lambda x: x[i], batched), tracts(s_a),
-                             rtol=1e-12, atol=1e-15)
+                             rtol=1e-12, atol=1e-13)
 
 
 def test_looped_together_gives_every_float_a_tangent_from_the_first_pass(monkeypatch):

@@ -32,7 +32,7 @@ def _affine_leg(ratios, fail_at=None):
     run in its records; it fails at leg fail_at."""
     ratios = jnp.asarray(ratios, float)
 
-    def leg(count, N, T, j, k):
+    def leg(count, N, T, j, k, idle):
         x = FIXED + ratios * (jnp.concatenate([N, T]) - FIXED)
         bad = jnp.array(False) if fail_at is None else j == fail_at
         return x[:3], x[3:], bad, count + 1

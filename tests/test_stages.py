@@ -1,8 +1,8 @@
 """Two stages inside one program (`jaxdamp.stages.second_look`): the fast result where it holds,
 the full one where the fast one asks for a second look, unbatched, batched (more flagged lanes
 than a chunk, none, all), with shared arguments, nested vmap and forward mode; and the tract
-engine's use of it (each tract's state choice tries the closed sets first), against the choice
-among every set."""
+engine's use of it (each tract's state choice proposes the previous tract's set with the event
+pads changed first), against the choice among every set."""
 
 from __future__ import annotations
 
@@ -66,9 +66,9 @@ def test_batched_shared_and_batched_arguments_nested_vmap_and_forward_mode():
 
 def test_the_engine_s_first_look_gives_the_choice_among_every_set_in_a_mixed_batch():
     """45sym at 5 mrad: at phi 30 and 90 deg a pad opens for 40 % of the period, at 150 deg none
-    does. In one batch the lanes whose pads open choose again among every set (second look), the
-    others keep the closed sets' choice; every lane equals the masked scan's cycle (which always
-    chooses among every set, and is the derivatives' program)."""
+    does. In one batch the lanes whose proposed set is not consistent choose again among every
+    set (second look), the others keep the proposal; every lane equals the masked scan's cycle
+    (which always chooses among every set, and is the derivatives' program)."""
     shape = jd.family_shape("45sym")
     contacts = jd.Contacts(17900.0, 3580.0)
     phis = [30.0, 150.0, 90.0]
@@ -88,3 +88,39 @@ def test_the_engine_s_first_look_gives_the_choice_among_every_set_in_a_mixed_bat
                              atol=1e-9 * scale)
         assert_tree_allclose(batch.open_fraction[i], ref.open_fraction, rtol=0, atol=1e-9)
         assert_tree_allclose(batch.slip_fraction[i], ref.slip_fraction, rtol=0, atol=1e-9)
+
+
+@pytest.mark.slow
+def test_random_designs_batched_give_the_cycles_of_the_choice_among_every_set():
+    """Random curved-flat dampers and wedges (pads_vs_marcher.py's ranges, and wider base angles,
+    whose dampers are often unseated: a batch with lanes that stop at once) on random ellipses:
+    the batched while loops (proposed sets first, lanes whose iteration stopped idle) give each
+    design the masked scan's cycle (every set chosen in every tract), status, periods and k."""
+    rng = np.random.default_rng(11)
+    n = 12
+    # Scalar stiffnesses (a wedge has four pads); the kernel takes inputs as prepared arrays.
+    c = jd.Contacts(jnp.asarray(17900.0), jnp.asarray(3580.0))
+    load = jd.LoadCase(*(jnp.asarray(float(v)) for v in jd.LoadCase()))
+    tl, tr = rng.uniform(40.0, 80.0, (2, n))
+    br, bl2, br2 = rng.uniform([-0.2, 0.5, 0.5], [0.3, 0.9, 0.9], (n, 3)).T
+    mu, phi, psi = rng.uniform([0.3, 20.0, 1.0], [0.7, 160.0, 12.0], (n, 3)).T
+    motions = [jd.interblade_motion(float(f), 20.0, 100.0, 10.0) for f in phi]
+    motion = jax.tree_util.tree_map(lambda *x: jnp.stack(x), *motions)
+    kernel = lambda loop: lambda s, m, a, mot: jd.elliptic_kernel(  # noqa: E731
+        s, m, c, load, a, mot, initial="assembly", loop=loop)
+    every_set = jax.jit(kernel("scan"))
+    for wedge in (False, True):
+        shape = jd.DamperShape(*(jnp.asarray(v) for v in (tl, tr, br, bl2)), None,
+                               jnp.asarray(br2) if wedge else None)
+        batch = jax.jit(jax.vmap(kernel("while")))(shape, jnp.asarray(mu), jnp.asarray(psi), motion)
+        statuses = set()
+        for i in range(n):
+            one = jax.tree_util.tree_map(lambda x, i=i: x[i], (shape, mu, psi, motion))
+            ref = every_set(*one)
+            statuses.add(jd.RESULTS.name_of(ref.status))
+            assert int(batch.status[i]) == int(ref.status), (wedge, i)
+            assert int(batch.periods[i]) == int(ref.periods), (wedge, i)
+            scale = max(abs(float(ref.k_re)), abs(float(ref.k_im)), 1e-300)
+            assert_tree_allclose((batch.k_re[i], batch.k_im[i]), (ref.k_re, ref.k_im), rtol=0,
+                                 atol=1e-9 * scale)
+        assert "ok" in statuses, wedge  # the test compares cycles, not only failures
