@@ -133,6 +133,12 @@ def chosen_shard(config):
     return k
 
 
+def pytest_configure(config):
+    # A bad --slow-shard is one usage line before any work (raised later, in the report header
+    # or the collection, xdist shows it as an INTERNALERROR traceback).
+    chosen_shard(config)
+
+
 def pytest_report_header(config):
     k = chosen_shard(config)
     n_shards = slow_shards()[0]

@@ -74,3 +74,17 @@ def test_balance_places_longest_first_within_four_thirds_of_the_best():
     assert sum(load) == pytest.approx(sum(seconds.values()))
     best = max(sum(seconds.values()) / 4, max(seconds.values()))
     assert max(load) <= 4 / 3 * best
+
+
+def test_a_bad_shard_is_one_usage_line_before_any_test():
+    """`--slow-shard` out of range or not a number: pytest's usage error (exit 4), one line naming
+    the option and its range, under xdist too (not an INTERNALERROR traceback)."""
+    import subprocess
+    import sys
+
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-n", "2",
+                          "--slow-shard", "all", "tests/test_slow_shards.py"],
+                         capture_output=True, text=True, cwd=ROOT, timeout=120)
+    assert run.returncode == 4, run.stdout + run.stderr
+    assert "--slow-shard must be auto or an integer in [0, " in run.stderr
+    assert "INTERNALERROR" not in run.stdout + run.stderr
