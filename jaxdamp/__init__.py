@@ -27,7 +27,8 @@ docs/api.md maps each concept to its functions and says what a wrong input gets)
 - Bands over histories: `amplitude_band` (one amplitude, or a grid).
 - Many designs: `stack_designs`, `evaluate_designs` (the numbers), `base_cycles` (the cycles),
   `sweep`, `map_batched`.
-- Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`.
+- Derivatives: `five_numbers_jacobian`, `k_im_gradient_at`, `batch_jacobian`; of a path cycle
+  with respect to the design and the path: `path_gradient`.
 - Forced response: `BladeMode`, `damper_stiffness`, `response_curves`, `design_peaks`,
   `peak_response`, `peak_band`, `frf`, `designer_diagram`; on a platform path:
   `path_response_curves`; the blade row from modal data: `ModalFamily`, `nodal_scene`,
@@ -134,6 +135,9 @@ from .gradients import five_numbers_jacobian as five_numbers_jacobian
 from .gradients import KImGradient as KImGradient
 from .gradients import k_im_gradient_at as k_im_gradient_at
 from .gradients import batch_jacobian as batch_jacobian
+from .path_gradients import PathGradient as PathGradient
+from .path_gradients import PathOutputs as PathOutputs
+from .path_gradients import path_gradient as path_gradient
 
 # Blade forced response (one mode, the damper as a complex spring)
 from .response import BladeMode as BladeMode
@@ -232,7 +236,7 @@ __all__ = ["__version__", "enable_x64", "Design", "check_design", "check_batch",
            "curves_kernel", "Band", "amplitude_band", "StiffnessCurve", "stiffness_curve",
            "stack_designs", "map_batched", "base_cycles", "evaluate_designs", "DesignSummary",
            "sweep", "SweepResult", "FiveNumbersJacobian", "five_numbers_jacobian", "KImGradient",
-           "k_im_gradient_at", "batch_jacobian", "BladeMode", "DamperStiffness",
+           "k_im_gradient_at", "batch_jacobian", "path_gradient", "PathGradient", "PathOutputs", "BladeMode", "DamperStiffness",
            "damper_stiffness", "damper_stiffness_kernel", "FRF", "frf", "Peaks", "peak_response",
            "design_peaks", "peak_band", "ResponseCurves", "response_curves",
            "path_response_curves", "DesignerDiagram", "ModalFamily", "NodalScene", "nodal_scene",

@@ -112,13 +112,14 @@ def _pad_classes(pads: Pads, N, T):
     return mu, zero, gap, limit, inside, jnp.where(T >= 0.0, 1.0, -1.0)
 
 
-def _judged(pads: Pads, N, T, heading, ahead, closed, slipping, signs, r: Rates):
-    """(first, second) (C,) bool for C state sets (closed, slipping, signs (C, P)) with rates r:
+def _judged(pads: Pads, N, T, heading, ahead, closed, slipping, signs, r: Rates, classes):
+    """(first, second) (C,) bool for C state sets (closed, slipping, signs (C, P)) with rates r
+    (classes: `_pad_classes` of (N, T), which the caller has already):
     consistent to first order along `heading` (a stick pad on its limit stays in the cone, a
     slipping pad slides against its friction force, a pad at N = 0 closes or opens as its state
     says; and the set's system is regular), and still so at `ahead` basis increments on (the
     second-order check; all True where ahead is None)."""
-    mu, zero, _, limit, _, t_sign = _pad_classes(pads, N, T)
+    mu, zero, _, limit, _, t_sign = classes
     zero2, limit2, mu2 = zero[None], limit[None], mu[None]
     dN, dT, dslip = (_along(heading, x) for x in (r.dN, r.dT, r.dslip))
     tol = RATE_TOL * jnp.max(jnp.maximum(pads.kn, pads.kt))
@@ -147,7 +148,7 @@ class Choice(NamedTuple):
     dN: jnp.ndarray  # (B, P) rates per unit motion along each basis direction
     dT: jnp.ndarray
     dslip: jnp.ndarray
-    consistent: jnp.ndarray  # () bool: some candidate set is consistent
+    consistent: jnp.ndarray  # () bool: the set is consistent (`choose`: the best candidate's)
 
 
 def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
@@ -161,7 +162,8 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     second-order check: a rate can be zero at a tract's start without changing sign), if any;
     then the one with the most pads strong (stick, closed), closing pads preferably in stick."""
     n_pads = N.shape[0]
-    _, zero, gap, limit, inside, t_sign = _pad_classes(pads, N, T)
+    classes = _pad_classes(pads, N, T)
+    _, zero, gap, limit, inside, t_sign = classes
     zero2, gap2, limit2, inside2 = zero[None], gap[None], limit[None], inside[None]
 
     # Every weak/strong choice per pad, pads at N = 0 that close in stick; then the sets in which
@@ -189,7 +191,7 @@ def choose(pads: Pads, N, T, heading, ahead=None) -> Choice:
     first = np.arange(weak.shape[0]) < n1
     allowed = (~jnp.any(weak & inside2, axis=1) & ~jnp.any(~weak & gap2, axis=1)
                & (first | zero[z]))
-    good, second = _judged(pads, N, T, heading, ahead, closed, slipping, signs, r)
+    good, second = _judged(pads, N, T, heading, ahead, closed, slipping, signs, r, classes)
     good = allowed & good
     if ahead is not None:
         second = good & second
@@ -211,7 +213,8 @@ def propose(pads: Pads, N, T, heading, ahead, last) -> Choice:
     `choose`'s choice (checked on every tract of the cases of benchmarks/pads_vs_marcher.py and
     ellipse_vs_marcher.py); where not, `run` chooses among every set (`stages.second_look`)."""
     state, kind, known = last
-    _, zero, gap, limit, _, t_sign = _pad_classes(pads, N, T)
+    classes = _pad_classes(pads, N, T)
+    _, zero, gap, limit, _, t_sign = classes
     state = jnp.where((kind == 0) | (kind == 1), SLIP, state)
     state = jnp.where(kind == 2, OPEN, state)
     state = jnp.where(kind >= 3, STICK, state)
@@ -221,7 +224,7 @@ def propose(pads: Pads, N, T, heading, ahead, last) -> Choice:
     allowed = known & jnp.all(jnp.where(closed, jnp.where(slipping, limit, ~gap), zero | gap))
     r = _rates(pads, closed[None], slipping[None], t_sign[None])
     good, second = _judged(pads, N, T, heading, ahead, closed[None], slipping[None],
-                           t_sign[None], r)
+                           t_sign[None], r, classes)
     return Choice(closed, slipping, t_sign, r.dN[0], r.dT[0], r.dslip[0],
                   allowed & good[0] & second[0])
 

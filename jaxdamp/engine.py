@@ -174,7 +174,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     # (forward mode only).
     if replay is not None and not pads_open:
         raise ValueError("replay: a run of pads that may open (closed=None)")
-    two_looks = pads_open and loop == "while" and not record and replay is None
+    proposes = pads_open and loop == "while" and not record and replay is None
 
     def proposed(pads, N, T, heading, ahead, last, done):
         # A finished lane asks for no second look (its choice is not used).
@@ -184,7 +184,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     def every_set(pads, N, T, heading, ahead, last, done):
         return choose(pads, N, T, heading, ahead)
 
-    chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent) if two_looks
+    chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent) if proposes
                else every_set)
     # Pads that may not open: one at N = 0 at the start has lifted off.
     lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
@@ -192,7 +192,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     init = dict(N=N, T=T, p=p_start, done=done0, gross=jnp.array(False),
                 failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
                 gross_dslip=jnp.zeros((n_basis, n_pads)))
-    if two_looks:
+    if proposes:
         # The previous tract's states and the kinds of event that ended it per pad (`propose`):
         # none before a run's first tract unless the caller knows the set it starts in.
         state0, known0 = ((jnp.zeros(n_pads, int), False) if start_set is None else start_set)
@@ -311,7 +311,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                                                  & jnp.any(N <= LIMIT_TOL)),
                    liftoff=carry["liftoff"] | lifted,
                    gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
-        if two_looks:
+        if proposes:
             # Per pad, the first kind of event at the tract's end (the one taken, and those tied
             # with it or with the path's end: the same event of symmetric pads, a slip reversing
             # at the end of a period), or -1: what the next tract's first look changes.

@@ -149,8 +149,9 @@ def validate_psi_a(psi_a_mrad):
     check_scalar("psi_a_mrad", psi_a_mrad, 0.0, 1e9, unit="mrad")
 
 
-def _collapse(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
-    """Sum per-contact stiffness derivatives (last axis) for stiffness given as one shared value."""
+def collapse_shared_stiffness(d: Design, kn_shared: bool, kt_shared: bool) -> Design:
+    """Sum per-contact stiffness derivatives (last axis) for stiffness given as one shared value
+    (a prepared Design has kn, kt per pad)."""
     kn, kt = d.contacts
     return d._replace(contacts=Contacts(jnp.sum(kn, axis=-1) if kn_shared else kn,
                                         jnp.sum(kt, axis=-1) if kt_shared else kt))
@@ -172,7 +173,7 @@ def _jac(shape, mu, contacts, load, psi_a, mode, runner=None):
     program, args = _jacobian[mode], (design, jnp.asarray(psi_a, float))
     jac, (values, status) = run_program(program, args, runner)
     shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
-    return values, Outputs(*(_collapse(d, *shared) for d in jac)), status
+    return values, Outputs(*(collapse_shared_stiffness(d, *shared) for d in jac)), status
 
 
 def five_numbers_jacobian(shape: DamperShape | Design, mu=None, contacts: Contacts = Contacts(),
@@ -212,9 +213,9 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     validate_psi_a(psi_a)
     jac, aux = map_batched(_BATCHED[mode], prepared, jnp.asarray(psi_a, float), devices=devices,
                            chunk_size=chunk_size, progress=progress)
-    return Outputs(*(_collapse(d, *shared) for d in jac)), aux
+    return Outputs(*(collapse_shared_stiffness(d, *shared) for d in jac)), aux
 
 
 __all__ = ["PARAMETERS", "MODES", "by_name", "Outputs", "FiveNumbersJacobian",
            "KImGradient", "outputs", "validate_psi_a", "evaluate", "five_numbers_jacobian",
-           "k_im_gradient_at", "batch_jacobian"]
+           "k_im_gradient_at", "batch_jacobian", "collapse_shared_stiffness"]
