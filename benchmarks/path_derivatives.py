@@ -7,7 +7,9 @@ ellipse of zero width), for the curved-flat damper (60sym) and a wedge (60/60, 2
 assembly and from gross slip:
 
 - compile time (lower + compile, warm process) of `jax.jacfwd` and `jax.grad` of one design's
-  k_Im, and of `jax.vmap(jax.grad)` over 64 designs (60sym, elliptic path, assembly);
+  k_Im, and of `jax.vmap(jax.grad)` over 64 designs (60sym, elliptic path, assembly); there also
+  the same three with XLA's latency options (`runtime.LATENCY_OPTIONS`, `*_latency_s`) and the
+  public `path_gradient`'s first call per mode (every output, the Design and the Motion);
 - agreement with float64 central differences (step 1e-6 of each variable's size) on random
   designs around each base (each variable scaled by 1 + 0.05 N(0, 1), mu in 0.3-0.7, amplitude
   1-10 mrad): a case counts where the central difference is smooth (the two one-sided
@@ -58,10 +60,14 @@ def main(cases: int = 16, out: Path = RESULTS / "path_derivatives.json") -> dict
                        17900.0, 3580.0, float(load.F_D), 10.0])
         return cycle, x0
 
-    def compile_s(f, *args):
+    def compile_s(f, *args, options=None):
+        """Seconds to lower and compile jax.jit(f) for args (XLA's default options, or `options`)."""
         t0 = time.perf_counter()
-        jax.jit(f).lower(*args).compile()
+        lowered = jax.jit(f).lower(*args)
+        lowered.compile(compiler_options=options) if options else lowered.compile()
         return time.perf_counter() - t0
+
+    from jaxdamp.runtime import LATENCY_OPTIONS
 
     rng = np.random.default_rng(0)
     rows, compiles = [], []
@@ -81,6 +87,19 @@ def main(cases: int = 16, out: Path = RESULTS / "path_derivatives.json") -> dict
                     X = np.tile(x0, (64, 1))
                     A = jnp.full(64, 2.0)
                     entry["vmap64_grad_s"] = compile_s(jax.vmap(jax.grad(k_im)), X, A)
+                    # The same three programs with XLA's latency options (path_gradient's), and
+                    # the public path_gradient's first call (trace, lower, compile, run) per mode.
+                    latency = dict(LATENCY_OPTIONS)
+                    entry["jacfwd_latency_s"] = compile_s(jax.jacfwd(k_im), x0, a0, options=latency)
+                    entry["grad_latency_s"] = compile_s(jax.grad(k_im), x0, a0, options=latency)
+                    entry["vmap64_grad_latency_s"] = compile_s(jax.vmap(jax.grad(k_im)), X, A,
+                                                               options=latency)
+                    for mode in ("fwd", "rev"):
+                        t0 = time.perf_counter()
+                        g = jd.path_gradient(shape, 0.5, 2.0, motion, jd.Contacts(17900.0, 3580.0),
+                                             initial=initial, mode=mode)
+                        g.values.k_im.block_until_ready()
+                        entry[f"path_gradient_{mode}_first_call_s"] = time.perf_counter() - t0
                 compiles.append(entry)
                 print(json.dumps(entry), flush=True)
                 # Random designs: one program for the derivatives, one for the values.

@@ -136,7 +136,6 @@ from .gradients import KImGradient as KImGradient
 from .gradients import k_im_gradient_at as k_im_gradient_at
 from .gradients import batch_jacobian as batch_jacobian
 from .path_gradients import PathGradient as PathGradient
-from .path_gradients import PathOutputs as PathOutputs
 from .path_gradients import path_gradient as path_gradient
 
 # Blade forced response (one mode, the damper as a complex spring)
@@ -236,7 +235,7 @@ __all__ = ["__version__", "enable_x64", "Design", "check_design", "check_batch",
            "curves_kernel", "Band", "amplitude_band", "StiffnessCurve", "stiffness_curve",
            "stack_designs", "map_batched", "base_cycles", "evaluate_designs", "DesignSummary",
            "sweep", "SweepResult", "FiveNumbersJacobian", "five_numbers_jacobian", "KImGradient",
-           "k_im_gradient_at", "batch_jacobian", "path_gradient", "PathGradient", "PathOutputs", "BladeMode", "DamperStiffness",
+           "k_im_gradient_at", "batch_jacobian", "path_gradient", "PathGradient", "BladeMode", "DamperStiffness",
            "damper_stiffness", "damper_stiffness_kernel", "FRF", "frf", "Peaks", "peak_response",
            "design_peaks", "peak_band", "ResponseCurves", "response_curves",
            "path_response_curves", "DesignerDiagram", "ModalFamily", "NodalScene", "nodal_scene",

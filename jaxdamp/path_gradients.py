@@ -48,6 +48,15 @@ class PathOutputs(NamedTuple):
     energy: jnp.ndarray  # (P,) N mm per cycle dissipated at each pad (`geometry.pad_names` order)
     work: jnp.ndarray  # N mm per cycle of the modal forces
 
+    def __repr__(self) -> str:
+        """The four numbers with units; a PathOutputs of derivatives (Designs or Motions) by its
+        fields' types."""
+        if all(isinstance(v, (jnp.ndarray, np.ndarray, np.generic, float)) for v in self):
+            return "PathOutputs(" + ", ".join(f"{f}={number_repr(v, u)}" for f, v, u in
+                                              zip(self._fields, self, UNITS)) + ")"
+        return "PathOutputs(" + ", ".join(f"{f}=<{type(v).__name__}>" for f, v in
+                                          zip(self._fields, self)) + ")"
+
 
 class PathGradient(NamedTuple):
     """values: PathOutputs. d_design, d_motion: PathOutputs whose fields are a Design and a Motion

@@ -14,6 +14,7 @@ import jaxdamp as jd
 from helpers import assert_tree_allclose, count_compiles
 from jaxdamp.motion import as_ellipse
 from jaxdamp.params import prepare_inputs
+from jaxdamp.path_gradients import PathOutputs
 
 jd.enable_x64()
 
@@ -56,14 +57,18 @@ def test_float32_is_refused_before_any_compile():
 
 
 def test_the_repr_names_the_status_and_units():
-    values = jd.PathOutputs(np.float64(1.0e4), np.float64(1.5e3), np.zeros(3), np.float64(2.0))
+    values = PathOutputs(np.float64(1.0e4), np.float64(1.5e3), np.zeros(3), np.float64(2.0))
     d = jd.Design(SHAPE, np.float64(-2.0e3))
     motion = jd.Motion(np.zeros(3), np.float64(-0.8), np.zeros(3))
-    g = jd.PathGradient(values, jd.PathOutputs(d, d, d, d),
-                        jd.PathOutputs(motion, motion, motion, motion), np.int32(0))
+    g = jd.PathGradient(values, PathOutputs(d, d, d, d),
+                        PathOutputs(motion, motion, motion, motion), np.int32(0))
     text = repr(g)
     assert text.startswith("PathGradient(status=ok, k_re=10000 N mm/mrad, k_im=1500 N mm/mrad; ")
     assert "d k_im/d mu=-2000 N mm/mrad" in text and "d k_im/d h_l=-0.8 N mm/mrad per mm" in text
+    assert repr(values) == ("PathOutputs(k_re=10000 N mm/mrad, k_im=1500 N mm/mrad, "
+                            "energy=[0, 0, 0] N mm, work=2 N mm)")
+    assert repr(g.d_design) == ("PathOutputs(k_re=<Design>, k_im=<Design>, energy=<Design>, "
+                                "work=<Design>)")
 
 
 def _central(f, x, h):
