@@ -26,7 +26,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .design import Design
+from .design import Design, as_design
 from .ellipse import MAX_PERIODS, MAX_TRACTS, elliptic_kernel
 from .geometry import DamperShape
 from .gradients import MODES, collapse_shared_stiffness
@@ -115,14 +115,8 @@ def path_gradient(shape: DamperShape | Design, mu=None, amplitude_mrad=None,
     `elliptic_cycle`'s). kn, kt given as one value come back as one derivative (the sum over the
     pads), per pad where given per pad. Checked (ValueError naming the parameter and its range,
     Float64Required in float32) before anything is compiled."""
-    if isinstance(shape, Design):
-        if mu is not None:
-            raise ValueError("give either a Design or (shape, mu, contacts, load), not both")
-        shape, mu, contacts, load = shape
-    if mu is None:
-        raise ValueError("mu must be given (a number in (0, 5]) with a DamperShape")
-    given = Contacts() if contacts is None else contacts
-    design = Design(*prepare_inputs(shape, mu, given, load, wedge_ok=True))
+    given = as_design(shape, mu, contacts, load)
+    design = Design(*prepare_inputs(*given, wedge_ok=True))
     if amplitude_mrad is None:
         raise ValueError("amplitude_mrad must be given: the path's amplitude in (0, 10000] mrad")
     amplitude_mrad = check_scalar("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True,
@@ -140,7 +134,7 @@ def path_gradient(shape: DamperShape | Design, mu=None, amplitude_mrad=None,
     # Per output, (its Design of derivatives, its Motion of derivatives).
     jac, (values, status) = _program(initial, mode, max_tracts, max_periods)(
         design, jnp.asarray(float(amplitude_mrad)), motion)
-    shared = (np.ndim(given.kn) == 0, np.ndim(given.kt) == 0)
+    shared = (np.ndim(given.contacts.kn) == 0, np.ndim(given.contacts.kt) == 0)
     d_design = PathOutputs(*(collapse_shared_stiffness(d, *shared) for d, _ in jac))
     return PathGradient(values, d_design, PathOutputs(*(m for _, m in jac)), status)
 

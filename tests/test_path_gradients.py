@@ -30,7 +30,7 @@ KERNEL = jax.jit(jd.elliptic_kernel, static_argnames=("initial", "loop"))
     (lambda: jd.path_gradient(SHAPE, 0.5, 0.0, ELLIPSE), r"^amplitude_mrad must be in \(0, 10000\]"),
     (lambda: jd.path_gradient(SHAPE, 0.5, None, ELLIPSE), r"^amplitude_mrad must be given"),
     (lambda: jd.path_gradient(SHAPE, 0.5, 2.0, None), r"^motion must be given"),
-    (lambda: jd.path_gradient(SHAPE, None, 2.0, ELLIPSE), r"^mu must be given"),
+    (lambda: jd.path_gradient(SHAPE, None, 2.0, ELLIPSE), r"^mu is required: the friction coefficient, in \(0, 5\]$"),
     (lambda: jd.path_gradient(SHAPE, 7.0, 2.0, ELLIPSE), r"^mu must be in \(0, 5\]"),
     (lambda: jd.path_gradient(SHAPE, 0.5, 2.0, ELLIPSE, mode="central"), r"^mode must be one of fwd, rev"),
     (lambda: jd.path_gradient(SHAPE, 0.5, 2.0, ELLIPSE, initial="explicit"),
