@@ -9,9 +9,10 @@ Inputs: JUnit XML files (`--junitxml`) or pytest output with `--durations=0`; ea
 call and teardown seconds are summed, the latest input winning. A slow test is one marked slow in
 its file (`pytest --collect-only -m slow`), or one with no mark that an input measured over
 tests/conftest.py's SLOW_SECONDS ("slow_by_measure", which conftest marks). A slow test no input
-measured keeps the seconds the file last held for it (or, new, the median). The tests are placed
-longest first on the shard with the least work so far (the greedy rule that keeps the largest
-shard within 4/3 of the best balance). The number of shards stays what the file holds unless
+measured keeps the seconds the file last held for it (or, new, the median). A file's slow tests
+are placed together (its module fixtures then cost one shard, not several), unless they sum to
+more than an average shard; these units go longest first on the shard with the least work so far
+(the greedy rule that keeps the largest shard within 4/3 of the best balance). The number of shards stays what the file holds unless
 --shards says otherwise.
 """
 
@@ -50,12 +51,28 @@ def durations(path: Path) -> dict[str, float]:
     return dict(seconds)
 
 
+def units(seconds: dict[str, float], n: int) -> dict[tuple[str, ...], float]:
+    """The tests grouped into what is placed whole: a file's slow tests together (a module fixture
+    is paid once per shard that runs any of its tests, and a run records its cost on one test
+    only), each test alone in a file whose tests sum to more than an average shard."""
+    files: dict[str, list[str]] = defaultdict(list)
+    for nodeid in seconds:
+        files[nodeid.split("::")[0]].append(nodeid)
+    average = sum(seconds.values()) / n
+    out = {}
+    for ids in files.values():
+        total = sum(seconds[i] for i in ids)
+        groups = [[i] for i in ids] if total > average else [ids]
+        out.update({tuple(sorted(g)): sum(seconds[i] for i in g) for g in groups})
+    return out
+
+
 def balance(seconds: dict[str, float], n: int) -> tuple[dict[str, int], list[float]]:
     load = [0.0] * n
     shards = {}
-    for nodeid, s in sorted(seconds.items(), key=lambda kv: (-kv[1], kv[0])):
+    for ids, s in sorted(units(seconds, n).items(), key=lambda kv: (-kv[1], kv[0])):
         k = min(range(n), key=lambda i: (load[i], i))
-        shards[nodeid] = k
+        shards.update({nodeid: k for nodeid in ids})
         load[k] += s
     return shards, load
 

@@ -76,6 +76,18 @@ def test_balance_places_longest_first_within_four_thirds_of_the_best():
     assert max(load) <= 4 / 3 * best
 
 
+def test_a_file_s_slow_tests_share_a_shard_unless_they_outweigh_an_average_one():
+    """A file's tests are one unit (its module fixtures are paid once); a file heavier than the
+    average shard is split into its tests, so no shard is forced over the average by one file."""
+    seconds = {"tests/a.py::x": 30.0, "tests/a.py::y": 0.0, "tests/a.py::z": 5.0,
+               "tests/b.py::p": 50.0, "tests/b.py::q": 50.0,
+               "tests/c.py::r": 20.0, "tests/d.py::s": 15.0}
+    shards, load = _script().balance(seconds, 3)  # the average shard: 170 / 3 = 56.7 s
+    assert shards["tests/a.py::x"] == shards["tests/a.py::y"] == shards["tests/a.py::z"]
+    assert shards["tests/b.py::p"] != shards["tests/b.py::q"]
+    assert sorted(load) == [50.0, 55.0, 65.0]
+
+
 def test_a_bad_shard_is_one_usage_line_before_any_test():
     """`--slow-shard` out of range or not a number: pytest's usage error (exit 4), one line naming
     the option and its range, under xdist too (not an INTERNALERROR traceback)."""
