@@ -271,7 +271,7 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         return arc.N_end, arc.T_end, arc.status != RESULTS.ok, (arc, legs)
 
     # Rounds of one period; the period map is affine within one pattern of events: where the
-    # iterates converge along one direction, the extrapolated fixed point is exact
+    # iterates converge along one or two directions, the extrapolated fixed point is exact
     # (`periodic.accelerate`).
     no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
     end = iterate_to_periodic(leg, N0, T0, pads.mu, (empty_tracts(n_pads, 2, max_tracts), no_tape),

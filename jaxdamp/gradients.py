@@ -140,7 +140,8 @@ def _jac_rev(design, psi_a):
 _BATCHED = {"fwd": _jac_fwd, "rev": _jac_rev}
 
 
-def _check_mode(mode):
+def check_mode(mode):
+    """One line naming `mode` and its choices, before any work."""
     if mode not in MODES:
         raise ValueError(f"mode must be one of {', '.join(MODES)}; got {mode!r}")
 
@@ -166,7 +167,7 @@ def evaluate(shape, mu=None, contacts: Contacts = Contacts(), load: LoadCase = L
 
 
 def _jac(shape, mu, contacts, load, psi_a, mode, runner=None):
-    _check_mode(mode)
+    check_mode(mode)
     given = as_design(shape, mu, contacts, load)
     design = given.prepared()
     validate_psi_a(psi_a)
@@ -206,7 +207,7 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
     through the one batching path (`jaxdamp.map_batched`): psi_a (mrad) is shared. Returns
     (jacobian, (values, status)) with Outputs-of-Design structure and a leading batch axis on every
     leaf (numpy)."""
-    _check_mode(mode)
+    check_mode(mode)
     prepared = check_batch(designs)
     # one stiffness per design (a scalar or (n,)): its derivative is the sum over the pads
     shared = tuple(np.ndim(k) <= 1 for k in designs.contacts)
@@ -218,4 +219,4 @@ def batch_jacobian(designs: Design, psi_a=0.0, mode: str = "fwd", *, devices=Non
 
 __all__ = ["PARAMETERS", "MODES", "by_name", "Outputs", "FiveNumbersJacobian",
            "KImGradient", "outputs", "validate_psi_a", "evaluate", "five_numbers_jacobian",
-           "k_im_gradient_at", "batch_jacobian", "collapse_shared_stiffness"]
+           "k_im_gradient_at", "batch_jacobian", "collapse_shared_stiffness", "check_mode"]

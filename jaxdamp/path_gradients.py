@@ -29,7 +29,7 @@ from ._validate import check_int, check_scalar
 from .design import Design, as_design
 from .ellipse import MAX_PERIODS, MAX_TRACTS, elliptic_kernel
 from .geometry import DamperShape
-from .gradients import MODES, collapse_shared_stiffness
+from .gradients import check_mode, collapse_shared_stiffness
 from .motion import Motion, as_ellipse, validate_motion
 from .params import Contacts, LoadCase, prepare_inputs
 from .runtime import LATENCY_OPTIONS, batch_jit
@@ -126,8 +126,7 @@ def path_gradient(shape: DamperShape | Design, mu=None, amplitude_mrad=None,
     motion = as_ellipse(validate_motion(motion, design.load))
     if initial not in INITIAL:
         raise ValueError(f"initial must be one of {', '.join(INITIAL)}; got {initial!r}")
-    if mode not in MODES:
-        raise ValueError(f"mode must be one of {', '.join(MODES)}; got {mode!r}")
+    check_mode(mode)
     check_int("max_tracts", max_tracts, 1)
     check_int("max_periods", max_periods, 1)
     motion = Motion(*(jnp.asarray(v, float) for v in motion))
