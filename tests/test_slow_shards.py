@@ -59,9 +59,11 @@ def test_durations_are_read_from_junit_and_from_pytest_output(tmp_path):
     log.write_text("== slowest durations ==\n"
                    "10.00s call     tests/test_a.py::test_one[x-1]\n"
                    "2.50s setup    tests/test_a.py::test_one[x-1]\n"
-                   "0.10s teardown tests/test_b.py::test_three\n")
+                   "0.10s teardown tests/test_b.py::test_three\n"
+                   "6.00s call     tests/test_b.py::test_four[curved-flat out-of-phase]\n")
     assert script.durations(log) == {"tests/test_a.py::test_one[x-1]": 12.5,
-                                     "tests/test_b.py::test_three": 0.1}
+                                     "tests/test_b.py::test_three": 0.1,
+                                     "tests/test_b.py::test_four[curved-flat out-of-phase]": 6.0}
 
 
 def test_balance_places_longest_first_within_four_thirds_of_the_best():
