@@ -26,12 +26,12 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_int, check_scalar
-from .design import Design, as_design
+from .design import Design, as_design, check_design
 from .ellipse import MAX_PERIODS, MAX_TRACTS, elliptic_kernel
 from .geometry import DamperShape
 from .gradients import check_mode, collapse_shared_stiffness
 from .motion import Motion, as_ellipse, validate_motion
-from .params import Contacts, LoadCase, prepare_inputs
+from .params import Contacts, LoadCase
 from .runtime import LATENCY_OPTIONS, batch_jit
 from .status import number_repr, status_repr
 
@@ -116,7 +116,7 @@ def path_gradient(shape: DamperShape | Design, mu=None, amplitude_mrad=None,
     pads), per pad where given per pad. Checked (ValueError naming the parameter and its range,
     Float64Required in float32) before anything is compiled."""
     given = as_design(shape, mu, contacts, load)
-    design = Design(*prepare_inputs(*given, wedge_ok=True))
+    design = check_design(given, wedge_ok=True)
     if amplitude_mrad is None:
         raise ValueError("amplitude_mrad must be given: the path's amplitude in (0, 10000] mrad")
     amplitude_mrad = check_scalar("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True,

@@ -12,8 +12,8 @@ tests/conftest.py's SLOW_SECONDS ("slow_by_measure", which conftest marks). A sl
 measured keeps the seconds the file last held for it (or, new, the median). A file's slow tests
 are placed together (its module fixtures then cost one shard, not several), unless they sum to
 more than an average shard; these units go longest first on the shard with the least work so far
-(the greedy rule that keeps the largest shard within 4/3 of the best balance). The number of shards stays what the file holds unless
---shards says otherwise.
+(the greedy rule that keeps the largest shard within 4/3 of the best balance). The number of
+shards stays what the file holds unless --shards says otherwise.
 """
 
 from __future__ import annotations
