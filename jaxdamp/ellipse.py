@@ -44,9 +44,10 @@ from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
 from .engine import (TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tracts, end_set,
-                     to_gross_slip)
+                     machine, to_gross_slip, tract_rows)
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
+from .lanes import Legs, iterate_lanes
 from .loops import check_loop, values_by_replay
 from .paths import Ellipse, Line, sinusoid
 from .periodic import iterate_to_periodic
@@ -193,6 +194,15 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     return impl(*args, loop=loop)
 
 
+def _period_machine(max_tracts: int):
+    """machine_of(data): the tract machine of a lane's periods (`lanes.Legs`), tau to 2 pi on
+    its ellipse, from the lane's pads and path size."""
+    def machine_of(data):
+        return machine(data["pads"], Ellipse(data["s_a"]), 2.0 * jnp.pi, max_tracts=max_tracts,
+                       loop="while")
+    return machine_of
+
+
 def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
                    max_tracts, max_periods, loop, record=False, tape=None):
     """The cycle (loop "scan" or "while"); record: (cycle, tape), the tape of every run's choices;
@@ -273,11 +283,26 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     # Rounds of one period; the period map is affine within one pattern of events: where the
     # iterates converge along one or two directions, the extrapolated fixed point is exact
     # (`periodic.accelerate`).
-    no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
-    end = iterate_to_periodic(leg, N0, T0, pads.mu, (empty_tracts(n_pads, 2, max_tracts), no_tape),
-                              legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
-                              loop=loop, stop0=bad0 | ~a_ok)
-    arc, legs_tape = end["records"]
+    stop0 = bad0 | ~a_ok
+    if loop == "while" and not record and tape is None:
+        # Values: the periods as one loop over their tracts (`lanes.iterate_legs`: under vmap
+        # a batch pays its longest lane's tracts, not each period's longest).
+        start_of_leg = ((lambda k: jnp.where(k >= 0, 0.0, jnp.pi)) if half_first
+                        else (lambda k: jnp.zeros(())))
+        lane = Legs(_period_machine(max_tracts), tract_rows(n_pads, 2),
+                    start_of_leg=start_of_leg, legs_per_round=1, pre_legs=half_first,
+                    max_rounds=max_periods, max_tracts=max_tracts)
+        data = dict(pads=pads, s_a=s_a, N0=N0, T0=T0, mu=pads.mu, pre_state=pre_set[0],
+                    pre_known=jnp.asarray(pre_set[1]), stop0=stop0)
+        end, arc = iterate_lanes(lane, data)
+        legs_tape = None
+    else:
+        no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
+        end = iterate_to_periodic(leg, N0, T0, pads.mu,
+                                  (empty_tracts(n_pads, 2, max_tracts), no_tape),
+                                  legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
+                                  loop=loop, stop0=stop0)
+        arc, legs_tape = end["records"]
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)

@@ -119,7 +119,9 @@ class Tracts(NamedTuple):
     status: jnp.ndarray
 
 
-def _rows(n_pads: int, n_basis: int, record: bool = False) -> dict:
+def tract_rows(n_pads: int, n_basis: int, record: bool = False) -> dict:
+    """The shapes and dtypes of one tract's row (a run's step output; `Tracts`' leading-axis
+    fields), as `loops.bounded_loop` takes them."""
     f = jax.ShapeDtypeStruct((), float)
     v = jax.ShapeDtypeStruct((n_pads,), float)
     m = jax.ShapeDtypeStruct((n_basis, n_pads), float)
@@ -130,36 +132,36 @@ def _rows(n_pads: int, n_basis: int, record: bool = False) -> dict:
                 state=jax.ShapeDtypeStruct((n_pads,), int), active=b, stretch=b, slack=f, **tape)
 
 
-def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
-        loop: str = "scan", closed: Mechanics | None = None, record: bool = False,
-        replay: Tape | None = None, start_set=None, idle=None):
-    """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
-    (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
-    where no force changes any more. On a line with an end, gross slip before the end is followed
-    by a constant-force stretch to it.
+class TractMachine(NamedTuple):
+    """A run's pieces, for drivers that step runs themselves (`jaxdamp.lanes`): `run` is
+    init, then `step` until carry["done"] (at most max_tracts times, each giving one tract's
+    row), then `finish`.
 
-    closed (three pads on a Line): their all-stick reduction with the line's direction folded in
-    (`tract.along(tract.make_mechanics(...), direction)`); the pads may not open, and a normal
-    force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
-    loop: as `loops.bounded_loop`. record: return (Tracts, Tape), what the run chose; replay (a
-    `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing.
-    start_set: (state (P,), known ()): the states of the tract before the run's start (the last
-    tract of the previous period), which the run's first tract proposes first (`propose`).
-    idle: a bool; where True the run does nothing (no tracts, status ok: a batch's lane whose
-    iteration has stopped, `periodic.iterate_to_periodic`). Unchecked, traceable."""
+    init(N, T, p_start, start_set=None, idle=None) -> carry; step(carry, row) -> (carry, out),
+    row a replayed `Tape` row or None; finish(carry, rows) -> Tracts (and the `Tape` where the
+    machine records), rows the stacked outputs of the steps (zeros for steps not run)."""
+
+    init: callable
+    step: callable
+    finish: callable
+
+
+def machine(pads: Pads, path, p_end=None, *, max_tracts: int, loop: str = "scan",
+            closed: Mechanics | None = None, record: bool = False,
+            replay: bool = False) -> TractMachine:
+    """`run`'s init, step and finish for one design's pads on `path` to p_end (a `TractMachine`);
+    the options are `run`'s (replay: whether rows of a `Tape` are given to the steps)."""
     to_gross = p_end is None
     on_line = isinstance(path, Line)
-    n_pads, n_basis = N.shape[0], pads.nw.shape[0]
+    n_pads, n_basis = pads.a.shape[0], pads.nw.shape[0]
     pads_open = closed is None
     if not pads_open and not (on_line and n_pads == 3):
         raise ValueError("closed is the three-pad model on a Line")
     scale = jnp.max(jnp.maximum(pads.kn, pads.kt))
     rate_tol = RATE_TOL * scale
-    mu = jnp.broadcast_to(pads.mu, N.shape)
-    p_start = jnp.asarray(p_start, float)
-    span = None if to_gross else jnp.abs(jnp.asarray(p_end, float) - p_start)
+    mu = jnp.broadcast_to(pads.mu, (n_pads,))
     # A line's direction of motion is the same all along it.
-    line_heading = path.heading(pads, p_start) if on_line else None
+    line_heading = path.heading(pads, 0.0) if on_line else None
     # Values: each tract's state choice first proposes the previous tract's set with the pads
     # whose events ended it changed (`propose`: one solve, verified by `choose`'s rules), and
     # the lanes of a batch whose proposal fails choose among every set (`stages.second_look`);
@@ -172,9 +174,9 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
     # 47 s, and ran as fast (docs/motions.md, 2026-11-29). A replay runs as `loop` says: a
     # masked scan (reverse mode passes) or a while loop that stops where the recorded run ended
     # (forward mode only).
-    if replay is not None and not pads_open:
+    if replay and not pads_open:
         raise ValueError("replay: a run of pads that may open (closed=None)")
-    proposes = pads_open and loop == "while" and not record and replay is None
+    proposes = pads_open and loop == "while" and not record and not replay
 
     def proposed(pads, N, T, heading, ahead, last, done):
         # A finished lane asks for no second look (its choice is not used).
@@ -186,33 +188,41 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
 
     chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent) if proposes
                else every_set)
-    # Pads that may not open: one at N = 0 at the start has lifted off.
-    lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
-    done0 = lift0 if idle is None else lift0 | idle
-    init = dict(N=N, T=T, p=p_start, done=done0, gross=jnp.array(False),
-                failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
-                gross_dslip=jnp.zeros((n_basis, n_pads)))
-    if proposes:
-        # The previous tract's states and the kinds of event that ended it per pad (`propose`):
-        # none before a run's first tract unless the caller knows the set it starts in.
-        state0, known0 = ((jnp.zeros(n_pads, int), False) if start_set is None else start_set)
-        init["last"] = (jnp.asarray(state0), jnp.full(n_pads, -1), jnp.asarray(known0))
+
+    def init(N, T, p_start, start_set=None, idle=None):
+        # Pads that may not open: one at N = 0 at the start has lifted off.
+        lift0 = jnp.array(False) if pads_open else jnp.min(N) <= LIMIT_TOL
+        done0 = lift0 if idle is None else lift0 | idle
+        p_start = jnp.asarray(p_start, float)
+        carry = dict(N=N, T=T, p=p_start, done=done0, gross=jnp.array(False),
+                     failed=jnp.array(False), unseated=jnp.array(False), liftoff=lift0,
+                     gross_dslip=jnp.zeros((n_basis, n_pads)))
+        if not to_gross:
+            carry["span"] = jnp.abs(jnp.asarray(p_end, float) - p_start)
+        if proposes:
+            # The previous tract's states and the kinds of event that ended it per pad
+            # (`propose`): none before a run's first tract unless the caller knows the set it
+            # starts in.
+            state0, known0 = ((jnp.zeros(n_pads, int), False) if start_set is None
+                              else start_set)
+            carry["last"] = (jnp.asarray(state0), jnp.full(n_pads, -1), jnp.asarray(known0))
+        return carry
 
     def step(carry, row):
         N, T, p0 = carry["N"], carry["T"], carry["p"]
         heading = line_heading if on_line else path.heading(pads, p0)
-        if replay is not None:
+        if replay:
             ch = replayed_choice(pads, row)
         elif pads_open:
             ch = chooser(pads, N, T, heading, path.ahead(p0), carry.get("last"), carry["done"])
         else:
             ch = choose_closed(closed, N, T, heading)
-        stick = ch.closed & ~ch.slipping
         dN_h, dT_h = combine(heading, ch.dN), combine(heading, ch.dT)
         # Gross slip: no closed pad's force changes any more, and no open pad's gap closes.
         frozen = jnp.max(jnp.where(ch.closed, jnp.maximum(jnp.abs(dN_h), jnp.abs(dT_h)),
                                    jnp.maximum(dN_h, 0.0))) <= rate_tol
         gross = ch.consistent & frozen
+        stick = ch.closed & ~ch.slipping
 
         tr = lambda x: jnp.swapaxes(x, 0, 1)  # noqa: E731  (B, P) -> (P, B)
         mu_b = mu[None]  # against the (B, P) rates
@@ -230,7 +240,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                 return path.reversal(A, p0)
             return path.first_descent(f0, A, p0, rate_tol)
 
-        if replay is None:
+        if not replay:
             cand = jnp.stack([jnp.where(w, when(f0, A, i), NO_EVENT)
                               for i, (f0, A, w) in enumerate(kinds)]).reshape(-1)  # (kinds * P,)
             flat = jnp.argmin(cand)
@@ -258,6 +268,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
             dp = jnp.where(advance, d_event, 0.0)
             slack = runner_up - dp
         else:
+            span = carry["span"]
             d_end = p_end - p0
             # Rounding leaves ~1e-17 of the path after a tract that ends at its end: no tract.
             live = ~carry["done"] & (d_end > TRAVEL_TOL * span)
@@ -295,7 +306,7 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
         state = jnp.where(ch.closed, jnp.where(ch.slipping, SLIP, STICK), OPEN)
         out = dict(p0=p0, dp=dp, N0=N, T0=T, dN=dN, dT=dT, dslip=ch.dslip, state=state,
                    active=advance, stretch=advance & gross if stretch else jnp.array(False),
-                   slack=jnp.where(advance & (replay is None), slack, 0.0))
+                   slack=jnp.where(advance & (not replay), slack, 0.0))
         if record:
             out.update(tape_signs=ch.signs, tape_chosen=ch.consistent,
                        tape_event=jnp.where(at_event, flat, -1))
@@ -311,6 +322,8 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                                                  & jnp.any(N <= LIMIT_TOL)),
                    liftoff=carry["liftoff"] | lifted,
                    gross_dslip=jnp.where(live & gross, ch.dslip, carry["gross_dslip"]))
+        if not to_gross:
+            new["span"] = carry["span"]
         if proposes:
             # Per pad, the first kind of event at the tract's end (the one taken, and those tied
             # with it or with the path's end: the same event of symmetric pads, a slip reversing
@@ -322,16 +335,45 @@ def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
                            jnp.where(advance, changes, carry["last"][1]), known | advance)
         return new, out
 
-    end, tr = bounded_loop(step, init, max_tracts, loop, _rows(n_pads, n_basis, record), replay,
-                           like=(pads, path, p_start, p_end))
-    failed = end["failed"] | ~end["done"]
-    status = RESULTS.first({RESULTS.liftoff: end["liftoff"], RESULTS.unseated: failed & end["unseated"],
-                            RESULTS.singular: failed})
-    tape = (Tape(tr["state"], tr.pop("tape_signs"), tr.pop("tape_chosen"), tr.pop("tape_event"))
-            if record else None)
-    tracts = Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"],
-                    gross_slip=end["gross"], gross_dslip=end["gross_dslip"], status=status)
-    return (tracts, tape) if record else tracts
+    def finish(end, tr):
+        tr = dict(tr)
+        failed = end["failed"] | ~end["done"]
+        status = RESULTS.first({RESULTS.liftoff: end["liftoff"],
+                                RESULTS.unseated: failed & end["unseated"],
+                                RESULTS.singular: failed})
+        tape = (Tape(tr["state"], tr.pop("tape_signs"), tr.pop("tape_chosen"),
+                     tr.pop("tape_event")) if record else None)
+        tracts = Tracts(**tr, N_end=end["N"], T_end=end["T"], p_end=end["p"],
+                        gross_slip=end["gross"], gross_dslip=end["gross_dslip"], status=status)
+        return (tracts, tape) if record else tracts
+
+    return TractMachine(init, step, finish)
+
+
+def run(pads: Pads, path, N, T, p_start, p_end=None, *, max_tracts: int,
+        loop: str = "scan", closed: Mechanics | None = None, record: bool = False,
+        replay: Tape | None = None, start_set=None, idle=None):
+    """Tracts along `path` (`Line` or `Ellipse`) from p_start to p_end, from the pad forces (N, T)
+    (units of F_D; an open pad's N is kn * (-gap)). p_end None (a Line only): until gross slip,
+    where no force changes any more. On a line with an end, gross slip before the end is followed
+    by a constant-force stretch to it.
+
+    closed (three pads on a Line): their all-stick reduction with the line's direction folded in
+    (`tract.along(tract.make_mechanics(...), direction)`); the pads may not open, and a normal
+    force reaching zero ends the run as liftoff (the paper's in-phase model; `choose_closed`).
+    loop: as `loops.bounded_loop`. record: return (Tracts, Tape), what the run chose; replay (a
+    `Tape` of max_tracts rows, pads that may open): take its state sets instead of choosing.
+    start_set: (state (P,), known ()): the states of the tract before the run's start (the last
+    tract of the previous period), which the run's first tract proposes first (`propose`).
+    idle: a bool; where True the run does nothing (no tracts, status ok: a batch's lane whose
+    iteration has stopped, `periodic.iterate_to_periodic`). Unchecked, traceable."""
+    n_pads, n_basis = N.shape[0], pads.nw.shape[0]
+    m = machine(pads, path, p_end, max_tracts=max_tracts, loop=loop, closed=closed,
+                record=record, replay=replay is not None)
+    init = m.init(N, T, p_start, start_set, idle)
+    end, tr = bounded_loop(m.step, init, max_tracts, loop, tract_rows(n_pads, n_basis, record),
+                           replay, like=(pads, path, p_start, p_end))
+    return m.finish(end, tr)
 
 
 def end_set(tracts: Tracts):
@@ -344,7 +386,7 @@ def end_set(tracts: Tracts):
 def empty_tracts(n_pads: int, n_basis: int, max_tracts: int) -> Tracts:
     """A Tracts of zeros (the initial value of an iteration over runs)."""
     zp = jnp.zeros(n_pads)
-    return Tracts(**zeros_of(_rows(n_pads, n_basis), max_tracts), N_end=zp, T_end=zp,
+    return Tracts(**zeros_of(tract_rows(n_pads, n_basis), max_tracts), N_end=zp, T_end=zp,
                   p_end=jnp.zeros(()), gross_slip=jnp.array(False),
                   gross_dslip=jnp.zeros((n_basis, n_pads)), status=jnp.zeros((), jnp.int32))
 
@@ -367,5 +409,5 @@ def to_gross_slip(pads: Pads, N, T, start_ok, *, max_tracts: int, loop: str = "s
     return (up, reached, tape) if record else (up, reached)
 
 
-__all__ = ["Pads", "Rates", "Choice", "Tracts", "Tape", "candidate_table", "choose", "choose_closed",
+__all__ = ["Pads", "Rates", "Choice", "Tracts", "Tape", "TractMachine", "machine", "tract_rows", "candidate_table", "choose", "choose_closed",
            "propose", "LOOKAHEAD_TOL", "assemble", "run", "to_gross_slip", "end_set", "empty_tracts", "empty_tape", "TRAVEL_TOL", "NO_EVENT", "NO_EVENT_LIMIT"]

@@ -116,6 +116,55 @@ def closure_gap(start, end):
     return jnp.max(jnp.abs(end - start))
 
 
+def start_of_iteration(N0, T0, records, stop0) -> dict:
+    """The iteration's carry before its first leg (`iterate_to_periodic`'s returns)."""
+    n = N0.shape[0]
+    no = jnp.array(False)
+    top0 = jnp.concatenate([N0, T0])
+    return dict(N=N0, T=T0, top=top0, starts=jnp.broadcast_to(top0, (2 * MODES, 2 * n)),
+                plain=jnp.array(0, jnp.int32), gap=jnp.asarray(jnp.inf), closed=no, failed=no,
+                stop=jnp.asarray(stop0), rounds=jnp.array(0, jnp.int32), records=records)
+
+
+def after_leg(c: dict, N1, T1, bad, records, j, mu, *, legs_per_round: int, pre_legs: int,
+              whole_rounds: bool = False) -> dict:
+    """The iteration's carry after leg j (k = j - pre_legs within the rounds) ran from (c["N"],
+    c["T"]) to (N1, T1): the round's closure at its last leg, the next start (extrapolated where
+    the iteration is geometric, `accelerate`), whether to stop; bad: the leg failed; records:
+    the caller's, kept."""
+    n = N1.shape[0]
+    k = j - pre_legs
+    starts_round = (k >= 0) & (k % legs_per_round == 0)
+    ends = (k >= 0) & (k % legs_per_round == legs_per_round - 1)
+    there = jnp.concatenate([N1, T1])
+    top = jnp.where(starts_round, jnp.concatenate([c["N"], c["T"]]), c["top"])
+    gap = closure_gap(top, there)
+    closed = ends & (gap <= CLOSE_TOL)
+    starts = jnp.where(starts_round, jnp.concatenate([c["starts"][1:], top[None]]), c["starts"])
+    plain = jnp.where(starts_round, jnp.minimum(c["plain"] + 1, 2 * MODES), c["plain"])
+    guess, jumped = accelerate(mu, starts, there, plain)
+    nxt = jnp.where(ends, guess, there)
+    if whole_rounds:
+        failed = c["failed"] | bad
+        stop = ends & (closed | failed)
+    else:
+        failed = bad
+        stop = closed | failed
+    # After a jump the next round starts a new sequence of iterates.
+    return dict(N=nxt[:n], T=nxt[n:], top=top, starts=starts,
+                plain=jnp.where(ends & jumped, 0, plain),
+                gap=jnp.where(ends, gap, c["gap"]), closed=closed & ~failed,
+                failed=jnp.where(ends, False, failed) if whole_rounds else failed,
+                stop=stop, rounds=c["rounds"] + ends.astype(jnp.int32), records=records)
+
+
+def stopped_by(round_budget=None):
+    """stopped(carry): the iteration has stopped (closed, failed, or round_budget rounds ran)."""
+    if round_budget is None:
+        return lambda c: c["stop"]
+    return lambda c: c["stop"] | (c["rounds"] >= round_budget)
+
+
 def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_legs: int,
                         max_rounds: int, loop: str, stop0, whole_rounds: bool = False,
                         round_budget=None) -> dict:
@@ -132,50 +181,23 @@ def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_le
     failed leg stops the iteration at once, or with
     whole_rounds at the end of its round (the Base-Cycle's pair always runs both halves).
     stop0: True where there is nothing to iterate (the start failed). loop: `loops.repeat_until`'s.
+    The legs of one path's tract runs also run as one loop over their tracts
+    (`lanes.iterate_legs`: the same iteration, `after_leg`).
 
     Returns a dict: records; N, T (where the next round would start); top (the state at the
     last round's start); gap (the last round's closure, inf before one ended); closed (the last
     round closed and none of its legs failed); rounds (int32, rounds ended).
     """
-    n = N0.shape[0]
+    stopped = stopped_by(round_budget)
 
     def step(c, j):
-        k = j - pre_legs
-        starts_round = (k >= 0) & (k % legs_per_round == 0)
-        ends = (k >= 0) & (k % legs_per_round == legs_per_round - 1)
-        N1, T1, bad, records = leg(c["records"], c["N"], c["T"], j, k, stopped(c))
-        there = jnp.concatenate([N1, T1])
-        top = jnp.where(starts_round, jnp.concatenate([c["N"], c["T"]]), c["top"])
-        gap = closure_gap(top, there)
-        closed = ends & (gap <= CLOSE_TOL)
-        starts = jnp.where(starts_round, jnp.concatenate([c["starts"][1:], top[None]]), c["starts"])
-        plain = jnp.where(starts_round, jnp.minimum(c["plain"] + 1, 2 * MODES), c["plain"])
-        guess, jumped = accelerate(mu, starts, there, plain)
-        nxt = jnp.where(ends, guess, there)
-        if whole_rounds:
-            failed = c["failed"] | bad
-            stop = ends & (closed | failed)
-        else:
-            failed = bad
-            stop = closed | failed
-        # After a jump the next round starts a new sequence of iterates.
-        return dict(N=nxt[:n], T=nxt[n:], top=top, starts=starts,
-                    plain=jnp.where(ends & jumped, 0, plain),
-                    gap=jnp.where(ends, gap, c["gap"]), closed=closed & ~failed,
-                    failed=jnp.where(ends, False, failed) if whole_rounds else failed,
-                    stop=stop, rounds=c["rounds"] + ends.astype(jnp.int32), records=records)
+        N1, T1, bad, records = leg(c["records"], c["N"], c["T"], j, j - pre_legs, stopped(c))
+        return after_leg(c, N1, T1, bad, records, j, mu, legs_per_round=legs_per_round,
+                         pre_legs=pre_legs, whole_rounds=whole_rounds)
 
-    if round_budget is None:
-        stopped = lambda c: c["stop"]  # noqa: E731
-    else:
-        stopped = lambda c: c["stop"] | (c["rounds"] >= round_budget)  # noqa: E731
-    no = jnp.array(False)
-    top0 = jnp.concatenate([N0, T0])
-    init = dict(N=N0, T=T0, top=top0, starts=jnp.broadcast_to(top0, (2 * MODES, 2 * n)),
-                plain=jnp.array(0, jnp.int32),
-                gap=jnp.asarray(jnp.inf), closed=no, failed=no, stop=jnp.asarray(stop0),
-                rounds=jnp.array(0, jnp.int32), records=records)
+    init = start_of_iteration(N0, T0, records, stop0)
     return repeat_until(step, init, pre_legs + legs_per_round * max_rounds, loop, stopped)
 
 
-__all__ = ["CLOSE_TOL", "MODES", "accelerate", "closure_gap", "iterate_to_periodic"]
+__all__ = ["CLOSE_TOL", "MODES", "accelerate", "closure_gap", "start_of_iteration", "after_leg",
+           "stopped_by", "iterate_to_periodic"]

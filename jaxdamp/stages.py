@@ -22,8 +22,10 @@ import jax.numpy as jnp
 
 # Lanes the second stage runs at once. With the engine's proposed set first (a tract in eight
 # or fewer asks for a second look), 8 and 32 measured alike on 256 lanes: 32 was 7 % faster on
-# 60sym and 14 % slower on random shapes (docs/motions.md, "Cost", 2026-11-30).
-CHUNK = 8
+# 60sym and 14 % slower on random shapes (docs/motions.md, "Cost", 2026-11-30). On a pool of 64
+# lanes (`lanes.iterate_lanes`, 2026-12-01), where the lanes' cycles are out of step and a few
+# lanes ask in most steps, 4 was 2-12 % faster than 8 on 256-cycle batches, 16 and 32 slower.
+CHUNK = 4
 
 
 def second_look(fast, full, again, chunk: int = CHUNK):
