@@ -203,6 +203,41 @@ def _period_machine(max_tracts: int):
     return machine_of
 
 
+def _periods(data, *, half_first: int, max_tracts: int, max_periods: int, loop: str,
+             record: bool = False, recorded=None):
+    """(end, arc, legs' tape): the periods of one cycle from its data (`elliptic_impl`'s: pads,
+    s_a, N0, T0, mu, pre_state, pre_known, stop0) by `periodic.iterate_to_periodic`, a run of
+    tracts per leg (assembly's half period first where half_first); end: the iteration's, arc:
+    the last period's tracts. record: each run's choices into the tape; recorded: a tape of
+    every leg to replay."""
+    pads, path = data["pads"], Ellipse(data["s_a"])
+    n_pads = pads.a.shape[0]
+    pre_set = (data["pre_state"], data["pre_known"])
+
+    def leg(records, N, T, j, k, idle):
+        whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
+        start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
+        before, legs = records
+        rows = jax.tree_util.tree_map(lambda x: x[j], recorded)  # None: no replay
+        # The period starts in the set the previous one ended in (the first: the move's).
+        state, known = end_set(before)
+        arc = run_tracts(pads, path, N, T, start, 2.0 * jnp.pi, max_tracts=max_tracts,
+                         loop=loop, record=record, replay=rows, idle=idle,
+                         start_set=(jnp.where(known, state, pre_set[0]), known | pre_set[1]))
+        if record:
+            arc, rows = arc
+            legs = jax.tree_util.tree_map(lambda x, r: x.at[j].set(r), legs, rows)
+        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, (arc, legs)
+
+    no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
+    end = iterate_to_periodic(leg, data["N0"], data["T0"], data["mu"],
+                              (empty_tracts(n_pads, 2, max_tracts), no_tape),
+                              legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
+                              loop=loop, stop0=data["stop0"])
+    arc, legs_tape = end["records"]
+    return end, arc, legs_tape
+
+
 def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
                    max_tracts, max_periods, loop, record=False, tape=None):
     """The cycle (loop "scan" or "while"); record: (cycle, tape), the tape of every run's choices;
@@ -217,7 +252,6 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     a_ok = jnp.asarray(amplitude, float) > 0.0  # a Python number too (~ of a bool is an int)
     a = jnp.where(a_ok, amplitude, 1.0)
     s_a = travel_mm(a, load.q_star)
-    path = Ellipse(s_a)
     two_pi = 2.0 * jnp.pi
     unreachable = jnp.array(False)
     no_runs = jnp.zeros(2, jnp.int32)
@@ -265,44 +299,30 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     N0 = jnp.where(bad0, jnp.ones(n_pads), N0)  # keep the masked iteration finite
     T0 = jnp.where(bad0, 0.0, T0)
 
-    def leg(records, N, T, j, k, idle):
-        whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
-        start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
-        before, legs = records
-        rows = jax.tree_util.tree_map(lambda x: x[j], recorded("legs"))  # None: no replay
-        # The period starts in the set the previous one ended in (the first: the move's).
-        state, known = end_set(before)
-        arc = run_tracts(pads, path, N, T, start, two_pi, max_tracts=max_tracts, loop=loop,
-                         record=record, replay=rows, idle=idle,
-                         start_set=(jnp.where(known, state, pre_set[0]), known | pre_set[1]))
-        if record:
-            arc, rows = arc
-            legs = jax.tree_util.tree_map(lambda x, r: x.at[j].set(r), legs, rows)
-        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, (arc, legs)
-
     # Rounds of one period; the period map is affine within one pattern of events: where the
     # iterates converge along one or two directions, the extrapolated fixed point is exact
     # (`periodic.accelerate`).
-    stop0 = bad0 | ~a_ok
+    data = dict(pads=pads, s_a=s_a, N0=N0, T0=T0, mu=pads.mu, pre_state=pre_set[0],
+                pre_known=jnp.asarray(pre_set[1]), stop0=bad0 | ~a_ok)
+    periods = functools.partial(_periods, half_first=half_first, max_tracts=max_tracts,
+                                max_periods=max_periods)
     if loop == "while" and not record and tape is None:
-        # Values: the periods as one loop over their tracts (`lanes.iterate_legs`: under vmap
-        # a batch pays its longest lane's tracts, not each period's longest).
+        # Values: a batch's cycles on a pool of lanes, each cycle's periods one loop over their
+        # tracts (`lanes.iterate_lanes`); one cycle alone by the nested loops (periods of runs),
+        # measured 10-40 % faster alone (docs/motions.md, "Cost").
         start_of_leg = ((lambda k: jnp.where(k >= 0, 0.0, jnp.pi)) if half_first
                         else (lambda k: jnp.zeros(())))
         lane = Legs(_period_machine(max_tracts), tract_rows(n_pads, 2),
                     start_of_leg=start_of_leg, legs_per_round=1, pre_legs=half_first,
                     max_rounds=max_periods, max_tracts=max_tracts)
-        data = dict(pads=pads, s_a=s_a, N0=N0, T0=T0, mu=pads.mu, pre_state=pre_set[0],
-                    pre_known=jnp.asarray(pre_set[1]), stop0=stop0)
-        end, arc = iterate_lanes(lane, data)
+        def alone(d):
+            end, arc, _ = periods(d, loop="while")
+            return dict(end, records=None), arc  # as `Legs.result`
+
+        end, arc = iterate_lanes(lane, data, alone=alone)
         legs_tape = None
     else:
-        no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
-        end = iterate_to_periodic(leg, N0, T0, pads.mu,
-                                  (empty_tracts(n_pads, 2, max_tracts), no_tape),
-                                  legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
-                                  loop=loop, stop0=stop0)
-        arc, legs_tape = end["records"]
+        end, arc, legs_tape = periods(data, loop=loop, record=record, recorded=recorded("legs"))
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)

@@ -8,10 +8,10 @@ run ends, the same step closes the leg (`periodic.after_leg`: the closure, the e
 starts the next run. The same runs (the machine's init, step and finish, `engine.machine`), the
 same iteration, the same numbers.
 
-One loop per cycle is what lets a batch share its lanes (`pooled`): under `vmap` a batch of N
-cycles runs on W < N lanes, and a lane whose cycle has ended takes the next cycle of the batch in
-the same step, so that the batch pays its cycles' tracts shared over W lanes, not N lanes times
-its slowest cycle's tracts.
+One loop per cycle is what lets a batch share its lanes (`iterate_lanes`): under `vmap` a batch
+of N cycles runs on W < N lanes, and a lane whose cycle has ended takes the next cycle of the
+batch in the same step, so that the batch pays its cycles' tracts shared over W lanes, not N
+lanes times its slowest cycle's tracts.
 """
 
 from __future__ import annotations
@@ -111,10 +111,11 @@ class Legs:
 
 
 # Lanes a pooled batch runs on: a batched step costs a fixed part and a part per lane, and a pool
-# of N / 16 lanes, at least 64, kept both small on the 2-core CPU (256 cycles: 64 lanes 1.1-2.6x
-# faster than 256 and than 16, 32 or 128; 4096: 128 to 1024 lanes alike; docs/motions.md,
-# "Cost"). Smaller batches run as plain vmap, every cycle its own lane; so does every batch on an
-# accelerator, where a step's cost hardly grows with its lanes (not measured there).
+# of N / 16 lanes, at least 64, keeps both small on the 2-core CPU (256 cycles, 2026-12-01: 64
+# lanes 1.1-2.6x faster than plain vmap and within a tenth of the best of 16, 32 and 128; 4096:
+# 128 to 1024 lanes alike; docs/motions.md, "Cost"). Smaller batches run as plain vmap, every
+# cycle its own lane; so does every batch on an accelerator, whose steps' fixed part is larger
+# and part per lane smaller (no accelerator was lent to measure the pool there).
 POOL_WIDTH = 64
 POOL_SHARE = 16
 
@@ -134,7 +135,7 @@ def _lane_loop(lane, data):
     return lane.result(c, data)
 
 
-def iterate_lanes(lane, data, width: int | None = None):
+def iterate_lanes(lane, data, width: int | None = None, alone=None):
     """`lane.result` of one lane's loop from its data (a pytree of arrays). lane: `Legs`, or any
     object with init(data) -> carry (a dict), going(carry), step(carry, data) -> carry (a carry
     that is not going left as it is) and result(carry, data); a carry's "rows", if any, are
@@ -145,11 +146,13 @@ def iterate_lanes(lane, data, width: int | None = None):
     every lane; a lane whose cycle has ended leaves its carry at the cycle's place and takes the
     next cycle; the results come from the carries left. Every cycle runs its own steps, so the
     numbers are those of its own loop (to the last bits: XLA's code for W lanes is not that for
-    N). Values and forward mode only: reverse mode cannot pass a while loop, nor custom_vmap."""
+    N). Values and forward mode only: reverse mode cannot pass a while loop, nor custom_vmap.
+    alone(data): the same result another way for a cycle not in a batch (unbatched), if given.
+    """
 
     @jax.custom_batching.custom_vmap
     def run(data):
-        return _lane_loop(lane, data)
+        return _lane_loop(lane, data) if alone is None else alone(data)
 
     @run.def_vmap
     def rule(axis_size, in_batched, data):
@@ -171,7 +174,9 @@ def _pool(lane, data, n: int, W: int):
     each step steps every lane (`Legs.step` leaves a lane that is not going as it is); a lane
     whose cycle has ended stores its carry at the cycle's place and starts the next cycle (all
     but its rows, which a fresh lane ignores: `Legs.result` keeps the first i)."""
-    take = lambda idx: jax.tree_util.tree_map(lambda x: x[jnp.minimum(idx, n - 1)], data)  # noqa: E731
+    def take(idx):  # the cycles' data at lanes' indices (n: none, any row will do)
+        return jax.tree_util.tree_map(lambda x: x[jnp.minimum(idx, n - 1)], data)
+
     init, step, going = jax.vmap(lane.init), jax.vmap(lane.step), jax.vmap(lane.going)
     idx0 = jnp.arange(W)
     lanes0 = init(take(idx0))
