@@ -61,15 +61,23 @@ def batch_compiler_options(extra: tuple = ()) -> dict:
 # without the fusion emitters, 1.5-2.2 s with both); its run took 0.3-0.5 ms either way, the
 # response's 9 -> 50 ms, the band's 0.3 -> 2.6 s (docs/performance.md, "Compiling for a first call").
 LATENCY_OPTIONS = {"xla_backend_optimization_level": 0, "xla_cpu_use_fusion_emitters": False}
+# Measured (issue 60): a blade row's command (`response --modes`), whose programs are long and run
+# a few times, between the two: the older loop emitters and LLVM level 1. The example row (13
+# engine orders, 2 forces) with an empty cache on the 2-core VM (2026-12-01, three fresh caches
+# each): first call 13.6-14.9 s optimised, 6.9-7.2 s so, 7.5-8.0 s with the loop emitters
+# alone, 5.0 s at LATENCY_OPTIONS (level 0); a repeat 2.0-2.4 s, 2.0-2.1, 2.0-2.1 and 2.3 s;
+# the row's call in a warm process 0.18 s optimised, 0.22 s so.
+ROW_LATENCY_OPTIONS = {"xla_backend_optimization_level": 1, "xla_cpu_use_fusion_emitters": False}
 # Accelerator plugins for jaxlib: where one is installed the default backend may not be the CPU,
 # and the latency options were measured on the CPU only.
 _ACCELERATOR_PLUGINS = ("jax_plugins", "jax_cuda12_plugin", "jax_cuda13_plugin", "jax_rocm7_plugin",
                         "libtpu")
 
 
-def compile_for_latency() -> bool:
+def compile_for_latency(options: dict = LATENCY_OPTIONS) -> bool:
     """Ask XLA to compile this process's programs fast rather than optimise them
-    (`LATENCY_OPTIONS` added to the XLA_FLAGS environment variable; a program's own
+    (`options`, by default `LATENCY_OPTIONS`, added to the XLA_FLAGS environment variable; a
+    program's own
     compiler_options can ask for them too). XLA reads that variable
     once, at the process's first compilation, so this is for a process's start (the CLI calls it
     before any computation, for the commands whose first call is mostly compilation), and it is
@@ -83,7 +91,7 @@ def compile_for_latency() -> bool:
                              for name in _ACCELERATOR_PLUGINS):
         return False
     flags = os.environ.get("XLA_FLAGS", "")
-    missing = [f"--{name}={str(value).lower()}" for name, value in LATENCY_OPTIONS.items()
+    missing = [f"--{name}={str(value).lower()}" for name, value in options.items()
                if f"--{name}=" not in flags]
     if not missing:
         return False
@@ -239,6 +247,7 @@ def batch_jit(fun=None, *, cpu_options: dict | None = None, **kwargs):
     return _BatchJit(fun, kwargs, extra)
 
 
-__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LOOP_EMITTERS", "LATENCY_OPTIONS", "batch_compiler_options",
+__all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LOOP_EMITTERS", "LATENCY_OPTIONS", "ROW_LATENCY_OPTIONS",
+           "batch_compiler_options",
            "options_jit", "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
            "part_size", "compile_ahead", "run_program"]

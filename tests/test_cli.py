@@ -3,6 +3,7 @@ output-path checks, and the JSON document helpers. Commands have their own tests
 
 import json
 import os
+import re
 import tomllib
 from pathlib import Path
 
@@ -262,28 +263,34 @@ def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
 
 
 def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
-    """JAXDAMP_COMPILE: auto compiles the one-design commands fast (runtime.compile_for_latency)
-    and leaves the long-running ones (and a blade row's response) optimised; fast and optimized apply to every command; any
+    """JAXDAMP_COMPILE: auto compiles the one-design commands fast (runtime.compile_for_latency),
+    a blade row's response between fast and optimised (runtime.ROW_LATENCY_OPTIONS: LLVM level 1)
+    and leaves the long-running ones (a row's band too) optimised; fast and optimized apply to every command; any
     other value is refused in one line naming the variable and its values."""
     from jaxdamp import cli
 
     monkeypatch.delenv("JAX_PLATFORMS", raising=False)
-    cases = [("auto", ["cycle", "--shape", "74R"], True), ("auto", ["design-br", "--mu", "0.5"], True),
-             ("auto", ["study", "--out", "x"], True), ("", ["sweep"], False),
-             ("auto", ["fit-loops", "a.csv"], True), ("auto", ["calibrate"], False),
-             ("fast", ["sweep"], True),
-             ("optimized", ["cycle"], False),
-             # a blade row's response runs long programs: optimised, unless asked otherwise
-             ("auto", ["response", "--shape", "60sym"], True),
-             ("auto", ["response", "--modes", "example", "--h-l", "10"], False),
-             ("auto", ["response", "--modes=example"], False),
-             ("fast", ["response", "--modes", "example"], True)]
-    for mode, argv, fast in cases:
+    fast, row, optimised = "0", "1", None  # the LLVM level each asks for (None: XLA's own)
+    cases = [("auto", ["cycle", "--shape", "74R"], fast), ("auto", ["design-br", "--mu", "0.5"], fast),
+             ("auto", ["study", "--out", "x"], fast), ("", ["sweep"], optimised),
+             ("auto", ["fit-loops", "a.csv"], fast), ("auto", ["calibrate"], optimised),
+             ("fast", ["sweep"], fast),
+             ("optimized", ["cycle"], optimised),
+             # a blade row's response runs long programs a few times: level 1, unless asked
+             ("auto", ["response", "--shape", "60sym"], fast),
+             ("auto", ["response", "--modes", "example", "--h-l", "10"], row),
+             ("auto", ["response", "--modes=example"], row),
+             ("auto", ["response", "--modes", "example", "--band"], optimised),
+             ("fast", ["response", "--modes", "example"], fast),
+             ("optimized", ["response", "--modes", "example"], optimised)]
+    for mode, argv, level in cases:
         monkeypatch.setenv(cli.COMPILE_ENV, mode)
         monkeypatch.delenv("XLA_FLAGS", raising=False)
         assert cli.choose_compilation(argv) is None
-        assert ("--xla_backend_optimization_level=0" in os.environ.get("XLA_FLAGS", "")) == fast, (
-            mode, argv)
+        flags = os.environ.get("XLA_FLAGS", "")
+        got = re.search(r"--xla_backend_optimization_level=(\d)", flags)
+        assert (got and got.group(1)) == level or (got is None and level is None), (mode, argv)
+        assert ("--xla_cpu_use_fusion_emitters=false" in flags) == (level is not None), (mode, argv)
     monkeypatch.setenv(cli.COMPILE_ENV, "quick")
     error = cli.choose_compilation(["cycle"])
     assert "JAXDAMP_COMPILE='quick'" in error and "auto, fast, optimized" in error

@@ -90,18 +90,20 @@ COMPILE_MODES = ("auto", "fast", "optimized")
 
 
 def choose_compilation(argv) -> str | None:
-    """Apply JAXDAMP_COMPILE (auto: per command, fast for FAST_COMPILE_COMMANDS but a blade row's
-    `response --modes`; fast; optimized) before anything compiles; returns an error line for a
-    value it does not know, else None."""
+    """Apply JAXDAMP_COMPILE (auto: per command, fast for FAST_COMPILE_COMMANDS, a blade row's
+    `response --modes` between fast and optimised and its band optimised; fast; optimized) before
+    anything compiles; returns an error line for a value it does not know, else None."""
     mode = os.environ.get(COMPILE_ENV, "auto").strip().lower() or "auto"
     if mode not in COMPILE_MODES:
         return (f"jaxdamp: error: {COMPILE_ENV}={os.environ[COMPILE_ENV]!r}: expected one of "
                 f"{', '.join(COMPILE_MODES)}")
-    if mode == "fast" or (mode == "auto" and _only_command(argv) in FAST_COMPILE_COMMANDS
-                          and not _blade_row(argv)):
-        from ..runtime import compile_for_latency
+    if mode == "fast" or (mode == "auto" and _only_command(argv) in FAST_COMPILE_COMMANDS):
+        from ..runtime import LATENCY_OPTIONS, ROW_LATENCY_OPTIONS, compile_for_latency
 
-        compile_for_latency()
+        if mode == "fast" or not _blade_row(argv):
+            compile_for_latency(LATENCY_OPTIONS)
+        elif not _asks(argv, "--band"):
+            compile_for_latency(ROW_LATENCY_OPTIONS)
     return None
 
 
@@ -119,13 +121,22 @@ def _builtin_registers(names=COMMANDS):
     return [importlib.import_module(f"{__name__}.{name}").register for name in names]
 
 
-def _blade_row(argv) -> bool:
-    """Whether argv asks `response` for a blade row (--modes): its two programs, compiled fast,
-    ran 5.8 s a call where the optimised ones run 0.5 s, and optimised they also compiled sooner
-    (the example row, 13 engine orders, 2 forces, 2-core VM, 2026-11-29: first call with an empty
-    cache 52 s against 60 s, a repeat 5.5 s against 8.4 s)."""
-    return any(isinstance(a, str) and (a == "--modes" or a.startswith("--modes="))
+def _asks(argv, flag: str) -> bool:
+    """Whether argv has the option `flag` (as `--flag` or `--flag=value`)."""
+    return any(isinstance(a, str) and (a == flag or a.startswith(flag + "="))
                for a in argv or ())
+
+
+def _blade_row(argv) -> bool:
+    """Whether argv asks `response` for a blade row (--modes). Its programs are long and, but for
+    the band's, run a few times: they compile between fast and optimised
+    (`runtime.ROW_LATENCY_OPTIONS`; on the 2-core VM, 2026-12-01, first call with an empty cache
+    and repeat: the example row 14 -> 7 s and 2.0 s alike, with --diagram 44 -> 32 s and 3.5 ->
+    3.8 s). The band's (--band) stay optimised: they run long, and so compiled the whole row's
+    band took 52 s first and 18 s repeated against 64 s and 13 s. Compiled fast (level 0) the
+    row's programs ran 5.8 s a call where optimised ones ran 0.5 s (2026-11-29, before they held
+    one copy of the cycle)."""
+    return _asks(argv, "--modes")
 
 
 def _only_command(argv) -> str | None:
