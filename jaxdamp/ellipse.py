@@ -194,6 +194,14 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     return impl(*args, loop=loop)
 
 
+def _start_of_period(half_first: int):
+    """start(k): where leg k of the periods' iteration starts, tau = 0, or pi for assembly's half
+    period (k < 0) where half_first."""
+    if half_first:
+        return lambda k: jnp.where(k >= 0, 0.0, jnp.pi)
+    return lambda k: jnp.zeros(())
+
+
 def _period_machine(max_tracts: int):
     """machine_of(data): the tract machine of a lane's periods (`lanes.Legs`), tau to 2 pi on
     its ellipse, from the lane's pads and path size."""
@@ -214,14 +222,14 @@ def _periods(data, *, half_first: int, max_tracts: int, max_periods: int, loop: 
     n_pads = pads.a.shape[0]
     pre_set = (data["pre_state"], data["pre_known"])
 
+    start_of_leg = _start_of_period(half_first)
+
     def leg(records, N, T, j, k, idle):
-        whole = k >= 0  # else assembly's half period, tau from pi to 2 pi
-        start = jnp.where(whole, 0.0, jnp.pi) if half_first else 0.0
         before, legs = records
         rows = jax.tree_util.tree_map(lambda x: x[j], recorded)  # None: no replay
         # The period starts in the set the previous one ended in (the first: the move's).
         state, known = end_set(before)
-        arc = run_tracts(pads, path, N, T, start, 2.0 * jnp.pi, max_tracts=max_tracts,
+        arc = run_tracts(pads, path, N, T, start_of_leg(k), 2.0 * jnp.pi, max_tracts=max_tracts,
                          loop=loop, record=record, replay=rows, idle=idle,
                          start_set=(jnp.where(known, state, pre_set[0]), known | pre_set[1]))
         if record:
@@ -310,11 +318,10 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         # Values: a batch's cycles on a pool of lanes, each cycle's periods one loop over their
         # tracts (`lanes.iterate_lanes`); one cycle alone by the nested loops (periods of runs),
         # measured 10-40 % faster alone (docs/motions.md, "Cost").
-        start_of_leg = ((lambda k: jnp.where(k >= 0, 0.0, jnp.pi)) if half_first
-                        else (lambda k: jnp.zeros(())))
         lane = Legs(_period_machine(max_tracts), tract_rows(n_pads, 2),
-                    start_of_leg=start_of_leg, legs_per_round=1, pre_legs=half_first,
-                    max_rounds=max_periods, max_tracts=max_tracts)
+                    start_of_leg=_start_of_period(half_first), legs_per_round=1,
+                    pre_legs=half_first, max_rounds=max_periods, max_tracts=max_tracts)
+
         def alone(d):
             end, arc, _ = periods(d, loop="while")
             return dict(end, records=None), arc  # as `Legs.result`

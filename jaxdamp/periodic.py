@@ -182,7 +182,7 @@ def iterate_to_periodic(leg, N0, T0, mu, records, *, legs_per_round: int, pre_le
     whole_rounds at the end of its round (the Base-Cycle's pair always runs both halves).
     stop0: True where there is nothing to iterate (the start failed). loop: `loops.repeat_until`'s.
     The legs of one path's tract runs also run as one loop over their tracts
-    (`lanes.iterate_legs`: the same iteration, `after_leg`).
+    (`lanes.Legs`: the same iteration, `after_leg`).
 
     Returns a dict: records; N, T (where the next round would start); top (the state at the
     last round's start); gap (the last round's closure, inf before one ended); closed (the last
