@@ -195,20 +195,16 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
 
 
 def _start_of_period(half_first: int):
-    """start(k): where leg k of the periods' iteration starts, tau = 0, or pi for assembly's half
-    period (k < 0) where half_first."""
-    if half_first:
-        return lambda k: jnp.where(k >= 0, 0.0, jnp.pi)
-    return lambda k: jnp.zeros(())
+    """start(k): the tau where leg k of the periods starts: 0, or pi for assembly's half period
+    (k < 0) where half_first."""
+    return (lambda k: jnp.where(k >= 0, 0.0, jnp.pi)) if half_first else (lambda k: jnp.zeros(()))
 
 
 def _period_machine(max_tracts: int):
     """machine_of(data): the tract machine of a lane's periods (`lanes.Legs`), tau to 2 pi on
     its ellipse, from the lane's pads and path size."""
-    def machine_of(data):
-        return machine(data["pads"], Ellipse(data["s_a"]), 2.0 * jnp.pi, max_tracts=max_tracts,
-                       loop="while")
-    return machine_of
+    return lambda data: machine(data["pads"], Ellipse(data["s_a"]), 2.0 * jnp.pi,
+                                max_tracts=max_tracts, loop="while")
 
 
 def _periods(data, *, half_first: int, max_tracts: int, max_periods: int, loop: str,
