@@ -33,6 +33,13 @@ def _end_set(rows, ran):
     return rows["state"][jnp.maximum(last, 0)], last >= 0
 
 
+def _where_leading(mask, new, old):
+    """new where mask, else old, row by row of the leading axis of every leaf (mask: that axis's
+    length; `loops.tree_where` takes one condition for the whole tree)."""
+    return jax.tree_util.tree_map(
+        lambda x, y: jnp.where(mask.reshape((-1,) + (1,) * (x.ndim - 1)), x, y), new, old)
+
+
 class Legs:
     """The iteration over legs that are runs of one tract machine (`engine.machine`: one path to
     one end), as one loop over tracts: `periodic.iterate_to_periodic`'s iteration, one lane.
@@ -99,11 +106,9 @@ class Legs:
         """(end, arc): the iteration's end carry (`iterate_to_periodic`'s, records None) and the
         last leg's tracts (zeros where no leg ran)."""
         m = self.machine_of(data)
-        index = jnp.arange(self.max_tracts)
         # The last leg's rows are the first i; the rest are earlier legs'.
-        kept = jax.tree_util.tree_map(
-            lambda x: jnp.where((index < c["i"]).reshape((-1,) + (1,) * (x.ndim - 1)), x,
-                                jnp.zeros_like(x)), c["rows"])
+        kept = _where_leading(jnp.arange(self.max_tracts) < c["i"], c["rows"],
+                              jax.tree_util.tree_map(jnp.zeros_like, c["rows"]))
         arc = m.finish(c["run"], kept)
         n_pads, n_basis = data["N0"].shape[0], self.rows["dN"].shape[0]
         arc = tree_where(c["j"] > 0, arc, empty_tracts(n_pads, n_basis, self.max_tracts))
@@ -195,19 +200,13 @@ def _pool(lane, data, n: int, W: int):
         fresh = init(take(idx))
         kept = {k: v for k, v in lanes.items() if k == "rows"}
         small = {k: v for k, v in lanes.items() if k != "rows"}
-        small = tree_where_lanes(ended & (idx < n), {k: fresh[k] for k in small}, small)
+        small = _where_leading(ended & (idx < n), {k: fresh[k] for k in small}, small)
         return dict(small, **kept), idx, nxt + jnp.sum(ended), store
 
     # A cycle with nothing to iterate ends before its first step: the first step stores it.
     _, _, _, store = jax.lax.while_loop(lambda s: jnp.any(s[1] < n), body,
                                         (lanes0, idx0, jnp.array(W), store0))
     return jax.vmap(lane.result)(store, data)
-
-
-def tree_where_lanes(mask, new, old):
-    """new where mask (W,), else old, lane by lane (leading lane axis on every leaf)."""
-    return jax.tree_util.tree_map(
-        lambda x, y: jnp.where(mask.reshape((-1,) + (1,) * (x.ndim - 1)), x, y), new, old)
 
 
 __all__ = ["Legs", "POOL_WIDTH", "POOL_SHARE", "pool_width", "iterate_lanes"]

@@ -75,13 +75,11 @@ _ACCELERATOR_PLUGINS = ("jax_plugins", "jax_cuda12_plugin", "jax_cuda13_plugin",
 
 
 def compile_for_latency(options: dict = LATENCY_OPTIONS) -> bool:
-    """Ask XLA to compile this process's programs fast rather than optimise them
-    (`options`, by default `LATENCY_OPTIONS`, added to the XLA_FLAGS environment variable; a
-    program's own
-    compiler_options can ask for them too). XLA reads that variable
-    once, at the process's first compilation, so this is for a process's start (the CLI calls it
-    before any computation, for the commands whose first call is mostly compilation), and it is
-    process-wide. A flag the
+    """Ask XLA to compile this process's programs fast rather than optimise them (`options`, by
+    default `LATENCY_OPTIONS`, added to the XLA_FLAGS environment variable; a program's own
+    compiler_options can ask for them too). XLA reads that variable once, at the process's first
+    compilation, so this is for a process's start (the CLI calls it before any computation, for
+    the commands whose first call is mostly compilation), and it is process-wide. A flag the
     user set in XLA_FLAGS is kept; nothing is changed where JAX_PLATFORMS names another platform
     than the CPU or an accelerator plugin is installed. Returns whether XLA_FLAGS changed."""
     platforms = os.environ.get("JAX_PLATFORMS", "").strip().lower()

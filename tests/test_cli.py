@@ -265,8 +265,8 @@ def test_console_exits_with_the_commands_code_and_delivers_its_output(tmp_path):
 def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
     """JAXDAMP_COMPILE: auto compiles the one-design commands fast (runtime.compile_for_latency),
     a blade row's response between fast and optimised (runtime.ROW_LATENCY_OPTIONS: LLVM level 1)
-    and leaves the long-running ones (a row's band too) optimised; fast and optimized apply to every command; any
-    other value is refused in one line naming the variable and its values."""
+    and leaves the long-running ones (a row's band too) optimised; fast and optimized apply to
+    every command; any other value is refused in one line naming the variable and its values."""
     from jaxdamp import cli
 
     monkeypatch.delenv("JAX_PLATFORMS", raising=False)
@@ -289,7 +289,7 @@ def test_compilation_mode_per_command_and_from_the_environment(monkeypatch):
         assert cli.choose_compilation(argv) is None
         flags = os.environ.get("XLA_FLAGS", "")
         got = re.search(r"--xla_backend_optimization_level=(\d)", flags)
-        assert (got and got.group(1)) == level or (got is None and level is None), (mode, argv)
+        assert (got.group(1) if got else None) == level, (mode, argv)
         assert ("--xla_cpu_use_fusion_emitters=false" in flags) == (level is not None), (mode, argv)
     monkeypatch.setenv(cli.COMPILE_ENV, "quick")
     error = cli.choose_compilation(["cycle"])
