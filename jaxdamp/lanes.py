@@ -83,24 +83,38 @@ class Legs:
     def step(self, c, data) -> dict:
         """One tract; where it ends the run, the leg's end and the next run's start. A lane that
         is not going is left as it is (its row is written nowhere)."""
+        return self.close(self.advance(c, data), data)
+
+    def advance(self, c, data) -> dict:
+        """`step`'s tract: the run's step and its row (a lane that is not going left as it is)."""
         m = self.machine_of(data)
         go = self.going(c)
         run, out = m.step(c["run"], None)
         # Past the rows (dropped) where the lane is not going.
         at = jnp.where(go, c["i"], self.max_tracts)
         rows = jax.tree_util.tree_map(lambda a, o: a.at[at].set(o, mode="drop"), c["rows"], out)
-        i = c["i"] + 1
-        over = go & (run["done"] | (i >= self.max_tracts))
-        # Where the run ended: its leg's end (computed in every lane, kept where it ended).
-        arc = m.finish(run, rows)
+        return dict(c, run=tree_where(go, run, c["run"]), rows=rows,
+                    i=jnp.where(go, c["i"] + 1, c["i"]))
+
+    def ends(self, c) -> jnp.ndarray:
+        """After `advance`: the lane's run has ended (its leg closes in `close`)."""
+        return self.going(c) & (c["run"]["done"] | (c["i"] >= self.max_tracts))
+
+    def close(self, c, data) -> dict:
+        """`step`'s end of a run, after `advance`: where the run ended, its leg's end
+        (`periodic.after_leg`) and the next run's start; elsewhere the carry as it is."""
+        m = self.machine_of(data)
+        over = self.ends(c)
+        arc = m.finish(c["run"], c["rows"])
         it = after_leg(c["it"], arc.N_end, arc.T_end, arc.status != RESULTS.ok, None, c["j"],
                        data["mu"], legs_per_round=self.legs_per_round, pre_legs=self.pre_legs)
         j = c["j"] + 1
         on = over & ~self.stopped(it) & (j < self.legs)
-        fresh = self._start_run(m, data, it["N"], it["T"], j - self.pre_legs, _end_set(rows, i))
+        fresh = self._start_run(m, data, it["N"], it["T"], j - self.pre_legs,
+                                _end_set(c["rows"], c["i"]))
         return dict(it=tree_where(over, it, c["it"]), j=jnp.where(over, j, c["j"]),
-                    i=jnp.where(on, 0, jnp.where(go, i, c["i"])),
-                    run=tree_where(on, fresh, tree_where(go, run, c["run"])), rows=rows)
+                    i=jnp.where(on, 0, c["i"]), run=tree_where(on, fresh, c["run"]),
+                    rows=c["rows"])
 
     def result(self, c, data):
         """(end, arc): the iteration's end carry (`iterate_to_periodic`'s, records None) and the
@@ -118,15 +132,15 @@ class Legs:
 # Lanes a pooled batch runs on: a batched step costs a fixed part and a part per lane, and a pool
 # of N / 16 lanes, at least 64, keeps both small on the 2-core CPU (256 cycles, 2026-12-01: 64
 # lanes 1.1-2.6x faster than plain vmap and within a tenth of the best of 16, 32 and 128; 4096:
-# 128 to 1024 lanes alike; docs/motions.md, "Cost"). Smaller batches run as plain vmap, every
-# cycle its own lane; so does every batch on an accelerator, whose steps' fixed part is larger
+# 128 to 1024 lanes alike; docs/motions.md, "Cost"). Smaller batches run every cycle on its own
+# lane (`_lockstep`); so does every batch on an accelerator, whose steps' fixed part is larger
 # and part per lane smaller (no accelerator was lent to measure the pool there).
 POOL_WIDTH = 64
 POOL_SHARE = 16
 
 
 def pool_width(n: int) -> int | None:
-    """The lanes a batch of n cycles runs on, or None: every cycle its own lane (plain vmap)."""
+    """The lanes a batch of n cycles runs on, or None: every cycle its own lane (`_lockstep`)."""
     if jax.default_backend() != "cpu":
         return None
     width = max(POOL_WIDTH, n // POOL_SHARE)
@@ -145,9 +159,10 @@ def iterate_lanes(lane, data, width: int | None = None, alone=None):
     object with init(data) -> carry (a dict), going(carry), step(carry, data) -> carry (a carry
     that is not going left as it is) and result(carry, data); a carry's "rows", if any, are
     left to the next cycle on its lane (its own are read up to its own count, as `Legs` does).
+    A lane may step in two parts, as `Legs` does (advance, ends, close: `_batched_step`).
 
     Under vmap over N cycles the batch runs on a pool of `width` lanes (default `pool_width(N)`;
-    plain vmap, every cycle its own lane, where that is None or N < 2 width): each step steps
+    every cycle its own lane, `_lockstep`, where that is None or N < 2 width): each step steps
     every lane; a lane whose cycle has ended leaves its carry at the cycle's place and takes the
     next cycle; the results come from the carries left. Every cycle runs its own steps, so the
     numbers are those of its own loop (to the last bits: XLA's code for W lanes is not that for
@@ -166,12 +181,38 @@ def iterate_lanes(lane, data, width: int | None = None, alone=None):
             lambda x, b: x if b else jnp.broadcast_to(x, (axis_size,) + jnp.shape(x)),
             data, in_batched[0])
         if W is None or axis_size < 2 * W:
-            out = jax.vmap(lambda d: _lane_loop(lane, d))(batched)
+            out = _lockstep(lane, batched)
         else:
             out = _pool(lane, batched, axis_size, W)
         return out, jax.tree_util.tree_map(lambda _: True, out)
 
     return run(data)
+
+
+def _batched_step(lane):
+    """step(carry, data) of a batch of lanes (leading lane axis): lane.step on every lane; with a
+    lane that steps in two parts (`Legs.advance`, then `Legs.close` where `Legs.ends`), the
+    second only in the steps where a lane's run ended (most steps of a batch whose lanes run
+    together: a lax.cond of the batch, not of a lane)."""
+    if not hasattr(lane, "advance"):
+        return jax.vmap(lane.step)
+    advance, close, ends = jax.vmap(lane.advance), jax.vmap(lane.close), jax.vmap(lane.ends)
+
+    def step(c, data):
+        c = advance(c, data)
+        return jax.lax.cond(jnp.any(ends(c)), close, lambda c, data: c, c, data)
+
+    return step
+
+
+def _lockstep(lane, data):
+    """lane.result of every cycle of `data` (leading axis), each on its own lane: the batch's
+    loop runs until no lane is going (plain vmap's loop, with `_batched_step`: batches of 16
+    random elliptic cycles 1.3x faster than plain vmap, bit-identical; 2026-12-02)."""
+    step, going = _batched_step(lane), jax.vmap(lane.going)
+    c = jax.lax.while_loop(lambda c: jnp.any(going(c)), lambda c: step(c, data),
+                           looped_together(jax.vmap(lane.init)(data), data))
+    return jax.vmap(lane.result)(c, data)
 
 
 def _pool(lane, data, n: int, W: int):
@@ -182,6 +223,8 @@ def _pool(lane, data, n: int, W: int):
     def take(idx):  # the cycles' data at lanes' indices (n: none, any row will do)
         return jax.tree_util.tree_map(lambda x: x[jnp.minimum(idx, n - 1)], data)
 
+    # Both parts of the step in every step: in a pool some lane's run ends in most steps (the
+    # batch-level cond of `_batched_step` measured a wash or slower here, 2026-12-02).
     init, step, going = jax.vmap(lane.init), jax.vmap(lane.step), jax.vmap(lane.going)
     idx0 = jnp.arange(W)
     lanes0 = init(take(idx0))

@@ -65,6 +65,47 @@ def test_the_pool_with_shared_data_and_unbatched():
     assert_tree_allclose(np.asarray(total), 0.5 * np.arange(7), rtol=1e-15, atol=0.0)
 
 
+class _Legs(_Countdown):
+    """A countdown whose steps come in two parts, as `lanes.Legs`' do: advance every step, close
+    where a leg of data["leg"] steps ended (counted, and the leg's work moved to "closed")."""
+
+    def init(self, data):
+        return dict(super().init(data), leg=data["leg"], legs=jnp.array(0),
+                    closed_at=jnp.array(0), closed=jnp.zeros(()))
+
+    def advance(self, c, data):
+        return dict(c, **super().step(c, data))
+
+    def ends(self, c):
+        return (c["steps"] > 0) & (c["steps"] % c["leg"] == 0) & (c["closed_at"] < c["steps"])
+
+    def close(self, c, data):
+        over = self.ends(c)
+        return dict(c, legs=c["legs"] + over, closed_at=jnp.where(over, c["steps"], c["closed_at"]),
+                    closed=jnp.where(over, c["total"], c["closed"]))
+
+    def step(self, c, data):
+        return self.close(self.advance(c, data), data)
+
+    def result(self, c, data):
+        return c["steps"], c["legs"], c["closed"]
+
+
+def test_lanes_stepping_in_two_parts_close_their_own_legs():
+    """A batch too small for the pool (one loop, its lanes together; the closing part runs only in
+    steps where some lane's leg ended): every lane its own steps, legs and work at its last leg's
+    end."""
+    rng = np.random.default_rng(2)
+    n, leg = rng.integers(0, 12, 9), rng.integers(1, 5, 9)
+    x = rng.normal(size=9)
+    lane = _Legs()
+    data = dict(n=jnp.asarray(n), x=jnp.asarray(x), leg=jnp.asarray(leg))
+    steps, legs, closed = jax.jit(jax.vmap(lambda d: iterate_lanes(lane, d)))(data)
+    np.testing.assert_array_equal(np.asarray(steps), n)
+    np.testing.assert_array_equal(np.asarray(legs), n // leg)
+    assert_tree_allclose(np.asarray(closed), (n // leg) * leg * x, rtol=1e-14, atol=0.0)
+
+
 def test_pool_width_plain_vmap_for_small_batches():
     assert pool_width(16) is None
     assert pool_width(127) is None
