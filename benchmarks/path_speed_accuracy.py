@@ -285,7 +285,7 @@ def run_case(case, cfg, log):
                     "hbm": lambda nt=nt: HBM_BATCH(*args, amps, motion, nt, periods)}
         # Each method `calls` times in a row per round, both alike (until 2026-12-02 once each:
         # the engine's batch, under a millisecond, was then timed only right after HBM-AFT's
-        # batch of 5-150 ms, which leaves the caches cold; that sample is kept as
+        # batch of 2 ms to 3 s, which leaves its caches cold; that sample is kept as
         # *_after_other_s).
         raw, _ = interleaved_times(programs, repeats=cfg["batch_rounds"],
                                    calls={"engine": calls, "hbm": calls})
