@@ -126,11 +126,13 @@ def prepared(case):
     return shape, (sh, mu, c, load), motion
 
 
-def interleaved(programs: dict, rounds: int, calls: dict | None = None) -> dict:
+def interleaved(programs: dict, rounds: int, calls: dict | None = None, raw: bool = False):
     """Warm median (s) of each program, timed round-robin: every program once per round (or
-    calls[k] times), so that the machine's load hits all alike. Returns {k: (median, min, max)}."""
+    calls[k] times), so that the machine's load hits all alike. Returns {k: (median, min, max)};
+    raw: also {k: every time, in call order}."""
     times, _ = interleaved_times(programs, repeats=rounds, calls=calls)
-    return {k: (float(np.median(v)), float(min(v)), float(max(v))) for k, v in times.items()}
+    stats = {k: (float(np.median(v)), float(min(v)), float(max(v))) for k, v in times.items()}
+    return (stats, times) if raw else stats
 
 
 def error(k_im, exact_re, exact_im):
@@ -287,9 +289,8 @@ def run_case(case, cfg, log):
         # the engine's batch, under a millisecond, was then timed only right after HBM-AFT's
         # batch of 2 ms to 3 s, which leaves its caches cold; that sample is kept as
         # *_after_other_s).
-        raw, _ = interleaved_times(programs, repeats=cfg["batch_rounds"],
-                                   calls={"engine": calls, "hbm": calls})
-        tt = {k: (float(np.median(v)), float(min(v)), float(max(v))) for k, v in raw.items()}
+        tt, raw = interleaved(programs, cfg["batch_rounds"], {"engine": calls, "hbm": calls},
+                              raw=True)
         eng_times += raw["engine"]
         eng_after += raw["engine"][::calls]
         h_re, h_im, h_status = (np.asarray(x) for x in HBM_BATCH(*args, amps, motion, nt, periods))
