@@ -48,6 +48,7 @@ from .engine import (TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tract
 from .engine import run as run_tracts
 from .geometry import DamperShape, is_wedge, pad_names
 from .lanes import Legs, iterate_lanes
+from .linalg import combine
 from .loops import check_loop, values_by_replay
 from .paths import Ellipse, Line, sinusoid
 from .periodic import iterate_to_periodic
@@ -119,9 +120,10 @@ def _fourier(arc: Tracts, pieces, I, coefficients):
     """`period_fourier` from the tracts' force sinusoids (`_force_pieces`) and their integrals."""
     (cN, aN, bN), (cT, aT, bT) = pieces
     fn, ft = coefficients
-    c = cN @ fn + cT @ ft
-    a = aN @ fn + aT @ ft
-    b = bN @ fn + bT @ ft
+    # Sums over the pads, not six tiny dots (XLA's own kernels on CPU: 2-5 % of a batch of 16).
+    c = combine(fn, cN.T) + combine(ft, cT.T)
+    a = combine(fn, aN.T) + combine(ft, aT.T)
+    b = combine(fn, bN.T) + combine(ft, bT.T)
     cos_part = c * I["c"] + a * I["cc"] + b * I["cs"]
     sin_part = c * I["s"] + a * I["cs"] + b * I["ss"]
     return jnp.sum(jnp.where(arc.active, cos_part - 1j * sin_part, 0.0))
@@ -277,9 +279,9 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         to_start, pre_tape = to_start if record else (to_start, None)
         N0, T0 = to_start.N_end, to_start.T_end
         pre = to_start.status[None]
-        # The ellipse leaves X(pi) in another direction: pads slipping there are proposed stuck.
-        state, known = end_set(to_start)
-        pre_set = (jnp.where(state == SLIP, STICK, state), known)
+        # The ellipse's first tract proposes the move's last set, slipping pads slipping (60sym's
+        # batch of 16 1.12x faster than proposed stuck, random batches alike; 2026-12-02).
+        pre_set = end_set(to_start)
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
         got = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,

@@ -44,12 +44,18 @@ def _det(A):
     return A[0, 0] if A.shape[0] == 1 else A[0, 0] * A[1, 1] - A[0, 1] * A[1, 0]
 
 
+def _dot(x, y):
+    """x @ y for a small matrix x and a vector or small matrix y, as products and a sum: under
+    vmap XLA on CPU runs each tiny dot as a kernel of its own (`linalg.rowdot`)."""
+    return jnp.sum(x * y[None, :] if y.ndim == 1 else x[:, :, None] * y[None], axis=1)
+
+
 def _solve(A, b):
     """A^-1 b for a 1x1 or 2x2 A with a nonzero determinant, by Cramer's rule."""
     if A.shape[0] == 1:
         return b / A[0, 0]
     adj = jnp.array([[A[1, 1], -A[0, 1]], [-A[1, 0], A[0, 0]]])
-    return adj @ b / _det(A)
+    return _dot(adj, b) / _det(A)
 
 
 def _extrapolated(starts, there, m):
@@ -64,14 +70,14 @@ def _extrapolated(starts, there, m):
     diffs = states[1:] - states[:-1]  # 2m differences
     D = jnp.concatenate([diffs[j:j + m].T for j in range(m)])  # (m * 2P, m)
     target = jnp.concatenate([diffs[m + j] for j in range(m)])
-    gram = D.T @ D
+    gram = _dot(D.T, D)
     # Columns far from parallel (for m = 1, nonzero); a singular Gram is replaced, not solved.
     scale = jnp.prod(jnp.diag(gram))
     solvable = (scale > 1e-60) & (_det(gram) > 1e-10 * scale)
-    c = _solve(jnp.where(solvable, gram, jnp.eye(m)), D.T @ target)
-    off = target - D @ c
+    c = _solve(jnp.where(solvable, gram, jnp.eye(m)), _dot(D.T, target))
+    off = target - _dot(D, c)
     # Squared norms: no square root, whose derivative at zero is NaN.
-    spanned = jnp.dot(off, off) <= 1e-12 * jnp.dot(target, target) + MISFIT_TOL ** 2
+    spanned = jnp.sum(off * off) <= 1e-12 * jnp.sum(target * target) + MISFIT_TOL ** 2
     ok = solvable & spanned & _contracting(c)
     # On the last m differences (Dl): A Dl = Dl H (H: shift, last column c), d_last = (A - I) e
     # with e = Dl y, (H - I) y = c, and the fixed point is the last start less e.
@@ -79,7 +85,7 @@ def _extrapolated(starts, there, m):
     H = jnp.eye(m, k=-1).at[:, m - 1].set(c) - jnp.eye(m)
     # det(H - I) = +-(1 - sum c): nonzero where every ratio is below one (contracting).
     y = _solve(jnp.where(ok, H, -jnp.eye(m)), c)
-    return starts[-1] - last @ jnp.where(ok, y, 0.0), ok
+    return starts[-1] - _dot(last, jnp.where(ok, y, 0.0)), ok
 
 
 def accelerate(mu, starts, there, plain):
