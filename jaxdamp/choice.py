@@ -229,6 +229,46 @@ def propose(pads: Pads, N, T, heading, ahead, last) -> Choice:
                   allowed & good[0] & second[0])
 
 
+def propose_again(pads: Pads, N, T, heading, ahead, first: Choice, known) -> Choice:
+    """`run`'s second look before the choice among every set, where `propose`'s set (first)
+    failed `choose`'s rules: that set with its failing pads changed (a stuck pad on its limit
+    that leaves the cone slips; a stuck pad at N = 0, closing, whose |T| grows past mu N slips,
+    with the sign of T's growth; a slipping pad whose slip turns sticks), its rates (one 3x3
+    solve) and whether it is consistent by `choose`'s rules, as `propose` (and as there, where
+    it is consistent it is `choose`'s choice: checked on the cases of pads_vs_marcher.py and
+    ellipse_vs_marcher.py). Not consistent where no pad changed or a pad at N = 0 would open.
+    known: the first set was a previous tract's (`propose`'s last[2])."""
+    classes = _pad_classes(pads, N, T)
+    mu, zero, gap, limit, _, t_sign = classes
+    dN, dT, dslip = (_along(heading, x[None])[0] for x in (first.dN, first.dT, first.dslip))
+    tol = RATE_TOL * jnp.max(jnp.maximum(pads.kn, pads.kt))
+    out = t_sign * dT - mu * dN > tol  # leaves the cone (a pad on its limit)
+    grows = jnp.abs(dT) - mu * dN > tol  # |T| grows past mu N (a pad closing at N = 0)
+    turns = first.signs * dslip > RATE_TOL  # slides along its friction force
+    if ahead is not None:  # `_judged`'s second-order check
+        N1 = N + _along(ahead, first.dN[None])[0]
+        T1 = T + _along(ahead, first.dT[None])[0]
+        beyond = jnp.abs(T1) > mu * N1 + LOOKAHEAD_TOL
+        out, grows = out | beyond, grows | beyond
+        turns |= (first.signs * _along(ahead, first.dslip[None])[0]
+                  > LOOKAHEAD_TOL * jnp.max(jnp.abs(ahead)))
+    stick = first.closed & ~first.slipping
+    leaves, closing = stick & limit & out, stick & zero & grows
+    sticks = first.slipping & ~zero & turns
+    opens = stick & zero & (dN < -tol)  # `choose`'s to find
+    closed = first.closed
+    slipping = (first.slipping & ~sticks) | leaves | closing
+    signs = jnp.where(closing, jnp.where(dT >= 0.0, 1.0, -1.0), t_sign)
+    allowed = (known & jnp.any(leaves | closing | sticks) & ~jnp.any(opens)
+               & jnp.all(jnp.where(closed, jnp.where(slipping, limit | closing, ~gap),
+                                   zero | gap)))
+    r = _rates(pads, closed[None], slipping[None], signs[None])
+    good, second = _judged(pads, N, T, heading, ahead, closed[None], slipping[None],
+                           signs[None], r, classes)
+    return Choice(closed, slipping, signs, r.dN[0], r.dT[0], r.dslip[0],
+                  allowed & good[0] & second[0])
+
+
 def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
     """`choose` for three pads that may not open, on a `Line`: the paper's in-phase model, where a
     normal force reaching zero is liftoff. Only the 8 stick/slip sets remain, and their rates come
@@ -310,5 +350,6 @@ def empty_tape(n_pads: int, max_tracts: int, n_runs: int) -> Tape:
 
 
 __all__ = ["LOOKAHEAD_TOL", "Pads", "Rates", "Choice", "Tape", "candidate_table", "choose", "propose",
+           "propose_again",
            "choose_closed", "set_stiffness", "one_set",
            "replayed_choice", "empty_tape"]

@@ -33,7 +33,8 @@ import jax.numpy as jnp
 import numpy as np
 
 from .choice import (LOOKAHEAD_TOL, Choice, Pads, Rates, Tape, candidate_table, choose,
-                     choose_closed, empty_tape, one_set, propose, replayed_choice, set_stiffness)
+                     choose_closed, empty_tape, one_set, propose, propose_again, replayed_choice,
+                     set_stiffness)
 from .linalg import combine, rowdot, solve3
 from .loops import bounded_loop, zeros_of
 from .paths import Line
@@ -190,8 +191,17 @@ def machine(pads: Pads, path, p_end=None, *, max_tracts: int, loop: str = "scan"
     # 16): on pools of wedge cycles chunks of 2 lanes were 10-15 % faster than 4 (1 as 2), where
     # the curved-flat damper's were 2-5 % slower (2026-12-01, docs/motions.md, "Cost").
     chunk = CHUNK if n_pads == 3 else CHUNK // 2
-    chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent, chunk) if proposes
-               else every_set)
+    def proposed_again(first, pads, N, T, heading, ahead, last, done):
+        ch = propose_again(pads, N, T, heading, ahead, first, last[2])
+        return ch._replace(consistent=ch.consistent | done)
+
+    # A wedge's proposals miss more often, a closing pad most (it closes slipping where proposed
+    # stuck: about 40 % of the misses at 10 mrad), so its batches try a second proposal before
+    # choosing among 32 sets: wedge batches 1.06-1.35x; for the curved-flat damper pools of 256
+    # ran 0.86-0.95x and programs compiled 1-4 s slower (docs/motions.md, "Cost", 2026-12-02).
+    chooser = (second_look(proposed, every_set, lambda ch: ~ch.consistent, chunk,
+                           retry=proposed_again if n_pads == 4 else None)
+               if proposes else every_set)
 
     def init(N, T, p_start, start_set=None, idle=None):
         # Pads that may not open: one at N = 0 at the start has lifted off.

@@ -28,12 +28,15 @@ import jax.numpy as jnp
 CHUNK = 4
 
 
-def second_look(fast, full, again, chunk: int = CHUNK):
+def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
     """f(*args): fast(*args), or full(*args) where again(fast(*args)) is True (a () bool).
 
     fast and full: functions of the same arguments (pytrees of arrays, None allowed) returning
     pytrees of one structure, shape and dtype. Under vmap, full runs only on the lanes that need
-    it, `chunk` lanes at a time."""
+    it, `chunk` lanes at a time. retry(out, *args), if given: a cheaper second try from the fast
+    result, run under vmap on every lane of a batch in which some lane asks (one batched call,
+    not chunks), kept where it does not ask again; full then runs where it does. Unbatched it is
+    not used (full directly)."""
 
     @jax.custom_batching.custom_vmap
     def f(*args):
@@ -47,6 +50,17 @@ def second_look(fast, full, again, chunk: int = CHUNK):
         flags = jax.vmap(again)(out)
         count = jnp.sum(flags)
         size = -(-axis_size // chunk) * chunk
+        if retry is not None:
+            def retried(out):
+                alt = jax.vmap(retry, in_axes=(0,) + tuple(axes))(out, *args)
+                use = flags & ~jax.vmap(again)(alt)
+                return jax.tree_util.tree_map(
+                    lambda a, o: jnp.where(use.reshape((-1,) + (1,) * (a.ndim - 1)), a, o),
+                    alt, out)
+
+            out = jax.lax.cond(count > 0, retried, lambda out: out, out)
+            flags = jax.vmap(again)(out)
+            count = jnp.sum(flags)
 
         def look_again(out):
             # The flagged lanes first (a stable order), padded to whole chunks with lane 0.

@@ -103,6 +103,51 @@ def test_a_consistent_proposal_is_the_choice_among_every_set():
     assert np.array_equal(np.asarray(got.slipping), [True, False, False, False])
 
 
+def test_a_consistent_second_proposal_is_the_choice_among_every_set():
+    """`propose_again`'s contract, as `propose`'s: at every tract start of the wedge's cycle, from
+    each of the 81 stick/slip/open sets proposed first and not consistent, the second proposal
+    (the failing pads changed) is either not consistent or exactly `choose`'s choice; and it
+    finds the choice where a pad closes slipping, which no first proposal does."""
+    from itertools import product
+
+    from jaxdamp.choice import choose, propose, propose_again
+    from jaxdamp.conventions import travel_mm
+    from jaxdamp.paths import Ellipse
+    from jaxdamp.tract import STICK
+
+    c = cycle()
+    sh, mu, contacts, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
+    pads = path_pads(sh, mu, contacts, load, path_parts(PATH))
+    path = Ellipse(travel_mm(jnp.asarray(20.0), load.q_star))
+    sets = jnp.asarray(list(product((STICK, SLIP, OPEN), repeat=4)))
+    no_event = jnp.full(4, -1)
+
+    @jax.jit
+    def judged(N, T, p0):
+        heading, ahead = path.heading(pads, p0), path.ahead(p0)
+        full = choose(pads, N, T, heading, ahead)
+
+        def second(st):
+            first = propose(pads, N, T, heading, ahead, (st, no_event, jnp.array(True)))
+            return first.consistent, propose_again(pads, N, T, heading, ahead, first, True)
+
+        first_ok, again = jax.vmap(second)(sets)
+        same = ((again.closed == full.closed[None])
+                & (again.slipping == full.slipping[None])).all(1)
+        closing_slip = jnp.any(full.slipping & (jnp.abs(N) <= 1e-10))
+        return again.consistent & ~first_ok, same & full.consistent, closing_slip
+
+    period = c.period
+    found = closing_found = 0
+    for k in np.flatnonzero(np.asarray(period.active)):
+        ok, same, closing_slip = (np.asarray(x) for x in judged(period.N0[k], period.T0[k],
+                                                                  period.p0[k]))
+        assert not np.any(ok & ~same), k
+        found += int(np.sum(ok))
+        closing_found += int(closing_slip and np.any(ok))
+    assert found > 0 and closing_found > 0  # the second proposal does find sets, closing ones too
+
+
 def test_a_wedge_with_opening_pads_agrees_with_the_time_marcher():
     from jaxdamp.baselines import march_ellipse
 

@@ -53,6 +53,25 @@ def test_batched_the_flagged_lanes_and_only_they_run_in_full(xs):
     np.testing.assert_array_equal(np.asarray(got["again"]), xs > 0.5)
 
 
+def _retry(out, x, scale):
+    # A second try that holds where x < 0.8 (it marks itself: 10 x scale), asks again above.
+    return {"y": 10.0 * x * scale, "again": x >= 0.8}
+
+
+G = second_look(_fast, _full, lambda out: out["again"], chunk=4, retry=_retry)
+
+
+def test_batched_a_retry_is_kept_where_it_holds_and_the_full_one_runs_where_not():
+    xs = np.linspace(0.0, 1.0, 11)
+    got = jax.jit(jax.vmap(G, in_axes=(0, None)))(jnp.asarray(xs), 2.0)
+    want = np.where(xs <= 0.5, xs * 2.0, np.where(xs < 0.8, 10.0 * xs * 2.0,
+                                                   100.0 * xs * 2.0 + 1.0))
+    np.testing.assert_array_equal(np.asarray(got["y"]), want)
+    # Unbatched there is no retry: the fast result or the full one, as without it.
+    for x in (0.2, 0.6, 0.9):
+        assert float(G(jnp.asarray(x), 2.0)["y"]) == pytest.approx(float(_expected(x, 2.0)))
+
+
 def test_batched_shared_and_batched_arguments_nested_vmap_and_forward_mode():
     xs = jnp.asarray(np.linspace(0.0, 1.0, 6))
     scales = jnp.asarray([1.0, 3.0, 5.0])
