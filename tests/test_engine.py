@@ -53,6 +53,22 @@ def test_the_candidate_table_has_every_weak_and_strong_choice():
     assert len({tuple(w) for w in weak}) == 16  # no repeats: every choice per pad, once
 
 
+def _wedge_tract_starts():
+    """(the wedge's cycle, its pads, its ellipse, the 81 stick/slip/open sets, no event): what
+    the proposals' contracts are checked on at every tract start of the cycle."""
+    from itertools import product
+
+    from jaxdamp.conventions import travel_mm
+    from jaxdamp.paths import Ellipse
+    from jaxdamp.tract import STICK
+
+    sh, mu, contacts, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
+    pads = path_pads(sh, mu, contacts, load, path_parts(PATH))
+    path = Ellipse(travel_mm(jnp.asarray(20.0), load.q_star))
+    sets = jnp.asarray(list(product((STICK, SLIP, OPEN), repeat=4)))
+    return cycle(), pads, path, sets, jnp.full(4, -1)
+
+
 def test_a_consistent_proposal_is_the_choice_among_every_set():
     """`propose`'s contract, which lets the engine skip the choice among every set: at every
     tract start of the wedge's cycle (its pads open, close, stick and slip), each of the 81
@@ -61,19 +77,10 @@ def test_a_consistent_proposal_is_the_choice_among_every_set():
     slipping (not proposed: its slip direction is not T's; the choice among every set takes
     those). An event changes its pad as its kind says (slips, opens, sticks where it closed or
     its slip reversed)."""
-    from itertools import product
-
     from jaxdamp.choice import choose, propose
-    from jaxdamp.conventions import travel_mm
-    from jaxdamp.paths import Ellipse
     from jaxdamp.tract import STICK
 
-    c = cycle()
-    sh, mu, contacts, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
-    pads = path_pads(sh, mu, contacts, load, path_parts(PATH))
-    path = Ellipse(travel_mm(jnp.asarray(20.0), load.q_star))
-    sets = jnp.asarray(list(product((STICK, SLIP, OPEN), repeat=4)))
-    no_event = jnp.full(4, -1)
+    c, pads, path, sets, no_event = _wedge_tract_starts()
 
     @jax.jit
     def judged(N, T, p0):
@@ -108,19 +115,9 @@ def test_a_consistent_second_proposal_is_the_choice_among_every_set():
     each of the 81 stick/slip/open sets proposed first and not consistent, the second proposal
     (the failing pads changed) is either not consistent or exactly `choose`'s choice; and it
     finds the choice where a pad closes slipping, which no first proposal does."""
-    from itertools import product
-
     from jaxdamp.choice import choose, propose, propose_again
-    from jaxdamp.conventions import travel_mm
-    from jaxdamp.paths import Ellipse
-    from jaxdamp.tract import STICK
 
-    c = cycle()
-    sh, mu, contacts, load = prepare_inputs(WEDGE, 0.5, CONTACTS, jd.LoadCase(), wedge_ok=True)
-    pads = path_pads(sh, mu, contacts, load, path_parts(PATH))
-    path = Ellipse(travel_mm(jnp.asarray(20.0), load.q_star))
-    sets = jnp.asarray(list(product((STICK, SLIP, OPEN), repeat=4)))
-    no_event = jnp.full(4, -1)
+    c, pads, path, sets, no_event = _wedge_tract_starts()
 
     @jax.jit
     def judged(N, T, p0):
