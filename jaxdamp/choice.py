@@ -214,18 +214,27 @@ def propose(pads: Pads, N, T, heading, ahead, last) -> Choice:
     ellipse_vs_marcher.py); where not, `run` chooses among every set (`stages.second_look`)."""
     state, kind, known = last
     classes = _pad_classes(pads, N, T)
-    _, zero, gap, limit, _, t_sign = classes
+    t_sign = classes[5]
     state = jnp.where((kind == 0) | (kind == 1), SLIP, state)
     state = jnp.where(kind == 2, OPEN, state)
     state = jnp.where(kind >= 3, STICK, state)
-    closed, slipping = state != OPEN, state == SLIP
-    # A set `choose` tries: an open pad at N = 0 or with a gap, a slipping one on its limit with
-    # T's sign, a stuck one closed (closing slipping is not proposed).
-    allowed = known & jnp.all(jnp.where(closed, jnp.where(slipping, limit, ~gap), zero | gap))
-    r = _rates(pads, closed[None], slipping[None], t_sign[None])
+    # Closing slipping is not proposed here (`propose_again` does).
+    return _proposed(pads, N, T, heading, ahead, state != OPEN, state == SLIP, t_sign,
+                     jnp.zeros_like(kind, bool), known, classes)
+
+
+def _proposed(pads: Pads, N, T, heading, ahead, closed, slipping, signs, closing, allowed,
+              classes) -> Choice:
+    """One proposed state set (closed, slipping, signs (P,)), its rates (one 3x3 solve) and
+    whether it is consistent: allowed, a set `choose` tries (an open pad at N = 0 or with a gap,
+    a slipping one on its limit with T's sign or closing, a stuck one closed) and consistent by
+    its rules to first and second order."""
+    _, zero, gap, limit, _, _ = classes
+    allowed &= jnp.all(jnp.where(closed, jnp.where(slipping, limit | closing, ~gap), zero | gap))
+    r = _rates(pads, closed[None], slipping[None], signs[None])
     good, second = _judged(pads, N, T, heading, ahead, closed[None], slipping[None],
-                           t_sign[None], r, classes)
-    return Choice(closed, slipping, t_sign, r.dN[0], r.dT[0], r.dslip[0],
+                           signs[None], r, classes)
+    return Choice(closed, slipping, signs, r.dN[0], r.dT[0], r.dslip[0],
                   allowed & good[0] & second[0])
 
 
@@ -239,7 +248,7 @@ def propose_again(pads: Pads, N, T, heading, ahead, first: Choice, known) -> Cho
     ellipse_vs_marcher.py). Not consistent where no pad changed or a pad at N = 0 would open.
     known: the first set was a previous tract's (`propose`'s last[2])."""
     classes = _pad_classes(pads, N, T)
-    mu, zero, gap, limit, _, t_sign = classes
+    mu, zero, _, limit, _, t_sign = classes
     dN, dT, dslip = (_along(heading, x[None])[0] for x in (first.dN, first.dT, first.dslip))
     tol = RATE_TOL * jnp.max(jnp.maximum(pads.kn, pads.kt))
     out = t_sign * dT - mu * dN > tol  # leaves the cone (a pad on its limit)
@@ -256,17 +265,10 @@ def propose_again(pads: Pads, N, T, heading, ahead, first: Choice, known) -> Cho
     leaves, closing = stick & limit & out, stick & zero & grows
     sticks = first.slipping & ~zero & turns
     opens = stick & zero & (dN < -tol)  # `choose`'s to find
-    closed = first.closed
     slipping = (first.slipping & ~sticks) | leaves | closing
     signs = jnp.where(closing, jnp.where(dT >= 0.0, 1.0, -1.0), t_sign)
-    allowed = (known & jnp.any(leaves | closing | sticks) & ~jnp.any(opens)
-               & jnp.all(jnp.where(closed, jnp.where(slipping, limit | closing, ~gap),
-                                   zero | gap)))
-    r = _rates(pads, closed[None], slipping[None], signs[None])
-    good, second = _judged(pads, N, T, heading, ahead, closed[None], slipping[None],
-                           signs[None], r, classes)
-    return Choice(closed, slipping, signs, r.dN[0], r.dT[0], r.dslip[0],
-                  allowed & good[0] & second[0])
+    return _proposed(pads, N, T, heading, ahead, first.closed, slipping, signs, closing,
+                     known & jnp.any(leaves | closing | sticks) & ~jnp.any(opens), classes)
 
 
 def choose_closed(closed: Mechanics, N, T, heading) -> Choice:
