@@ -241,3 +241,76 @@ def test_a_saved_programs_own_outputs_fed_back_compile_nothing(monkeypatch, tmp_
             x, scale = runner(_halve, (x, scale))
     assert compiled == []
     np.testing.assert_array_equal(x, np.arange(4.0) / 16.0)
+
+
+def test_a_compiled_program_is_loaded_by_a_later_process_without_compiling(monkeypatch, tmp_path):
+    """The machine code compiled for a saved program is saved beside it (`COMPILED_FOLDER`): a
+    later process loads it and neither traces, lowers nor compiles (JAX's persistent cache is
+    looked up only after lowering). A file that does not load is compiled and saved again."""
+    from helpers import count_compiles
+
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")
+    args = (jnp.arange(3.0), (jnp.asarray(1.5), jnp.asarray(3.0)))
+    exported.call("machine", _program, args)
+    saved = list((tmp_path / exported.COMPILED_FOLDER).iterdir())
+    assert len(saved) == 1 and saved[0].name.startswith("machine-")
+    n = len(TRACES)
+    for broken in (False, True):
+        if broken:
+            saved[0].write_bytes(b"not a program")
+        exported.forget_loaded()  # as in a new process: only the files are left
+        new_args = (jnp.arange(3.0) + 1.0, args[1])
+        with count_compiles() as compiled:
+            out = exported.call("machine", _program, new_args)
+        assert len(TRACES) == n
+        assert (compiled != []) == broken  # the broken file is compiled again ...
+        np.testing.assert_array_equal(out["sum"], np.arange(3.0) + 2.5)
+        assert float(out["loop"]) == 12.0
+    exported.forget_loaded()
+    with count_compiles() as compiled:  # ... and saved again
+        exported.call("machine", _program, args)
+    assert compiled == [] and list((tmp_path / exported.COMPILED_FOLDER).iterdir()) == saved
+
+
+def test_compiled_programs_are_kept_apart_by_the_machine_and_xla_flags(monkeypatch):
+    """XLA_FLAGS changes the code XLA makes (the CLI's fast compilation): another digest."""
+    exported.machine_digest.cache_clear()
+    try:
+        monkeypatch.setenv("XLA_FLAGS", "")
+        plain = exported.machine_digest()
+        exported.machine_digest.cache_clear()
+        monkeypatch.setenv("XLA_FLAGS", "--xla_backend_optimization_level=0")
+        assert exported.machine_digest() != plain
+    finally:
+        exported.machine_digest.cache_clear()
+
+
+
+def test_a_compiled_program_that_loads_but_does_not_run_is_compiled_again(monkeypatch, tmp_path):
+    """An executable that JAX's cache had loaded, saved again, loaded and then failed to run
+    ("Function ... not found"): such programs are no longer saved, and a saved program that
+    fails to run is deleted and compiled again instead of failing every later call."""
+    from jax.experimental import serialize_executable
+
+    monkeypatch.setenv("JAXDAMP_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(exported, "SHIPPED_DIR", tmp_path / "none")
+    args = (jnp.arange(3.0), (jnp.asarray(1.5), jnp.asarray(3.0)))
+    exported.call("fails", _program, args)
+    (saved,) = (tmp_path / exported.COMPILED_FOLDER).iterdir()
+
+    def broken(*_):
+        def run(*_):
+            raise jax.errors.JaxRuntimeError("NOT_FOUND: Function fusion not found")
+        return run
+
+    monkeypatch.setattr(serialize_executable, "deserialize_and_load", broken)
+    exported.forget_loaded()  # as in a new process: only the files are left
+    out = exported.call("fails", _program, args)
+    np.testing.assert_array_equal(out["sum"], np.arange(3.0) + 1.5)
+    assert saved.exists()  # compiled again, saved again
+    # An error of a program compiled in this process is the program's own: raised.
+    monkeypatch.setattr(exported, "_drop_loaded", lambda compiled: False)
+    exported.forget_loaded()
+    with pytest.raises(jax.errors.JaxRuntimeError):
+        exported.call("fails", _program, args)
