@@ -13,7 +13,7 @@ from ..runtime import batch_jit, compile_ahead, run_program
 from ..status import RESULTS
 from .peaks import peak_response
 from .scene import BladeMode, Scene, prepare_scene
-from .stiffness import DamperStiffness, interpolated_damper, tabulated_stiffness
+from .stiffness import DamperStiffness, base_scale, tabulated_stiffness
 
 __all__ = ["peak_band", "peak_band_unchecked", "GRID_POINTS"]
 
@@ -51,7 +51,7 @@ def peak_band_unchecked(scene: Scene, force_n, psi_grid_mrad=None, n_samples: in
     # compile) compiles while the Base-Cycle's does and runs.
     compile_bands_ahead(shape, mu, contacts, load, n_grid, n_samples=n_samples, steps=steps,
                         runner=runner)
-    status, k_re_stuck, psi_ref = run_program(_base_scale, (shape, mu, contacts, load), runner)
+    status, k_re_stuck, psi_ref = run_program(base_scale, (shape, mu, contacts, load), runner)
     force = jnp.asarray(force_n, float)
     tail = (status, k_re_stuck, psi_ref, mode, force.reshape(-1))
     placeholder = np.zeros(n_grid)
@@ -72,13 +72,6 @@ def peak_band_unchecked(scene: Scene, force_n, psi_grid_mrad=None, n_samples: in
         + tail, runner)
     pick = (lambda x: x[0]) if force.ndim == 0 else (lambda x: x)  # noqa: E731
     return jax.tree_util.tree_map(pick, highest), jax.tree_util.tree_map(pick, lowest), grid, k
-
-
-@jax.jit
-def _base_scale(shape, mu, contacts, load):
-    """(status, stuck k_Re, psi_BC) of the Base-Cycle: the curve's limits and amplitude scale."""
-    base = interpolated_damper(shape, mu, contacts, load)
-    return base.status, base.k_re_stuck, base.psi_ref_mrad
 
 
 @batch_jit

@@ -315,7 +315,7 @@ PATH_REPEATS = 64
 
 def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
                initial: str = "assembly", frf_points: int = 0, residual=None,
-               search_width: int = GRID_CHUNK):
+               search_width: int = GRID_CHUNK, base=None):
     """(the damper on the path, its peaks at force_n (1-D), and with frf_points > 0 the damped
     FRFs' (amplitudes, k_re, k_im), (n_f, frf_points) each): `path_damper` (values only: while
     loops) and `peak_response`; then one batch of steady cycles at every root (the peaks'
@@ -328,9 +328,9 @@ def path_peaks(shape, mu, contacts, load, mode: BladeMode, motion, force_n,
     the damper's own amplitude, `series_peaks`), its peaks' psi_a_mrad the damper's own
     amplitude. search_width: the cycles a step of the peak search evaluates
     (`root_search.grid_then_roots`); a caller that vmaps this over many paths passes fewer
-    (`row.ROW_SEARCH_WIDTH`). Unchecked, traceable (jit, vmap)."""
+    (`row.ROW_SEARCH_WIDTH`); base: `path_damper`'s. Unchecked, traceable (jit, vmap)."""
     damper = path_damper(shape, mu, contacts, load, motion, initial, loop=PATH_LOOP,
-                         repeats=PATH_REPEATS)
+                         repeats=PATH_REPEATS, base=base)
     forces = jnp.asarray(force_n, float)
 
     def cycles(psi):

@@ -20,7 +20,7 @@ from ..status import RESULTS, number_repr, status_repr
 from .modes import ModalFamily, nodal_scenes
 from .peaks import Peaks, path_peaks
 from .scene import BladeMode, prepare_scene
-from .stiffness import check_history
+from .stiffness import base_scale, check_history
 
 # Engine orders of one path kind, and forces, are padded to at least 4, then to a multiple of a
 # quarter of their power of two (`runtime.padded_size(n, 4, BUCKETS_PER_OCTAVE)`: 5-8 -> 8,
@@ -116,11 +116,18 @@ def row_program(initial: str = "assembly", residual: bool = False):
     and motions stacked; all straight or all elliptic: the path's kind is the pytree's
     structure, so each kind compiles once). residual: the program takes one more argument, the
     paths' residual flexibilities (m,) (mrad per N mm, `modes`), and puts the damper in series
-    with them; a family without platform_residual runs the program without."""
-    def run(shape, mu, contacts, load, modes, motions, tip_forces, *residuals):
+    with them; a family without platform_residual runs the program without. base_status,
+    base_psi_ref: the damper's Base-Cycle's (`stiffness.base_scale`), the same for every engine
+    order, from a program of its own: inside both path kinds' programs it was a third of their
+    XLA compile (the example row, 2026-12-02)."""
+    def run(shape, mu, contacts, load, modes, motions, tip_forces, base_status, base_psi_ref,
+            *residuals):
+        base = (base_status, base_psi_ref)
+
         def one(mode, motion, forces, *c):
             return path_peaks(shape, mu, contacts, load, mode, motion, forces, initial,
-                              residual=c[0] if c else None, search_width=ROW_SEARCH_WIDTH)[1]
+                              residual=c[0] if c else None, search_width=ROW_SEARCH_WIDTH,
+                              base=base)[1]
 
         return jax.vmap(one)(modes, motions, tip_forces, *residuals)
 
@@ -134,7 +141,7 @@ def _stack(trees):
 
 def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=None,
                      buckets=(ENGINE_ORDER_BUCKET, FORCE_BUCKET, BUCKETS_PER_OCTAVE),
-                     per_order=()) -> list:
+                     per_order=(), extra_later=None) -> list:
     """Run a row program on the engine orders of each path kind (straight, elliptic) as one
     batch: program(*design, modes, motions, tip forces (m, n_f), *extra[, residuals (m,)]) with
     the engine orders and the forces padded (repeating the last) to `runtime.padded_size(n,
@@ -142,8 +149,11 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     per octave; 1 would be powers of two); residual: the (m,) residual flexibilities, or None
     for the program without them (`flexible_row`). per_order: arrays (m, n_f) per engine order and force
     (the values' roots, `row_gradient`), padded as the tip forces and passed after extra.
-    runner(program, args): how to call it (default program(*args)). Returns each scene's slice of
-    its batch's host outputs (force axes still padded), in scenes' order."""
+    extra_later: a function returning the extra arguments, called once the programs have started
+    compiling (extra then holds placeholders of their shapes and dtypes: a row's Base-Cycle runs
+    while its programs compile). runner(program, args): how to call it (default program(*args)).
+    Returns each scene's slice of its batch's host outputs (force axes still padded), in scenes'
+    order."""
     n_f = padded_size(tip.shape[1], buckets[1], buckets[2])
     forces = np.minimum(np.arange(n_f), tip.shape[1] - 1)
     tip = tip[:, forces]
@@ -171,6 +181,10 @@ def run_by_path_kind(program, design, scenes, tip, residual, extra=(), runner=No
     if runner is not None:
         for _, args in batches[1:]:
             compile_ahead(program, args, runner)
+    if extra_later is not None:
+        at = len(design) + 3  # after the modes, motions and tip forces
+        values = tuple(extra_later())
+        batches = [(idx, args[:at] + values + args[at + len(values):]) for idx, args in batches]
     for idx, args in batches:
         got = jax.device_get(run_program(program, args, runner))
         for j, i in enumerate(idx):
@@ -265,8 +279,10 @@ def row_of_prepared(prepared, initial: str, runner=None) -> RowResponse:
     elliptic = np.array([not s.straight for s in scenes])
     flexible = flexible_row(residual)
     program = row_program(initial, flexible is not None)
+    design = (shape, mu, contacts, load)
     rows = [jax.tree_util.tree_map(lambda v: v[:forces.size], r) for r in run_by_path_kind(
-        program, (shape, mu, contacts, load), scenes, tip, flexible, runner=runner)]
+        program, design, scenes, tip, flexible, extra=(np.zeros((), np.int32), np.zeros(())),
+        runner=runner, extra_later=lambda: run_program(base_scale, design, runner)[::2])]
     peaks = jax.tree_util.tree_map(lambda *v: np.stack(v), *rows)
     status, rotation = outside_small_rotation(peaks.status, peaks.peak_amplitude_mm, scenes)
     peaks = peaks._replace(status=status)

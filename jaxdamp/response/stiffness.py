@@ -25,7 +25,7 @@ from ..residual import through_residual
 from ..status import RESULTS, number_repr, status_repr
 
 __all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
-           "interpolated_damper", "exact_damper", "register_stiffness_method",
+           "interpolated_damper", "base_scale", "exact_damper", "register_stiffness_method",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
            "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "check_history", "PathStiffness", "path_cycle_kernel",
            "path_damper", "STUCK_FRACTION", "through_residual", "with_residual"]
@@ -85,6 +85,15 @@ def interpolated_damper(shape, mu, contacts, load) -> DamperStiffness:
     nums = five_numbers_kernel(bc)
     return DamperStiffness(lambda psi: complex_stiffness(bc, psi, method="interpolated"),
                            bc.status, nums.k_re_fs, jnp.maximum(nums.psi_bc, 1e-12))
+
+
+@jax.jit
+def base_scale(shape, mu, contacts, load):
+    """(status, stuck k_Re, psi_BC) of the curved-flat damper's Base-Cycle (`interpolated_damper`):
+    the curve's limits and amplitude scale, as a program of its own for callers that use them
+    many times (a row's engine orders, a band's peaks). Unchecked."""
+    base = interpolated_damper(shape, mu, contacts, load)
+    return base.status, base.k_re_stuck, base.psi_ref_mrad
 
 
 def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> DamperStiffness:
@@ -164,7 +173,7 @@ def _engine_path(motion, load) -> Motion:
 
 
 def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly",
-                loop: str = "auto", repeats: int | None = None) -> DamperStiffness:
+                loop: str = "auto", repeats: int | None = None, base=None) -> DamperStiffness:
     """k(psi) from the exact steady cycle on a platform path (`path_cycle_kernel`; psi in mrad
     of the path's parameter): the damper of one engine order of a bladed disk
     (`jaxdamp.response.modes`). motion None is `exact_damper`'s in-phase curve. The status and
@@ -173,8 +182,11 @@ def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly
     (`ellipse.gross_slip_amplitude_kernel`). The stuck limit is the path's own (the cycle at
     STUCK_FRACTION psi_ref, where every pad sticks).
     loop: the cycles' (`amplitude_kernel`): "while" traces several times faster where no reverse
-    derivative is needed (forward mode still passes); repeats: `path_cycle_kernel`'s. Unchecked,
-    traceable (jit, vmap, grad); concrete inputs are checked as one design's and its path."""
+    derivative is needed (forward mode still passes); repeats: `path_cycle_kernel`'s. base: the
+    curved-flat damper's (status, psi_BC) from its Base-Cycle (`base_scale`) where the caller has
+    them (a row: one Base-Cycle for every engine order, in a program of its own); unused for a
+    wedge. Unchecked, traceable (jit, vmap, grad); concrete inputs are checked as one design's and
+    its path."""
     if not traced(shape, mu, contacts, load, motion):
         check_design(shape, mu, contacts, load, wedge_ok=True)
         if motion is not None:
@@ -187,6 +199,8 @@ def path_damper(shape, mu, contacts, load, motion=None, initial: str = "assembly
         base = DamperStiffness(None, status, jnp.zeros(()), jnp.maximum(a_gs, 1e-12))
     elif motion is None:
         return exact_damper(shape, mu, contacts, load, initial)
+    elif base is not None:
+        base = DamperStiffness(None, base[0], jnp.zeros(()), base[1])
     else:
         base = interpolated_damper(shape, mu, contacts, load)
 
