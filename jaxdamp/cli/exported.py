@@ -16,15 +16,6 @@ The package ships the saved programs of the commonest commands (`SHIPPED_DIR`, w
 tracing too, wherever the sources, the JAX version, the platform and the shapes are those they
 were saved for; otherwise it traces and saves as before. They are StableHLO, not machine code:
 XLA still compiles them on the user's machine.
-
-A program compiled here is saved too, as machine code for this machine (`COMPILED_FOLDER`,
-keyed by the saved program's file and `machine_digest`), and a later process loads it as it is:
-JAX's persistent cache, which keeps the same code, is looked up only after the program is lowered
-again, and lowering a saved export loads LAPACK (SciPy) first. Eight alternating runs each on the
-2-core VM (2026-12-02, a loaded hour): the example row's repeat (`response --modes example
---engine-order all --force-n 2,5`) 3.5-3.9 s against 3.9-4.6 s, `cycle`'s 2.2-2.4 s against
-2.4-2.8 s. What is left is importing JAX (1.1 s), loading the machine code (XLA rebuilds the
-program's HLO: 0.4 s and 1.0 s for the row's two programs, on two threads) and running it.
 """
 
 from __future__ import annotations
@@ -32,28 +23,22 @@ from __future__ import annotations
 import dataclasses
 import functools
 import hashlib
-import os
 import pickle
-import platform
 import threading
 import types
 from pathlib import Path
 
 import jax
 from jax import export as jexport
-from jax.experimental import serialize_executable
 
 from ..paper.files import write_bytes
 from ..runtime import options_jit
 from . import cache_dir
 
-__all__ = ["call", "compile_only", "Runner", "SHIPPED_DIR", "COMPILED_FOLDER", "machine_digest",
-           "sources_digest", "program_identity"]
+__all__ = ["call", "compile_only", "Runner", "SHIPPED_DIR", "sources_digest", "program_identity"]
 
 # Saved programs that come with the package (read-only; scripts/export_programs.py writes them).
 SHIPPED_DIR = Path(__file__).resolve().parents[1] / "data" / "exported"
-# The cache folder's subfolder of compiled programs (machine code of this machine, `_compiled`).
-COMPILED_FOLDER = "compiled"
 
 
 @functools.cache
@@ -147,105 +132,9 @@ def _runner(exported_bytes: bytes, cpu_options: tuple = ()):
 
 
 def forget_loaded() -> None:
-    """Forget the programs this process has loaded from saved exports and compiled programs, so
-    that the next call reads their files again, as a new process would."""
+    """Forget the programs this process has loaded from saved exports, so that the next call
+    reads its file again, as a new process would."""
     _loaded.cache_clear()
-    _COMPILED.clear()
-    _FROM_FILE.clear()
-
-
-def _drop_loaded(compiled) -> bool:
-    """Delete the file `compiled` was loaded from and forget it (a saved program that loaded but
-    does not run); False where it was not loaded from a file."""
-    for path, loaded in list(_FROM_FILE.items()):
-        if loaded is compiled:
-            with _path_lock(path):
-                _FROM_FILE.pop(path, None)
-                _COMPILED.pop(path, None)
-                path.unlink(missing_ok=True)
-            return True
-    return False
-
-
-def _cpu_identity() -> str:
-    """The CPU's model and instruction set features (Linux: /proc/cpuinfo's first processor),
-    else what the platform module says."""
-    try:
-        with open("/proc/cpuinfo", encoding="utf-8", errors="replace") as f:
-            head = f.read().split("\n\n")[0]
-        wanted = ("model name", "flags", "features", "cpu model", "isa")
-        return "\n".join(line for line in head.splitlines()
-                         if line.split(":")[0].strip().lower() in wanted)
-    except OSError:
-        return f"{platform.machine()}|{platform.processor()}"
-
-
-@functools.cache
-def machine_digest() -> str:
-    """What a compiled program's machine code was made for and by: JAX and jaxlib, the backend
-    and its version, its devices, XLA_FLAGS (read once, when the backend starts: this is asked
-    after that) and the CPU's model and features. A compiled program is loaded only where all
-    are the same."""
-    import jaxlib
-
-    backend = jax.devices()[0].client
-    h = hashlib.sha256(f"{jax.__version__}|{jaxlib.__version__}".encode())
-    h.update(f"{backend.platform}|{backend.platform_version}|{jax.devices()}".encode())
-    h.update(os.environ.get("XLA_FLAGS", "").encode())
-    h.update(_cpu_identity().encode())
-    return h.hexdigest()[:16]
-
-
-_COMPILED: dict = {}
-_FROM_FILE: dict = {}  # the compiled programs of _COMPILED that were loaded from a file, by path
-# Threads whose last compilation JAX read from its persistent cache. Such an executable, serialized
-# again, lacks code: its next load failed to run ("Function ... not found", 2026-12-02), so it is
-# not saved (`_compiled`). JAX records the event on the compiling thread.
-_FROM_JAX_CACHE: set = set()
-
-
-def _on_jax_event(event: str, **_) -> None:
-    if event == "/jax/compilation_cache/cache_hits":
-        _FROM_JAX_CACHE.add(threading.get_ident())
-
-
-jax.monitoring.register_event_listener(_on_jax_event)
-
-
-def _compiled(run, leaves, exported_path: Path, cpu_options: tuple):
-    """run (a loaded program, `_runner`) compiled for leaves' shapes and dtypes: this process's,
-    else the one saved in the cache folder for this machine (`machine_digest`), else compiled
-    now and saved there, unless JAX's persistent cache held it (not saved: see `_FROM_JAX_CACHE`).
-    A saved one that does not load (written by other code, cut short) is compiled again."""
-    folder = exported_path.parent.parent / COMPILED_FOLDER
-    # A compiled program takes exactly the types it was compiled for, weak types included.
-    weak = "".join("w" if getattr(x, "weak_type", False) else "s" for x in leaves)
-    digest = hashlib.sha256(f"{machine_digest()}|{cpu_options!r}|{weak}".encode()).hexdigest()[:16]
-    path = folder / f"{exported_path.stem}-{digest}.bin"
-    with _path_lock(path):
-        compiled = _COMPILED.get(path)
-        if compiled is not None:
-            return compiled
-        data = _read(path)
-        try:
-            compiled = None if data is None else serialize_executable.deserialize_and_load(
-                *pickle.loads(data))
-        except Exception:  # noqa: BLE001 - any unreadable file: compile again below
-            compiled = None
-        if compiled is not None:
-            _FROM_FILE[path] = compiled
-        if compiled is None:
-            _FROM_JAX_CACHE.discard(threading.get_ident())
-            compiled = run.lower(*leaves).compile()
-            if threading.get_ident() not in _FROM_JAX_CACHE:
-                try:
-                    data = pickle.dumps(serialize_executable.serialize(compiled))
-                    folder.mkdir(parents=True, exist_ok=True)
-                    write_bytes(path, data)
-                except (OSError, ValueError, NotImplementedError, pickle.PicklingError):
-                    pass  # a backend that cannot save its code, an unusable folder: time only
-        _COMPILED[path] = compiled
-        return compiled
 
 
 def _serialized(exp, out_tree) -> bytes:
@@ -276,9 +165,8 @@ def _read(path: Path) -> bytes | None:
 
 
 def _through_saved(name: str, program, args: tuple, variant: str):
-    """(the saved program, its output structure, args' leaves), or None where the cache folder is
-    off or the program cannot be saved (`program_identity`). The program: compiled for args'
-    shapes (`_compiled`)."""
+    """(the saved program jitted, its output structure, args' leaves), or None where the cache
+    folder is off or the program cannot be saved (`program_identity`)."""
     folder = cache_dir()
     identity = program_identity(program)
     if folder is None or identity is None:
@@ -287,14 +175,12 @@ def _through_saved(name: str, program, args: tuple, variant: str):
     path = Path(folder) / "exported" / f"{name}-{_key(name, variant, leaves, in_tree, identity)}.bin"
     with _path_lock(path):
         data = _saved_or_export(path, program, leaves, in_tree)
-    cpu_options = getattr(program, "cpu_options", ())
-    run, out_tree = _runner(data, cpu_options)
+    run, out_tree = _runner(data, getattr(program, "cpu_options", ()))
     # Committed to one device, every input: a saved program's outputs come back committed (they
     # carry the export's shardings), and JAX compiles a jitted function anew for a committed input
     # it first saw uncommitted (the fit's solver step, fed its own theta back, compiled twice,
     # 4.7 s each). device_put keeps dtypes and weak types.
-    leaves = jax.device_put(leaves, jax.devices()[0])
-    return _compiled(run, leaves, path, cpu_options), out_tree, leaves
+    return run, out_tree, jax.device_put(leaves, jax.devices()[0])
 
 
 def call(name: str, program, args: tuple, variant: str = ""):
@@ -306,21 +192,18 @@ def call(name: str, program, args: tuple, variant: str = ""):
     if saved is None:
         return program(*args)
     run, out_tree, leaves = saved
-    try:
-        out = run(*leaves)
-    except jax.errors.JaxRuntimeError:
-        if not _drop_loaded(run):
-            raise
-        run, out_tree, leaves = _through_saved(name, program, args, variant)  # compiled again
-        out = run(*leaves)
-    return jax.tree_util.tree_unflatten(out_tree, out)
+    return jax.tree_util.tree_unflatten(out_tree, run(*leaves))
 
 
 def compile_only(name: str, program, args: tuple, variant: str = "") -> None:
     """What `call` does before it runs the program (load or export it, compile it for args' shapes
     and dtypes), without running it: a later call with inputs of those shapes runs at once."""
-    if _through_saved(name, program, args, variant) is None:
+    saved = _through_saved(name, program, args, variant)
+    if saved is None:
         program.lower(*args).compile()
+    else:
+        run, _, leaves = saved
+        run.lower(*leaves).compile()
 
 
 class Runner:
