@@ -43,15 +43,13 @@ from ._validate import check_int, check_range, check_scalar, check_values
 from .amplitude import check_admissible
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
-from .engine import (TRAVEL_TOL, Pads, Tracts, assemble, empty_tape, empty_tracts, end_set,
-                     machine, to_gross_slip, tract_rows)
-from .engine import run as run_tracts
+from .engine import TRAVEL_TOL, Pads, Tracts, assemble, end_set, to_gross_slip, tract_rows
 from .geometry import DamperShape, is_wedge, pad_names
+from .ellipse_legs import leg_machine, periods
 from .lanes import Legs, iterate_lanes
 from .linalg import combine
 from .loops import check_loop, values_by_replay
-from .paths import Ellipse, Line, sinusoid
-from .periodic import iterate_to_periodic
+from .paths import sinusoid
 from .motion import (Motion, as_ellipse, motion_moment_coefficients, pad_motion, path_parts,
                      validate_motion)
 from .params import Contacts, LoadCase, above_validated_range, prepare_inputs
@@ -196,54 +194,6 @@ def elliptic_kernel(shape, mu, contacts, load, amplitude, motion: Motion, N_init
     return impl(*args, loop=loop)
 
 
-def _start_of_period(half_first: int):
-    """start(k): the tau where leg k of the periods starts: 0, or pi for assembly's half period
-    (k < 0) where half_first."""
-    return (lambda k: jnp.where(k >= 0, 0.0, jnp.pi)) if half_first else (lambda k: jnp.zeros(()))
-
-
-def _period_machine(max_tracts: int):
-    """machine_of(data): the tract machine of a lane's periods (`lanes.Legs`), tau to 2 pi on
-    its ellipse, from the lane's pads and path size."""
-    return lambda data: machine(data["pads"], Ellipse(data["s_a"]), 2.0 * jnp.pi,
-                                max_tracts=max_tracts, loop="while")
-
-
-def _periods(data, *, half_first: int, max_tracts: int, max_periods: int, loop: str,
-             record: bool = False, recorded=None):
-    """(end, arc, legs' tape): the periods of one cycle from its data (`elliptic_impl`'s: pads,
-    s_a, N0, T0, mu, pre_state, pre_known, stop0) by `periodic.iterate_to_periodic`, a run of
-    tracts per leg (assembly's half period first where half_first); end: the iteration's, arc:
-    the last period's tracts. record: each run's choices into the tape; recorded: a tape of
-    every leg to replay."""
-    pads, path = data["pads"], Ellipse(data["s_a"])
-    n_pads = pads.a.shape[0]
-    pre_set = (data["pre_state"], data["pre_known"])
-
-    start_of_leg = _start_of_period(half_first)
-
-    def leg(records, N, T, j, k, idle):
-        before, legs = records
-        rows = jax.tree_util.tree_map(lambda x: x[j], recorded)  # None: no replay
-        # The period starts in the set the previous one ended in (the first: the move's).
-        state, known = end_set(before)
-        arc = run_tracts(pads, path, N, T, start_of_leg(k), 2.0 * jnp.pi, max_tracts=max_tracts,
-                         loop=loop, record=record, replay=rows, idle=idle,
-                         start_set=(jnp.where(known, state, pre_set[0]), known | pre_set[1]))
-        if record:
-            arc, rows = arc
-            legs = jax.tree_util.tree_map(lambda x, r: x.at[j].set(r), legs, rows)
-        return arc.N_end, arc.T_end, arc.status != RESULTS.ok, (arc, legs)
-
-    no_tape = empty_tape(n_pads, max_tracts, half_first + max_periods) if record else None
-    end = iterate_to_periodic(leg, data["N0"], data["T0"], data["mu"],
-                              (empty_tracts(n_pads, 2, max_tracts), no_tape),
-                              legs_per_round=1, pre_legs=half_first, max_rounds=max_periods,
-                              loop=loop, stop0=data["stop0"])
-    arc, legs_tape = end["records"]
-    return end, arc, legs_tape
-
-
 def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, *, initial,
                    max_tracts, max_periods, loop, record=False, tape=None):
     """The cycle (loop "scan" or "while"); record: (cycle, tape), the tape of every run's choices;
@@ -268,20 +218,19 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         assembly_tape = got[3] if record else None
         Na = jnp.where(ok0, Na, jnp.ones(n_pads))  # keep the masked runs finite
         Ta = jnp.where(ok0, Ta, 0.0)
-    # Assembly's half period from tau = pi runs as the periods' loop's first pass (one compiled
-    # elliptic run in the program instead of two: one cycle's compile 6.5-7.3 -> 4.9-5.9 s).
-    half_first = int(initial == "assembly")
+    # Assembly's move and half period from tau = pi run as the periods' loop's first legs (one
+    # compiled tract run in the program instead of three: one cycle's compile 6.5-7.3 -> 4.9-5.9 s
+    # for the half period; the move, `ellipse_legs.MOVE_TAU`).
+    pre_legs = 2 if initial == "assembly" else 0
     stuck = (jnp.full(n_pads, STICK), jnp.array(True))  # a run's first proposal: every pad stuck
     if initial == "assembly":
-        to_start = run_tracts(along_line(pads, -1.0), Line(), Na, Ta, 0.0, s_a,
-                              max_tracts=max_tracts, loop=loop, record=record,
-                              replay=recorded("pre"), start_set=stuck)
-        to_start, pre_tape = to_start if record else (to_start, None)
-        N0, T0 = to_start.N_end, to_start.T_end
-        pre = to_start.status[None]
-        # The ellipse's first tract proposes the move's last set, slipping pads slipping (60sym's
-        # batch of 16 1.12x faster than proposed stuck, random batches alike; 2026-12-02).
-        pre_set = end_set(to_start)
+        N0, T0 = Na, Ta
+        pre = no_runs
+        # The move starts stuck; the ellipse's first tract proposes the move's last set, slipping
+        # pads slipping (60sym's batch of 16 1.12x faster than proposed stuck, random batches
+        # alike; 2026-12-02): each leg starts in the set the previous one ended in.
+        pre_set = stuck
+        pre_tape = None
     elif initial == "gross_slip":
         # Along +X_r to gross slip: the forces there hold to X(0) = a X_r (any a).
         got = to_gross_slip(along_line(pads, 1.0), Na, Ta, ok0, max_tracts=max_tracts,
@@ -310,24 +259,23 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
     # (`periodic.accelerate`).
     data = dict(pads=pads, s_a=s_a, N0=N0, T0=T0, mu=pads.mu, pre_state=pre_set[0],
                 pre_known=jnp.asarray(pre_set[1]), stop0=bad0 | ~a_ok)
-    periods = functools.partial(_periods, half_first=half_first, max_tracts=max_tracts,
-                                max_periods=max_periods)
+    run_periods = functools.partial(periods, pre_legs=pre_legs, max_tracts=max_tracts,
+                                    max_periods=max_periods)
     if loop == "while" and not record and tape is None:
         # Values: a batch's cycles on a pool of lanes, each cycle's periods one loop over their
         # tracts (`lanes.iterate_lanes`); one cycle alone by the nested loops (periods of runs),
         # measured 10-40 % faster alone (docs/motions.md, "Cost").
-        lane = Legs(_period_machine(max_tracts), tract_rows(n_pads, 2),
-                    start_of_leg=_start_of_period(half_first), legs_per_round=1,
-                    pre_legs=half_first, max_rounds=max_periods, max_tracts=max_tracts)
+        lane = Legs(leg_machine(max_tracts, pre_legs), tract_rows(n_pads, 2), legs_per_round=1,
+                    pre_legs=pre_legs, max_rounds=max_periods, max_tracts=max_tracts)
 
         def alone(d):
-            end, arc, _ = periods(d, loop="while")
+            end, arc, _ = run_periods(d, loop="while")
             return dict(end, records=None), arc  # as `Legs.result`
 
         end, arc = iterate_lanes(lane, data, alone=alone)
         legs_tape = None
     else:
-        end, arc, legs_tape = periods(data, loop=loop, record=record, recorded=recorded("legs"))
+        end, arc, legs_tape = run_periods(data, loop=loop, record=record, recorded=recorded("legs"))
     coef_r = motion_moment_coefficients(pads.nw[0], pads.tw[0], load)
     coef_i = motion_moment_coefficients(pads.nw[1], pads.tw[1], load)
     m_r, m_i, energy = _arc_numbers(arc, s_a, coef_r, coef_i, load.F_D)

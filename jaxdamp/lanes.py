@@ -44,35 +44,40 @@ class Legs:
     """The iteration over legs that are runs of one tract machine (`engine.machine`: one path to
     one end), as one loop over tracts: `periodic.iterate_to_periodic`'s iteration, one lane.
 
-    machine_of(data) -> TractMachine: the lane's machine from its data, a dict with N0, T0 (the
-    first leg's start), mu, pre_state, pre_known (the set the first leg starts in: each later
-    leg starts in the set the previous one ended in) and stop0 (nothing to iterate), and what
-    machine_of reads. Leg j starts at start_of_leg(k), k = j - pre_legs (a traced int). rows:
-    one step's output shapes (`engine.tract_rows`)."""
+    machine_of(data, k) -> (TractMachine, p_start): the machine of the lane's leg j (k = j -
+    pre_legs, a traced int) and where its run starts, from the lane's data, a dict with N0, T0
+    (the first leg's start), mu, pre_state, pre_known (the set the first leg starts in: each
+    later leg starts in the set the previous one ended in) and stop0 (nothing to iterate), and
+    what machine_of reads. The legs' machines may differ in their constants (the path, its end)
+    but not in their carry. rows: one step's output shapes (`engine.tract_rows`)."""
 
-    def __init__(self, machine_of, rows: dict, *, start_of_leg, legs_per_round: int,
-                 pre_legs: int, max_rounds: int, max_tracts: int):
-        self.machine_of, self.rows, self.start_of_leg = machine_of, rows, start_of_leg
+    def __init__(self, machine_of, rows: dict, *, legs_per_round: int, pre_legs: int,
+                 max_rounds: int, max_tracts: int):
+        self.machine_of, self.rows = machine_of, rows
         self.legs_per_round, self.pre_legs = legs_per_round, pre_legs
         self.legs = pre_legs + legs_per_round * max_rounds
         self.max_tracts = max_tracts
         self.stopped = stopped_by()
 
-    def _start_run(self, m, data, N, T, k, previous, idle=None):
+    def _machine(self, c, data):
+        """The machine of the lane's current leg."""
+        return self.machine_of(data, c["j"] - self.pre_legs)[0]
+
+    def _start_run(self, data, N, T, k, previous, idle=None):
         state, known = previous
         start_set = (jnp.where(known, state, data["pre_state"]), known | data["pre_known"])
-        return m.init(N, T, self.start_of_leg(k), start_set, idle)
+        m, p_start = self.machine_of(data, k)
+        return m.init(N, T, p_start, start_set, idle)
 
     def init(self, data) -> dict:
         """The lane's carry before its first tract."""
-        m = self.machine_of(data)
         N0, T0, stop0 = data["N0"], data["T0"], jnp.asarray(data["stop0"])
         nothing = (jnp.zeros_like(data["pre_state"]), jnp.array(False))
         # A lane with nothing to iterate starts done: under vmap it runs the loop's body while
         # others go on, and a run not done would ask for second looks.
         return dict(it=start_of_iteration(N0, T0, None, stop0), j=jnp.array(0, jnp.int32),
                     i=jnp.array(0, jnp.int32),
-                    run=self._start_run(m, data, N0, T0, jnp.array(-self.pre_legs, jnp.int32),
+                    run=self._start_run(data, N0, T0, jnp.array(-self.pre_legs, jnp.int32),
                                         nothing, stop0),
                     rows=zeros_of(self.rows, self.max_tracts))
 
@@ -87,9 +92,8 @@ class Legs:
 
     def advance(self, c, data) -> dict:
         """`step`'s tract: the run's step and its row (a lane that is not going left as it is)."""
-        m = self.machine_of(data)
         go = self.going(c)
-        run, out = m.step(c["run"], None)
+        run, out = self._machine(c, data).step(c["run"], None)
         # Past the rows (dropped) where the lane is not going.
         at = jnp.where(go, c["i"], self.max_tracts)
         rows = jax.tree_util.tree_map(lambda a, o: a.at[at].set(o, mode="drop"), c["rows"], out)
@@ -103,14 +107,13 @@ class Legs:
     def close(self, c, data) -> dict:
         """`step`'s end of a run, after `advance`: where the run ended, its leg's end
         (`periodic.after_leg`) and the next run's start; elsewhere the carry as it is."""
-        m = self.machine_of(data)
         over = self.ends(c)
-        arc = m.finish(c["run"], c["rows"])
+        arc = self._machine(c, data).finish(c["run"], c["rows"])
         it = after_leg(c["it"], arc.N_end, arc.T_end, arc.status != RESULTS.ok, None, c["j"],
                        data["mu"], legs_per_round=self.legs_per_round, pre_legs=self.pre_legs)
         j = c["j"] + 1
         on = over & ~self.stopped(it) & (j < self.legs)
-        fresh = self._start_run(m, data, it["N"], it["T"], j - self.pre_legs,
+        fresh = self._start_run(data, it["N"], it["T"], j - self.pre_legs,
                                 _end_set(c["rows"], c["i"]))
         return dict(it=tree_where(over, it, c["it"]), j=jnp.where(over, j, c["j"]),
                     i=jnp.where(on, 0, c["i"]), run=tree_where(on, fresh, c["run"]),
@@ -119,11 +122,10 @@ class Legs:
     def result(self, c, data):
         """(end, arc): the iteration's end carry (`iterate_to_periodic`'s, records None) and the
         last leg's tracts (zeros where no leg ran)."""
-        m = self.machine_of(data)
         # The last leg's rows are the first i; the rest are earlier legs'.
         kept = _where_leading(jnp.arange(self.max_tracts) < c["i"], c["rows"],
                               jax.tree_util.tree_map(jnp.zeros_like, c["rows"]))
-        arc = m.finish(c["run"], kept)
+        arc = self._machine(c, data).finish(c["run"], kept)
         n_pads, n_basis = data["N0"].shape[0], self.rows["dN"].shape[0]
         arc = tree_where(c["j"] > 0, arc, empty_tracts(n_pads, n_basis, self.max_tracts))
         return c["it"], arc
