@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import jax
 import jax.numpy as jnp
+import numpy as np
 
 # Lanes the second stage runs at once. With the engine's proposed set first (a tract in eight
 # or fewer asks for a second look), 8 and 32 measured alike on 256 lanes: 32 was 7 % faster on
@@ -66,21 +67,31 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
             # The flagged lanes first (a stable order), padded to whole chunks with lane 0.
             order = jnp.argsort(~flags, stable=True)
             order = jnp.concatenate([order, jnp.zeros(size - axis_size, order.dtype)])
+            # A chunk's lanes are gathered, and its results written, as one row each of one
+            # packed array (`_packed`): one gather and one scatter a chunk, not one per leaf
+            # (some twenty): elliptic batches of 16 1.00-1.10x, pools of 256 0.99-1.05x,
+            # bit-identical (2026-12-02, docs/motions.md "Cost").
+            leaves, tree = jax.tree_util.tree_flatten(list(args))
+            lane_axis = jax.tree_util.tree_leaves(list(in_batched))
+            rows, unpack_args = _packed([x for x, b in zip(leaves, lane_axis) if b])
+            packed_out, unpack_out = _packed(jax.tree_util.tree_leaves(out))
+            out_tree = jax.tree_util.tree_structure(out)
 
             def body(carry):
-                k, out = carry
+                k, packed_out = carry
                 idx = jax.lax.dynamic_slice(order, (k * chunk,), (chunk,))
-                sub = jax.tree_util.tree_map(lambda x, b: x[idx] if b else x, list(args),
-                                             list(in_batched))
+                taken = iter(unpack_args(rows[idx]))
+                sub = jax.tree_util.tree_unflatten(
+                    tree, [next(taken) if b else x for x, b in zip(leaves, lane_axis)])
                 redo = jax.vmap(full, in_axes=tuple(axes))(*sub)
                 # Slots past the flagged lanes write nowhere (index axis_size, dropped).
                 dest = jnp.where(k * chunk + jnp.arange(chunk) < count, idx, axis_size)
-                out = jax.tree_util.tree_map(lambda o, r: o.at[dest].set(r, mode="drop"), out,
-                                             redo)
-                return k + 1, out
+                redo_rows, _ = _packed(jax.tree_util.tree_leaves(redo))
+                return k + 1, packed_out.at[dest].set(redo_rows, mode="drop")
 
-            return jax.lax.while_loop(lambda c: c[0] * chunk < count, body,
-                                      (jnp.array(0), out))[1]
+            packed_out = jax.lax.while_loop(lambda c: c[0] * chunk < count, body,
+                                            (jnp.array(0), packed_out))[1]
+            return jax.tree_util.tree_unflatten(out_tree, unpack_out(packed_out))
 
         # Most steps of a small batch flag no lane: the sort is skipped with the loop (a batch
         # of 16 elliptic cycles 17 % faster, 2026-12-01).
@@ -88,6 +99,23 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
         return out, jax.tree_util.tree_map(lambda _: True, out)
 
     return f
+
+
+def _packed(leaves):
+    """(rows, unpack): arrays with a leading lane axis as one float64 array (lanes, width), each
+    lane's leaves side by side, and unpack(rows') -> the leaves again (their shapes after the
+    lane axis, their dtypes) for rows' of any leading length. Bools and small ints are exact in
+    float64."""
+    n = leaves[0].shape[0]
+    sizes = [int(np.prod(x.shape[1:], dtype=int)) for x in leaves]
+    rows = jnp.concatenate([x.reshape(n, -1).astype(jnp.float64) for x in leaves], axis=1)
+    ends = np.cumsum(sizes)
+
+    def unpack(r):
+        return [r[:, e - w:e].reshape((r.shape[0],) + x.shape[1:]).astype(x.dtype)
+                for x, w, e in zip(leaves, sizes, ends)]
+
+    return rows, unpack
 
 
 __all__ = ["CHUNK", "second_look"]
