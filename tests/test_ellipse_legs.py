@@ -22,6 +22,8 @@ from jaxdamp.motion import path_parts
 from jaxdamp.paths import Line
 from jaxdamp.tract import STICK
 
+from helpers import assert_tree_allclose
+
 jd.enable_x64()
 
 CONTACTS = jd.Contacts(17900.0, 3580.0)
@@ -68,9 +70,10 @@ def test_the_move_on_an_ellipse_of_zero_width_is_the_move_on_a_line(seed):
         # Each tract's end, in travel along the line: s = -2 s_a cos tau on the ellipse.
         s_line = np.asarray(line.p0 + line.dp)[active]
         s_leg = -2.0 * float(s_a) * np.cos(np.asarray(leg.p0 + leg.dp)[active])
-        np.testing.assert_allclose(s_leg, s_line, rtol=0.0, atol=1e-12 * float(s_a))
-        np.testing.assert_allclose(np.asarray(leg.N_end), np.asarray(line.N_end), atol=1e-12)
-        np.testing.assert_allclose(np.asarray(leg.T_end), np.asarray(line.T_end), atol=1e-12)
+        assert_tree_allclose(s_leg, s_line, rtol=0.0, atol=1e-12 * float(s_a))
+        assert_tree_allclose((np.asarray(leg.N_end), np.asarray(leg.T_end)),
+                             (np.asarray(line.N_end), np.asarray(line.T_end)), rtol=0.0,
+                             atol=1e-12)
         assert float(leg.p_end) == pytest.approx(MOVE_TAU[1], abs=1e-15)
         compared += 1
     assert compared >= 8
