@@ -27,6 +27,9 @@ import numpy as np
 # lanes (`lanes.iterate_lanes`, 2026-12-01), where the lanes' cycles are out of step and a few
 # lanes ask in most steps, 4 was 2-12 % faster than 8 on 256-cycle batches, 16 and 32 slower.
 CHUNK = 4
+# The lanes of a wider batch that `second_look`'s retry runs on, the flagged ones first (a pool's
+# 64 lanes: about ten ask in a step; docs/motions.md, "Cost").
+RETRY_LANES = 16
 
 
 def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
@@ -35,9 +38,12 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
     fast and full: functions of the same arguments (pytrees of arrays, None allowed) returning
     pytrees of one structure, shape and dtype. Under vmap, full runs only on the lanes that need
     it, `chunk` lanes at a time. retry(out, *args), if given: a cheaper second try from the fast
-    result, run under vmap on every lane of a batch in which some lane asks (one batched call,
-    not chunks), kept where it does not ask again; full then runs where it does. Unbatched it is
-    not used (full directly)."""
+    result, run under vmap in a batch in which some lane asks (one batched call, not chunks: on
+    every lane, or on the first RETRY_LANES flagged ones of a wider batch), kept where it does
+    not ask again; full then runs where it does. Unbatched it is
+    not used (full directly). Under vmap the flagged lanes' arguments and full's results travel
+    as float64 rows (`_packed`): their values must be exact in float64 (bools, ints below 2^53;
+    float64 enabled, as every public entry point requires)."""
 
     @jax.custom_batching.custom_vmap
     def f(*args):
@@ -51,7 +57,30 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
         flags = jax.vmap(again)(out)
         count = jnp.sum(flags)
         size = -(-axis_size // chunk) * chunk
-        if retry is not None:
+        leaves, tree = jax.tree_util.tree_flatten(list(args))
+        lane_axis = jax.tree_util.tree_leaves(list(in_batched))
+
+        def lanes_of(rows, unpack_args, idx):
+            taken = iter(unpack_args(rows[idx]))
+            return jax.tree_util.tree_unflatten(
+                tree, [next(taken) if b else x for x, b in zip(leaves, lane_axis)])
+
+        if retry is not None and axis_size > RETRY_LANES:
+            def retried(out):
+                # The first RETRY_LANES flagged lanes only (gathered packed, as `look_again`'s
+                # chunks); the rest go to `full`. Wedge pools of 256 (64 lanes, about ten
+                # flagged in a step) 1.13-1.17x against the retry on every lane, bit-identical;
+                # for the curved-flat damper it still cost more than it saved (2026-12-02).
+                idx = jnp.argsort(~flags, stable=True)[:RETRY_LANES]
+                rows, unpack_args = _packed([x for x, b in zip(leaves, lane_axis) if b])
+                sub = lanes_of(rows, unpack_args, idx)
+                alt = jax.vmap(retry, in_axes=(0,) + tuple(axes))(
+                    jax.tree_util.tree_map(lambda o: o[idx], out), *sub)
+                use = flags[idx] & ~jax.vmap(again)(alt)
+                dest = jnp.where(use, idx, axis_size)
+                return jax.tree_util.tree_map(lambda o, a: o.at[dest].set(a, mode="drop"),
+                                              out, alt)
+        elif retry is not None:
             def retried(out):
                 alt = jax.vmap(retry, in_axes=(0,) + tuple(axes))(out, *args)
                 use = flags & ~jax.vmap(again)(alt)
@@ -59,6 +88,7 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
                     lambda a, o: jnp.where(use.reshape((-1,) + (1,) * (a.ndim - 1)), a, o),
                     alt, out)
 
+        if retry is not None:
             out = jax.lax.cond(count > 0, retried, lambda out: out, out)
             flags = jax.vmap(again)(out)
             count = jnp.sum(flags)
@@ -71,8 +101,6 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
             # packed array (`_packed`): one gather and one scatter a chunk, not one per leaf
             # (some twenty): elliptic batches of 16 1.00-1.10x, pools of 256 0.99-1.05x,
             # bit-identical (2026-12-02, docs/motions.md "Cost").
-            leaves, tree = jax.tree_util.tree_flatten(list(args))
-            lane_axis = jax.tree_util.tree_leaves(list(in_batched))
             rows, unpack_args = _packed([x for x, b in zip(leaves, lane_axis) if b])
             packed_out, unpack_out = _packed(jax.tree_util.tree_leaves(out))
             out_tree = jax.tree_util.tree_structure(out)
@@ -80,9 +108,7 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
             def body(carry):
                 k, packed_out = carry
                 idx = jax.lax.dynamic_slice(order, (k * chunk,), (chunk,))
-                taken = iter(unpack_args(rows[idx]))
-                sub = jax.tree_util.tree_unflatten(
-                    tree, [next(taken) if b else x for x, b in zip(leaves, lane_axis)])
+                sub = lanes_of(rows, unpack_args, idx)
                 redo = jax.vmap(full, in_axes=tuple(axes))(*sub)
                 # Slots past the flagged lanes write nowhere (index axis_size, dropped).
                 dest = jnp.where(k * chunk + jnp.arange(chunk) < count, idx, axis_size)

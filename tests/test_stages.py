@@ -72,6 +72,24 @@ def test_batched_a_retry_is_kept_where_it_holds_and_the_full_one_runs_where_not(
         assert float(G(jnp.asarray(x), 2.0)["y"]) == pytest.approx(float(_expected(x, 2.0)))
 
 
+def test_a_wide_batch_retries_only_its_first_flagged_lanes_and_the_rest_run_in_full():
+    # 60 lanes, 40 flagged (x > 0.5) in a shuffled order: the retry runs on the first
+    # RETRY_LANES flagged lanes (lane order) and holds there where x < 0.8; every other flagged
+    # lane runs in full, the unflagged keep the fast result.
+    from jaxdamp.stages import RETRY_LANES
+
+    xs = np.random.default_rng(5).permutation(np.concatenate([np.linspace(0.0, 0.5, 20),
+                                                              np.linspace(0.51, 1.0, 40)]))
+    got = jax.jit(jax.vmap(G, in_axes=(0, None)))(jnp.asarray(xs), 2.0)
+    flagged = xs > 0.5
+    first = flagged & (np.cumsum(flagged) <= RETRY_LANES)
+    want = np.where(~flagged, xs * 2.0, np.where(first & (xs < 0.8), 10.0 * xs * 2.0,
+                                                 100.0 * xs * 2.0 + 1.0))
+    assert np.sum(first & (xs < 0.8)) >= 4 and np.sum(flagged & ~first) >= 20
+    np.testing.assert_array_equal(np.asarray(got["y"]), want)
+    np.testing.assert_array_equal(np.asarray(got["again"]), flagged & ~(first & (xs < 0.8)))
+
+
 def test_batched_shared_and_batched_arguments_nested_vmap_and_forward_mode():
     xs = jnp.asarray(np.linspace(0.0, 1.0, 6))
     scales = jnp.asarray([1.0, 3.0, 5.0])
