@@ -220,8 +220,7 @@ def elliptic_impl(shape, mu, contacts, load, amplitude, motion, N_init, T_init, 
         Ta = jnp.where(ok0, Ta, 0.0)
     # Assembly's move and half period from tau = pi run as the periods' loop's first legs: one
     # compiled tract run in the program (the half period's joining cut one cycle's compile from
-    # 6.5-7.3 to 4.9-5.9 s; the move's, on an ellipse of zero width, vmapped programs' from
-    # 6.2-9.7 to 4.1-6.4 s: `ellipse_legs.MOVE_TAU`).
+    # 6.5-7.3 to 4.9-5.9 s; the move's, on an ellipse of zero width: `ellipse_legs.MOVE_TAU`).
     pre_legs = 2 if initial == "assembly" else 0
     stuck = (jnp.full(n_pads, STICK), jnp.array(True))  # a run's first proposal: every pad stuck
     if initial == "assembly":

@@ -59,11 +59,16 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
         size = -(-axis_size // chunk) * chunk
         leaves, tree = jax.tree_util.tree_flatten(list(args))
         lane_axis = jax.tree_util.tree_leaves(list(in_batched))
+        batched = [x for x, b in zip(leaves, lane_axis) if b]
 
-        def lanes_of(rows, unpack_args, idx):
+        def on_lanes(fn, packed, idx, *first):
+            """fn(*first, *args) under vmap on the lanes idx, their arguments taken from the
+            packed rows (`_packed(batched)`); first: arguments already on those lanes."""
+            rows, unpack_args = packed
             taken = iter(unpack_args(rows[idx]))
-            return jax.tree_util.tree_unflatten(
+            sub = jax.tree_util.tree_unflatten(
                 tree, [next(taken) if b else x for x, b in zip(leaves, lane_axis)])
+            return jax.vmap(fn, in_axes=(0,) * len(first) + tuple(axes))(*first, *sub)
 
         if retry is not None and axis_size > RETRY_LANES:
             def retried(out):
@@ -72,10 +77,8 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
                 # flagged in a step) 1.13-1.17x against the retry on every lane, bit-identical;
                 # for the curved-flat damper it still cost more than it saved (2026-12-02).
                 idx = jnp.argsort(~flags, stable=True)[:RETRY_LANES]
-                rows, unpack_args = _packed([x for x, b in zip(leaves, lane_axis) if b])
-                sub = lanes_of(rows, unpack_args, idx)
-                alt = jax.vmap(retry, in_axes=(0,) + tuple(axes))(
-                    jax.tree_util.tree_map(lambda o: o[idx], out), *sub)
+                alt = on_lanes(retry, _packed(batched), idx,
+                               jax.tree_util.tree_map(lambda o: o[idx], out))
                 use = flags[idx] & ~jax.vmap(again)(alt)
                 dest = jnp.where(use, idx, axis_size)
                 return jax.tree_util.tree_map(lambda o, a: o.at[dest].set(a, mode="drop"),
@@ -101,15 +104,14 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
             # packed array (`_packed`): one gather and one scatter a chunk, not one per leaf
             # (some twenty): elliptic batches of 16 1.00-1.10x, pools of 256 0.99-1.05x,
             # bit-identical (2026-12-02, docs/motions.md "Cost").
-            rows, unpack_args = _packed([x for x, b in zip(leaves, lane_axis) if b])
+            packed_args = _packed(batched)
             packed_out, unpack_out = _packed(jax.tree_util.tree_leaves(out))
             out_tree = jax.tree_util.tree_structure(out)
 
             def body(carry):
                 k, packed_out = carry
                 idx = jax.lax.dynamic_slice(order, (k * chunk,), (chunk,))
-                sub = lanes_of(rows, unpack_args, idx)
-                redo = jax.vmap(full, in_axes=tuple(axes))(*sub)
+                redo = on_lanes(full, packed_args, idx)
                 # Slots past the flagged lanes write nowhere (index axis_size, dropped).
                 dest = jnp.where(k * chunk + jnp.arange(chunk) < count, idx, axis_size)
                 redo_rows, _ = _packed(jax.tree_util.tree_leaves(redo))
