@@ -9,7 +9,9 @@ number of periods (ellipse) or pairs of halves (in-phase) each lane ran: under v
 for the slowest one. The elliptic path is the interblade phase angle 90 deg (h_C = 20 mm, h_L = 10 mm),
 the out-of-phase (straight) path is timed beside them. And batches of 256 random shapes, curved-
 flat and wedge, at three phase angles against the in-phase batch of the same curved-flat designs
-(`random_shapes`).
+and against the same designs' in-phase path cycles on the path engine (`random_shapes`); and the
+in-phase engine against the path engine on one in-phase path, on designs that stay seated in phase
+(`seated_split`).
 
 Run: python benchmarks/ellipse_cost.py -> benchmarks/results/ellipse_cost.json
 On an accelerator: python benchmarks/ellipse_cost.py --out FILE --designs 256,8192,65536 (the
@@ -86,7 +88,7 @@ def main(out: Path = RESULTS / "ellipse_cost.json", designs=(256,)) -> dict:
                  ellipse_periods=np.bincount(np.asarray(r_el.periods)).tolist(),
                  ellipse_max_tracts_per_period=int(np.max(np.sum(np.asarray(r_el.period.active), 1))))
     doc = dict(machine=machine(), one_cycle=one, batch_of_designs=batch, curve=curve,
-               random_shapes=random_shapes(jd, c, load))
+               random_shapes=random_shapes(jd, c, load), seated_split=seated_split(jd, c, load))
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(doc, indent=1))
     return doc
@@ -100,6 +102,8 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     batch of the curved-flat designs, one vmapped program each (best of 5), with the statuses."""
     import jax.numpy as jnp
 
+    from jaxdamp.motion import as_ellipse
+
     rng = np.random.default_rng(seed)
     tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
     br, br2, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
@@ -107,12 +111,20 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     wedge = curved._replace(br_over_hr=jnp.zeros(n), br2_over_hr=jnp.asarray(br2))
     mu = jnp.asarray(mu)
     rows = []
+    # The in-phase path as an ellipse of zero width: the path engine's in-phase cycle, the one a
+    # wedge has (the in-phase engine is the paper's three-pad model, whose pads may not open).
+    in_phase_path = as_ellipse(jd.interblade_motion(0.0, 20.0, 100.0, 10.0))
     for psi in (2.0, 10.0):
         p = jnp.asarray(psi)
         in_phase = jax.jit(jax.vmap(lambda s, m: jd.amplitude_kernel(s, m, contacts, load, p,
                                                                      initial="assembly")))
         t_in = best(lambda: in_phase(curved, mu).k_im, 5)
         st_in = np.bincount(np.asarray(in_phase(curved, mu).status), minlength=10).tolist()
+        on_path = jax.jit(jax.vmap(lambda s, m: jd.elliptic_kernel(s, m, contacts, load, p,
+                                                                   in_phase_path,
+                                                                   initial="assembly")))
+        t_path = {name: best(lambda: on_path(shapes, mu).k_im, 5)
+                  for name, shapes in (("curved_flat", curved), ("wedge", wedge))}
         for phi in (45.0, 90.0, 135.0):
             motion = jd.interblade_motion(phi, 20.0, 100.0, 10.0)
             el = jax.jit(jax.vmap(lambda s, m: jd.elliptic_kernel(s, m, contacts, load, p, motion,
@@ -123,10 +135,58 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
                 t_el = best(lambda: el(shapes, mu).k_im, 5)
                 row[f"{name}_ellipse_ms"] = 1e3 * t_el
                 row[f"{name}_ratio_in_phase"] = t_el / t_in
+                row[f"{name}_in_phase_path_ms"] = 1e3 * t_path[name]
+                row[f"{name}_ratio_in_phase_path"] = t_el / t_path[name]
+                row[f"{name}_in_phase_path_statuses"] = np.bincount(
+                    np.asarray(on_path(shapes, mu).status), minlength=10).tolist()
                 row[f"{name}_statuses"] = np.bincount(np.asarray(el(shapes, mu).status),
                                                       minlength=10).tolist()
             rows.append(row)
             print(row, flush=True)
+    return rows
+
+
+def seated_split(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
+    """Where the random batches' ratio comes from: n designs drawn (with repeats) from
+    `random_shapes`' curved-flat designs that stay seated in phase (no liftoff), at 2 and 10 mrad:
+    the in-phase engine (`amplitude_kernel`: three pads that may not open, eight sets in closed
+    form), the path engine on the same in-phase path (`elliptic_kernel` on an ellipse of zero
+    width: pads that may open, the proposal and the choice among every set) and on the phi = 90
+    deg ellipse, one vmapped program each (best of 5); the two in-phase cycles' largest k_Im
+    difference (the same cycles by two engines)."""
+    import jax.numpy as jnp
+
+    from jaxdamp.motion import as_ellipse
+
+    rng = np.random.default_rng(seed)
+    tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
+    br, _, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
+    in_phase_path = as_ellipse(jd.interblade_motion(0.0, 20.0, 100.0, 10.0))
+    ellipse = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
+    rows = []
+    for psi in (2.0, 10.0):
+        p = jnp.asarray(psi)
+        in_phase = jax.jit(jax.vmap(lambda s, m: jd.amplitude_kernel(s, m, contacts, load, p,
+                                                                     initial="assembly")))
+        seated = np.asarray(in_phase(jd.DamperShape(*(jnp.asarray(v) for v in (tl, tr, br, bl2))),
+                                     jnp.asarray(mu)).status) == 0
+        idx = np.resize(np.flatnonzero(seated), n)
+        shapes = jd.DamperShape(*(jnp.asarray(v[idx]) for v in (tl, tr, br, bl2)))
+        mus = jnp.asarray(mu[idx])
+        programs = {name: jax.jit(jax.vmap(lambda s, m, motion=motion: jd.elliptic_kernel(
+            s, m, contacts, load, p, motion, initial="assembly"))) for name, motion in
+            (("path_in_phase", in_phase_path), ("path_ellipse_90", ellipse))}
+        programs["in_phase_engine"] = in_phase
+        ms = {k: 1e3 * best(lambda f=f: f(shapes, mus).k_im, 5) for k, f in programs.items()}
+        k_a = np.asarray(programs["in_phase_engine"](shapes, mus).k_im)
+        k_b = np.asarray(programs["path_in_phase"](shapes, mus).k_im)
+        row = dict(psi_a_mrad=psi, designs=n, distinct_designs=int(seated.sum()),
+                   **{f"{k}_ms": v for k, v in ms.items()},
+                   ratio_path_in_phase_over_engine=ms["path_in_phase"] / ms["in_phase_engine"],
+                   ratio_ellipse_over_path_in_phase=ms["path_ellipse_90"] / ms["path_in_phase"],
+                   k_im_largest_relative_difference=float(np.max(np.abs(k_a - k_b) / np.abs(k_a))))
+        rows.append(row)
+        print(row, flush=True)
     return rows
 
 
