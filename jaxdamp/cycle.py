@@ -14,7 +14,7 @@ import jax
 import jax.numpy as jnp
 
 from .design import Design, as_design
-from .geometry import DamperShape
+from .geometry import WEDGE_REFUSED, DamperShape, is_wedge
 from .status import RESULTS, number_repr, status_repr
 from .params import Contacts, LoadCase, above_validated_range
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
@@ -36,7 +36,11 @@ EQUILIBRIUM_TOL = 1e-8
 
 def mechanics(shape: DamperShape, mu, contacts: Contacts, load: LoadCase, motion=None) -> Mechanics:
     """The tract engine's constants of one design on a platform path: in-phase (motion None,
-    per mm of dv) or a straight `jaxdamp.Motion` (per mm of its path parameter a q*/1e3)."""
+    per mm of dv) or a straight `jaxdamp.Motion` (per mm of its path parameter a q*/1e3).
+    The in-phase engine's three pads only: a wedge (a static field) is refused in one line here,
+    at trace time, rather than failing inside the engine's contractions."""
+    if is_wedge(shape):
+        raise ValueError(WEDGE_REFUSED)
     a, c, _ = contact_columns(shape)
     nw, tw = pad_motion(shape, motion, load.q_star)
     kn, kt = contacts.per_contact()

@@ -342,3 +342,13 @@ def test_a_runner_runs_the_same_cycle():
     plain = jd.amplitude_cycle(shape, 0.5, 1.2)
     assert calls == [8] and int(plain.status) == 0
     assert_tree_allclose(through, plain, rtol=1e-12, atol=1e-12)
+
+
+def test_in_phase_kernels_refuse_a_wedge():
+    """The in-phase engine is the curved-flat damper's three pads: a wedge given to its unchecked
+    kernels is refused in one line naming br2_over_hr (not an error from inside the engine)."""
+    wedge = jd.DamperShape(60.0, 60.0, 0.0, 0.8, br2_over_hr=0.8)
+    with pytest.raises(ValueError, match="^br2_over_hr: .*elliptic_cycle"):
+        jd.amplitude_kernel(wedge, 0.5, jd.Contacts(), jd.LoadCase(), 2.0)
+    with pytest.raises(ValueError, match="^br2_over_hr: "):
+        jd.base_cycle_kernel(wedge, 0.5, jd.Contacts(), jd.LoadCase())
