@@ -111,7 +111,7 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     rows = []
     # The in-phase path as an ellipse of zero width: the path engine's in-phase cycle, the one a
     # wedge has (the in-phase engine is the paper's three-pad model, whose pads may not open).
-    in_phase_path = jd.as_ellipse(jd.interblade_motion(0.0, 20.0, 100.0, 10.0))
+    in_phase_path = jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
     for psi in (2.0, 10.0):
         p = jnp.asarray(psi)
         in_phase = jax.jit(jax.vmap(lambda s, m: jd.amplitude_kernel(s, m, contacts, load, p,
@@ -157,7 +157,7 @@ def seated_split(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     rng = np.random.default_rng(seed)
     tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
     br, _, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
-    in_phase_path = jd.as_ellipse(jd.interblade_motion(0.0, 20.0, 100.0, 10.0))
+    in_phase_path = jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
     ellipse = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
     rows = []
     for psi in (2.0, 10.0):

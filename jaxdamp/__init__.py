@@ -21,8 +21,7 @@ docs/api.md maps each concept to its functions and says what a wrong input gets)
   `transitions_chart` (the contact-state chart of any cycle).
 - One steady cycle: `amplitude_cycle` (in-phase and straight paths), `elliptic_cycle`,
   `path_base_cycle`, `interblade_sweep`; motions: `Motion`, `in_phase_motion`,
-  `interblade_motion`, `straight_motion`, `general_motion`, `as_ellipse` (a straight path as an
-  ellipse of zero width, for `elliptic_kernel`: a wedge's straight-path cycles).
+  `interblade_motion`, `straight_motion`, `general_motion`.
 - k(psi_a) curves: `amplitude_curves` (method "cycles" or "sequence"), `stiffness_curve` (the
   pieces whose loop corners are affine in psi_a, from a few exact cycles).
 - Bands over histories: `amplitude_band` (one amplitude, or a grid).
@@ -101,7 +100,6 @@ from .motion import in_phase_motion as in_phase_motion
 from .motion import interblade_motion as interblade_motion
 from .motion import straight_motion as straight_motion
 from .motion import general_motion as general_motion
-from .motion import as_ellipse as as_ellipse
 from .ellipse import EllipticCycle as EllipticCycle
 from .ellipse import elliptic_cycle as elliptic_cycle
 from .ellipse import interblade_sweep as interblade_sweep
@@ -230,7 +228,7 @@ __all__ = ["__version__", "enable_x64", "Design", "check_design", "check_batch",
            "transitions_chart", "FiveNumbers", "five_numbers", "five_numbers_kernel",
            "CycleNumbers", "cycle_numbers", "complex_stiffness", "moment", "CycleEnergy",
            "WorkShapeFactors", "contact_energies", "work_shape_factors", "Motion",
-           "in_phase_motion", "interblade_motion", "straight_motion", "general_motion", "as_ellipse",
+           "in_phase_motion", "interblade_motion", "straight_motion", "general_motion",
            "EllipticCycle", "elliptic_cycle", "interblade_sweep", "elliptic_kernel",
            "PathBaseCycle", "path_base_cycle", "path_base_cycle_kernel", "AmplitudeCycle",
            "amplitude_cycle", "amplitude_kernel", "StiffnessCurves", "amplitude_curves",
