@@ -94,6 +94,15 @@ def main(out: Path = RESULTS / "ellipse_cost.json", designs=(256,)) -> dict:
     return doc
 
 
+def _random_designs(n: int, seed: int):
+    """(theta_l, theta_r, b_R/h_R, 2b_L/h_L, a wedge's 2b/h, mu), n each (numpy, seeded):
+    pads_vs_marcher.py's ranges."""
+    rng = np.random.default_rng(seed)
+    tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
+    br, br2, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
+    return tl, tr, br, bl2, br2, mu
+
+
 def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     """Batches of n random designs (seeded; pads_vs_marcher.py's ranges: base angles 45-80 deg,
     2b_L/h_L 0.5-0.9, b_R/h_R -0.2-0.3 for the curved pad, 2b/h 0.5-0.9 on a wedge's right flank,
@@ -102,9 +111,7 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     batch of the curved-flat designs, one vmapped program each (best of 5), with the statuses."""
     import jax.numpy as jnp
 
-    rng = np.random.default_rng(seed)
-    tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
-    br, br2, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
+    tl, tr, br, bl2, br2, mu = _random_designs(n, seed)
     curved = jd.DamperShape(*(jnp.asarray(v) for v in (tl, tr, br, bl2)))
     wedge = curved._replace(br_over_hr=jnp.zeros(n), br2_over_hr=jnp.asarray(br2))
     mu = jnp.asarray(mu)
@@ -154,9 +161,7 @@ def seated_split(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     difference (the same cycles by two engines)."""
     import jax.numpy as jnp
 
-    rng = np.random.default_rng(seed)
-    tl, tr, bl2 = rng.uniform([45.0, 45.0, 0.5], [80.0, 80.0, 0.9], (n, 3)).T
-    br, _, mu = rng.uniform([-0.2, 0.5, 0.3], [0.3, 0.9, 0.7], (n, 3)).T
+    tl, tr, br, bl2, _, mu = _random_designs(n, seed)
     in_phase_path = jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
     ellipse = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
     rows = []
