@@ -128,8 +128,11 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
         on_path = jax.jit(jax.vmap(lambda s, m: jd.elliptic_kernel(s, m, contacts, load, p,
                                                                    in_phase_path,
                                                                    initial="assembly")))
-        t_path = {name: best(lambda: on_path(shapes, mu).k_im, 5)
-                  for name, shapes in (("curved_flat", curved), ("wedge", wedge))}
+        t_path, st_path = {}, {}
+        for name, shapes in (("curved_flat", curved), ("wedge", wedge)):
+            t_path[name] = best(lambda: on_path(shapes, mu).k_im, 5)
+            st_path[name] = np.bincount(np.asarray(on_path(shapes, mu).status),
+                                        minlength=10).tolist()
         for phi in (45.0, 90.0, 135.0):
             motion = jd.interblade_motion(phi, 20.0, 100.0, 10.0)
             el = jax.jit(jax.vmap(lambda s, m: jd.elliptic_kernel(s, m, contacts, load, p, motion,
@@ -142,8 +145,7 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
                 row[f"{name}_ratio_in_phase"] = t_el / t_in
                 row[f"{name}_in_phase_path_ms"] = 1e3 * t_path[name]
                 row[f"{name}_ratio_in_phase_path"] = t_el / t_path[name]
-                row[f"{name}_in_phase_path_statuses"] = np.bincount(
-                    np.asarray(on_path(shapes, mu).status), minlength=10).tolist()
+                row[f"{name}_in_phase_path_statuses"] = st_path[name]
                 row[f"{name}_statuses"] = np.bincount(np.asarray(el(shapes, mu).status),
                                                       minlength=10).tolist()
             rows.append(row)
