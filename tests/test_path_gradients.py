@@ -145,3 +145,63 @@ def test_derivatives_agree_with_central_differences_and_between_modes():
                             shape, motion, initial, name, got, cd)
                         checked += 1
     assert checked >= 20
+
+
+def _sequence(c):
+    """The steady period's sequence of state sets (one tuple per tract that ran)."""
+    active = np.asarray(c.period.active)
+    return tuple(map(tuple, np.asarray(c.period.state)[active].tolist()))
+
+
+@pytest.mark.slow  # a derivative program and some 60 value passes
+def test_at_a_switch_the_derivative_is_the_one_sided_derivative_of_the_sequence_taken():
+    """60sym at phi 90 deg, 5 mrad from assembly: between mu 0.45 and 0.48 the order in which L2
+    and R1 start to slip after the third tract swaps (sets 100, 101, 111 below the switch; 100,
+    110, 111 above it), found by bisection on the steady period's sequence. On either side of
+    the switch, at the point where the tract between the two events has shrunk to nothing, the
+    derivative of k_Im and of the energy per pad with respect to mu is the one-sided derivative
+    (second-order differences of the value pass, into that side) of the sequence the cycle took
+    there. Between the two lies a band about 4e-10 wide where the engine takes the two events
+    as one (a tie within its tolerance), whose derivative is that merged sequence's
+    (docs/motions.md, "Derivatives"): the points checked are 1e-8 outside it, where the tract
+    between the two events is some 1e-8 rad long."""
+    design = lambda mu: prepare_inputs(SHAPE, mu, jd.Contacts(17900.0, 3580.0), jd.LoadCase())  # noqa: E731
+    path = jd.Motion(*(jnp.asarray(v, float) for v in as_ellipse(ELLIPSE)))
+
+    def cycle(mu):
+        return KERNEL(*design(mu), jnp.asarray(5.0), path, initial="assembly", loop="while")
+
+    def values(mu):
+        c = cycle(mu)
+        return np.array([float(c.k_im), *np.asarray(c.energy)])
+
+    below = _sequence(cycle(0.45))
+    assert _sequence(cycle(0.48)) != below
+    lo, hi = 0.45, 0.48
+    while hi - lo > 4 * np.spacing(hi):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if _sequence(cycle(mid)) == below else (lo, mid)
+    # Above the switch, past the band of the merged events: the first point whose sequence has
+    # the third tract's other successor (ten tracts, as below).
+    above = hi
+    while len(_sequence(cycle(above))) != len(below):
+        above += 1e-10
+    assert above - lo < 1e-8
+    sequences = set()
+    for mu0, side in ((lo - 1e-8, -1.0), (above + 1e-8, +1.0)):
+        c = cycle(mu0)
+        taken = _sequence(c)
+        sequences.add(taken)
+        assert jd.RESULTS.name_of(int(c.status)) == "ok" and len(taken) == 10
+        # Near the switch: the tract between the two events is short.
+        assert np.min(np.asarray(c.period.dp)[np.asarray(c.period.active)]) < 1e-7
+        g = jd.path_gradient(SHAPE, mu0, 5.0, ELLIPSE, jd.Contacts(17900.0, 3580.0))
+        assert jd.RESULTS.name_of(int(g.status)) == "ok"
+        got = np.array([float(g.d_design.k_im.mu), *np.asarray(g.d_design.energy.mu)])
+        h = 1e-5
+        assert _sequence(cycle(mu0 + 2 * side * h)) == taken  # the differences stay on its side
+        f0, f1, f2 = values(mu0), values(mu0 + side * h), values(mu0 + 2 * side * h)
+        one_sided = (-3.0 * f0 + 4.0 * f1 - f2) / (2.0 * side * h)
+        assert np.max(np.abs(got - one_sided)) <= 1e-6 * np.max(np.abs(one_sided)), (
+            side, got, one_sided)
+    assert len(sequences) == 2 and below in sequences
