@@ -13,7 +13,9 @@ Measured here: the batch job of `path_speed_accuracy.py` (60sym, phi = 90 deg, 2
 assembly, mu 0.5: 1 and 16 cycles on the exact engine, 16 by HBM-AFT at its periods and the two
 samplings that bracket 1e-4 there), each setting in fresh processes (they act when JAX's CPU
 client starts): the process as it starts by default, with XLA's pool of one thread (`NPROC=1`,
-read by the CPU client at its start) and pinned to one core (`taskset -c 0`). Processes
+read by the CPU client at its start), pinned to one core (`taskset -c 0`), and with XLA's
+small-while-loop threshold raised (`jaxdamp.runtime.SMALL_LOOP_FLAG`: a loop with no scatter,
+sort or dot compiled as one kernel; both methods' programs, as every setting). Processes
 alternate setting by setting, `--rounds` times; in each, the programs are timed round-robin.
 
     .venv/bin/python benchmarks/cpu_executor.py [--rounds 2] [--quick]
@@ -24,6 +26,7 @@ Writes benchmarks/results/cpu_executor.json.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
 import os
 import shutil
@@ -34,7 +37,9 @@ from pathlib import Path
 
 OUT = Path(__file__).parent / "results" / "cpu_executor.json"
 SETTINGS = {"default": ({}, []), "nproc_1": ({"NPROC": "1"}, []),
-            "one_core": ({}, ["taskset", "-c", "0"])}
+            "one_core": ({}, ["taskset", "-c", "0"]),
+            # jaxdamp.runtime.SMALL_LOOP_FLAG: the small batch's loop compiled as one kernel
+            "small_loops": ("SMALL_LOOP_FLAG", [])}
 HBM_NT = (64, 256)  # path_speed_accuracy.json: 60sym's batch reaches 1e-4 between these
 HBM_PERIODS = 3
 NOTE = ("2-core VM; each setting in fresh child processes, which run in float64 with "
@@ -48,7 +53,7 @@ def child_settings(calls: int) -> dict:
 
     jax.config.update("jax_enable_x64", True)
     sys.path.insert(0, str(Path(__file__).parent))
-    from bench_common import interleaved_times, use_measured_xla_flags
+    from bench_common import call_time, interleaved_times, use_measured_xla_flags
     use_measured_xla_flags()
     from path_speed_accuracy import CASES, ENGINE_BATCH, HBM_BATCH, prepared
 
@@ -60,16 +65,24 @@ def child_settings(calls: int) -> dict:
                 "engine_16": lambda: ENGINE_BATCH(*args, amps, motion)}
     for nt in HBM_NT:
         programs[f"hbm_16_nt{nt}"] = (lambda nt=nt: HBM_BATCH(*args, amps, motion, nt, HBM_PERIODS))
-    times, outs = interleaved_times(programs, repeats=calls // 5, calls={k: 5 for k in programs})
-    res = {k: dict(median_ms=1e3 * float(np.median(v)), min_ms=1e3 * min(v), calls=len(v))
-           for k, v in times.items()}
-    res["engine_16_k_im_sum"] = float(np.sum(np.asarray(outs["engine_16"][1])))
+    first = {k: call_time(f)[0] for k, f in programs.items()}  # trace, compile and one run
+    times, outs = interleaved_times(programs, repeats=calls // 5, calls={k: 5 for k in programs},
+                                    warm=False)
+    res = {k: dict(median_ms=1e3 * float(np.median(v)), min_ms=1e3 * min(v), calls=len(v),
+                   first_call_s=first[k]) for k, v in times.items()}
+    # The same numbers in every setting (bits of k_Im, sha1)
+    res["engine_16_k_im_sha1"] = hashlib.sha1(np.asarray(outs["engine_16"][1]).tobytes()).hexdigest()
     return res
 
 
 def run_child(setting: str, calls: int) -> dict:
     env_add, prefix = SETTINGS[setting]
-    env = dict(os.environ, JAX_PLATFORMS="cpu", **env_add)
+    env = dict(os.environ, JAX_PLATFORMS="cpu")
+    if env_add == "SMALL_LOOP_FLAG":
+        from jaxdamp.runtime import SMALL_LOOP_FLAG
+        env["XLA_FLAGS"] = f"{env.get('XLA_FLAGS', '')} {SMALL_LOOP_FLAG}".strip()
+    else:
+        env.update(env_add)
     cmd = prefix + [sys.executable, __file__, "--child", "--calls", str(calls)]
     t = time.perf_counter()
     p = subprocess.run(cmd, env=env, capture_output=True, text=True)

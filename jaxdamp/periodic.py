@@ -82,7 +82,9 @@ def _extrapolated(starts, there, m):
     # On the last m differences (Dl): A Dl = Dl H (H: shift, last column c), d_last = (A - I) e
     # with e = Dl y, (H - I) y = c, and the fixed point is the last start less e.
     last = diffs[m - 1:2 * m - 1].T
-    H = jnp.eye(m, k=-1).at[:, m - 1].set(c) - jnp.eye(m)
+    # A select, not `.at[].set` (a scatter: a loop holding one is not compiled as one kernel,
+    # `runtime.SMALL_LOOP_FLAG`).
+    H = jnp.where(jnp.arange(m) == m - 1, c[:, None], jnp.eye(m, k=-1)) - jnp.eye(m)
     # det(H - I) = +-(1 - sum c): nonzero where every ratio is below one (contracting).
     y = _solve(jnp.where(ok, H, -jnp.eye(m)), c)
     return starts[-1] - _dot(last, jnp.where(ok, y, 0.0)), ok

@@ -68,6 +68,25 @@ LATENCY_OPTIONS = {"xla_backend_optimization_level": 0, "xla_cpu_use_fusion_emit
 # alone, 5.0 s at LATENCY_OPTIONS (level 0); a repeat 2.0-2.4 s, 2.0-2.1, 2.0-2.1 and 2.3 s;
 # the row's call in a warm process 0.18 s optimised, 0.22 s so.
 ROW_LATENCY_OPTIONS = {"xla_backend_optimization_level": 1, "xla_cpu_use_fusion_emitters": False}
+# Measured (issue 60): XLA's CPU backend compiles a while loop as one kernel (no runtime between
+# its operations, no hand-offs between threads) where the loop holds no scatter, sort, dot or
+# custom call and touches fewer bytes than a threshold (1 kB by default). Under this process flag
+# (XLA reads XLA_FLAGS once, when the backend starts; `small_loops` says whether it is set) a
+# batch of up to 32 path cycles (`lanes._lockstep`, `stages.SMALL_LANES`) is written so that its
+# loop qualifies, and is one kernel up to 16 lanes of a wedge. On the 2-core VM (2026-12-02,
+# `benchmarks/cpu_executor.py`): one 60sym cycle about 1.8x and a batch of 16 1.5x faster,
+# compiled 1-1.4 s slower; HBM-AFT's batches 1.8x faster too; pools of 256 unchanged; the same
+# cycles (to the last bit or so). Not set by jaxdamp: it is process-wide and changes every
+# program's loops.
+SMALL_LOOP_FLAG = "--xla_backend_extra_options=xla_cpu_small_while_loop_byte_threshold=4194304"
+
+
+def small_loops() -> bool:
+    """Whether this process's XLA_FLAGS raise XLA's small-while-loop threshold (as
+    `SMALL_LOOP_FLAG` does): only then are small batches' loops written without scatters and
+    sorts (`lanes._write_rows`, `stages.SMALL_LANES`), which without the flag cost their batches
+    of 16 5-12 % at their fastest (2026-12-02). Read when a program is traced."""
+    return "xla_cpu_small_while_loop_byte_threshold" in os.environ.get("XLA_FLAGS", "")
 # Accelerator plugins for jaxlib: where one is installed the default backend may not be the CPU,
 # and the latency options were measured on the CPU only.
 _ACCELERATOR_PLUGINS = ("jax_plugins", "jax_cuda12_plugin", "jax_cuda13_plugin", "jax_rocm7_plugin",
@@ -246,6 +265,7 @@ def batch_jit(fun=None, *, cpu_options: dict | None = None, **kwargs):
 
 
 __all__ = ["padded_size", "CPU_BATCH_OPTIONS", "LOOP_EMITTERS", "LATENCY_OPTIONS", "ROW_LATENCY_OPTIONS",
+           "SMALL_LOOP_FLAG", "small_loops",
            "batch_compiler_options",
            "options_jit", "batch_jit", "compile_for_latency", "side_by_side", "cpu_cores", "thread_map", "map_in_parts",
            "part_size", "compile_ahead", "run_program"]

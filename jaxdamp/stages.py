@@ -21,6 +21,8 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
+from .runtime import small_loops
+
 # Lanes the second stage runs at once. With the engine's proposed set first (a tract in eight
 # or fewer asks for a second look), 8 and 32 measured alike on 256 lanes: 32 was 7 % faster on
 # 60sym and 14 % slower on random shapes (docs/motions.md, "Cost", 2026-11-30). On a pool of 64
@@ -30,6 +32,12 @@ CHUNK = 4
 # The lanes of a wider batch that `second_look`'s retry runs on, the flagged ones first (a pool's
 # 64 lanes: about ten ask in a step; docs/motions.md, "Cost").
 RETRY_LANES = 16
+# Under `runtime.SMALL_LOOP_FLAG`, batches of at most this many lanes find their flagged lanes
+# and write their results without a sort or a scatter (`_flagged_first`, `_put`), so that a small
+# batch's loop can be compiled as one kernel; wider ones (pools of 64 lanes) keep the sort and
+# the scatter: with the flag, a pool's second look as one kernel made curved-flat pools of 256
+# 15 % slower (2026-12-02, docs/motions.md "Cost"). The same lanes and results either way.
+SMALL_LANES = 32
 
 
 def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
@@ -70,19 +78,27 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
                 tree, [next(taken) if b else x for x, b in zip(leaves, lane_axis)])
             return jax.vmap(fn, in_axes=(0,) * len(first) + tuple(axes))(*first, *sub)
 
+        small = axis_size <= SMALL_LANES and small_loops()
+        put = _put if small else _scatter
+
+        def flagged_first(n):
+            # The flagged lanes first, in lane order; past them lane 0 (small) or the others.
+            if small:
+                return _flagged_first(flags, n)
+            order = jnp.argsort(~flags, stable=True)
+            return jnp.concatenate([order, jnp.zeros(max(n - axis_size, 0), order.dtype)])[:n]
+
         if retry is not None and axis_size > RETRY_LANES:
             def retried(out):
                 # The first RETRY_LANES flagged lanes only (gathered packed, as `look_again`'s
                 # chunks); the rest go to `full`. Wedge pools of 256 (64 lanes, about ten
                 # flagged in a step) 1.13-1.17x against the retry on every lane, bit-identical;
                 # for the curved-flat damper it still cost more than it saved (2026-12-02).
-                idx = jnp.argsort(~flags, stable=True)[:RETRY_LANES]
+                idx = flagged_first(RETRY_LANES)
                 alt = on_lanes(retry, _packed(batched), idx,
                                jax.tree_util.tree_map(lambda o: o[idx], out))
-                use = flags[idx] & ~jax.vmap(again)(alt)
-                dest = jnp.where(use, idx, axis_size)
-                return jax.tree_util.tree_map(lambda o, a: o.at[dest].set(a, mode="drop"),
-                                              out, alt)
+                use = (jnp.arange(RETRY_LANES) < count) & ~jax.vmap(again)(alt)
+                return put(out, jnp.where(use, idx, axis_size), alt)
         elif retry is not None:
             def retried(out):
                 alt = jax.vmap(retry, in_axes=(0,) + tuple(axes))(out, *args)
@@ -97,11 +113,10 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
             count = jnp.sum(flags)
 
         def look_again(out):
-            # The flagged lanes first (a stable order), padded to whole chunks with lane 0.
-            order = jnp.argsort(~flags, stable=True)
-            order = jnp.concatenate([order, jnp.zeros(size - axis_size, order.dtype)])
+            # The flagged lanes first, padded to whole chunks.
+            order = flagged_first(size)
             # A chunk's lanes are gathered, and its results written, as one row each of one
-            # packed array (`_packed`): one gather and one scatter a chunk, not one per leaf
+            # packed array (`_packed`): one gather and one write a chunk, not one per leaf
             # (some twenty): elliptic batches of 16 1.00-1.10x, pools of 256 0.99-1.05x,
             # bit-identical (2026-12-02, docs/motions.md "Cost").
             packed_args = _packed(batched)
@@ -115,7 +130,7 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
                 # Slots past the flagged lanes write nowhere (index axis_size, dropped).
                 dest = jnp.where(k * chunk + jnp.arange(chunk) < count, idx, axis_size)
                 redo_rows, _ = _packed(jax.tree_util.tree_leaves(redo))
-                return k + 1, packed_out.at[dest].set(redo_rows, mode="drop")
+                return k + 1, put(packed_out, dest, redo_rows)
 
             packed_out = jax.lax.while_loop(lambda c: c[0] * chunk < count, body,
                                             (jnp.array(0), packed_out))[1]
@@ -127,6 +142,30 @@ def second_look(fast, full, again, chunk: int = CHUNK, retry=None):
         return out, jax.tree_util.tree_map(lambda _: True, out)
 
     return f
+
+
+def _flagged_first(flags, n: int):
+    """The indices of the first n flagged lanes in lane order (lane 0 past the last one), without
+    a sort: the k-th flagged lane is the number of lanes whose running count of flags is below
+    k + 1."""
+    seen = jnp.cumsum(flags)
+    k = jnp.arange(n)
+    return jnp.where(k < seen[-1], jnp.sum(seen[None, :] < k[:, None] + 1, axis=1), 0)
+
+
+def _put(tree, dest, rows):
+    """tree with rows[j] at dest[j] along the leading axis of every leaf (dest past it: nowhere;
+    the others distinct), by a select instead of a scatter."""
+    def put(a, r):
+        match = jnp.arange(a.shape[0])[:, None] == dest[None, :]
+        hit = jnp.any(match, axis=1).reshape((-1,) + (1,) * (a.ndim - 1))
+        return jnp.where(hit, r[jnp.argmax(match, axis=1)], a)
+    return jax.tree_util.tree_map(put, tree, rows)
+
+
+def _scatter(tree, dest, rows):
+    """`_put` by a scatter (dest past the leading axis: dropped)."""
+    return jax.tree_util.tree_map(lambda a, r: a.at[dest].set(r, mode="drop"), tree, rows)
 
 
 def _packed(leaves):

@@ -201,3 +201,37 @@ def test_a_pooled_curve_of_one_design(monkeypatch):
         each = [one(shape, jnp.asarray(0.5), a, motion) for a in amplitudes]
     ref = jax.tree_util.tree_map(lambda *x: jnp.stack(x), *each)
     assert_tree_allclose(curve, ref, rtol=0.0, atol=1e-9)
+
+
+def test_a_small_batch_s_loop_holds_no_scatter_sort_or_dot(monkeypatch):
+    """Where XLA_FLAGS holds `runtime.SMALL_LOOP_FLAG`, a batch of 16 elliptic cycles (lockstep
+    lanes; 60sym and a wedge, whose second look retries) lowers with no scatter, sort, dot or
+    custom call anywhere in its program, so that XLA's CPU backend compiles its loop as one kernel
+    (docs/motions.md, "Against harmonic balance"); without the flag its rows keep their scatter.
+    Both give the same cycles (statuses and periods equal; XLA fuses the two programs apart, so
+    the numbers may differ in their last bit)."""
+    from jaxdamp.runtime import SMALL_LOOP_FLAG
+
+    contacts = jd.Contacts(jnp.asarray(17900.0), jnp.asarray(3580.0))
+    load = jd.LoadCase(*(jnp.asarray(float(v)) for v in jd.LoadCase()))
+    motion = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
+    amplitudes = jnp.linspace(1.8, 2.2, 16)
+    for shape in (jd.family_shape("60sym"), jd.DamperShape(60.0, 60.0, 0.0, 0.8, None, 0.8)):
+        sh = jd.DamperShape(*(None if v is None else jnp.asarray(float(v)) for v in shape))
+        cycles = []
+        for flagged in (True, False):
+            monkeypatch.setenv("XLA_FLAGS", SMALL_LOOP_FLAG if flagged else "")
+            f = jax.vmap(lambda a: jd.elliptic_kernel(sh, jnp.asarray(0.5), contacts, load, a,
+                                                      motion, initial="assembly"))
+            program = jax.jit(f).lower(amplitudes)
+            text = program.as_text()
+            assert "stablehlo.while" in text
+            assert ("stablehlo.scatter" in text) != flagged
+            if flagged:
+                for op in ("stablehlo.sort", "stablehlo.dot_general", "stablehlo.custom_call"):
+                    assert op not in text, (shape, op)
+            c = program.compile()(amplitudes)
+            cycles.append([np.asarray(x) for x in (c.k_re, c.k_im, c.energy, c.status, c.periods)])
+        assert_tree_allclose(cycles[0], cycles[1], rtol=1e-14, atol=0.0)
+        for a, b in zip(cycles[0][3:], cycles[1][3:]):
+            np.testing.assert_array_equal(a, b)

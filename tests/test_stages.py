@@ -72,20 +72,30 @@ def test_batched_a_retry_is_kept_where_it_holds_and_the_full_one_runs_where_not(
         assert float(G(jnp.asarray(x), 2.0)["y"]) == pytest.approx(float(_expected(x, 2.0)))
 
 
-def test_a_wide_batch_retries_only_its_first_flagged_lanes_and_the_rest_run_in_full():
-    # 60 lanes, 40 flagged (x > 0.5) in a shuffled order: the retry runs on the first
-    # RETRY_LANES flagged lanes (lane order) and holds there where x < 0.8; every other flagged
-    # lane runs in full, the unflagged keep the fast result.
-    from jaxdamp.stages import RETRY_LANES
+@pytest.mark.parametrize("n_low, n_high, small_loops", [
+    (20, 40, True),  # 60 lanes: the sort and the scatter
+    (8, 22, True),  # 30 lanes (SMALL_LANES) under runtime.SMALL_LOOP_FLAG: neither
+    (8, 22, False)])  # without the flag: the sort and the scatter
+def test_a_wide_batch_retries_only_its_first_flagged_lanes_and_the_rest_run_in_full(
+        monkeypatch, n_low, n_high, small_loops):
+    # Lanes flagged (x > 0.5) in a shuffled order: the retry runs on the first RETRY_LANES
+    # flagged lanes (lane order) and holds there where x < 0.8; every other flagged lane runs in
+    # full, the unflagged keep the fast result.
+    from jaxdamp.runtime import SMALL_LOOP_FLAG
+    from jaxdamp.stages import RETRY_LANES, SMALL_LANES
 
-    xs = np.random.default_rng(5).permutation(np.concatenate([np.linspace(0.0, 0.5, 20),
-                                                              np.linspace(0.51, 1.0, 40)]))
-    got = jax.jit(jax.vmap(G, in_axes=(0, None)))(jnp.asarray(xs), 2.0)
+    monkeypatch.setenv("XLA_FLAGS", SMALL_LOOP_FLAG if small_loops else "")
+    assert (n_low + n_high <= SMALL_LANES) == (n_high < 40)
+    xs = np.random.default_rng(5).permutation(np.concatenate([np.linspace(0.0, 0.5, n_low),
+                                                              np.linspace(0.51, 1.0, n_high)]))
+    program = jax.jit(jax.vmap(G, in_axes=(0, None))).lower(jnp.asarray(xs), 2.0)
+    assert ("stablehlo.sort" in program.as_text()) != (small_loops and len(xs) <= SMALL_LANES)
+    got = program.compile()(jnp.asarray(xs), 2.0)
     flagged = xs > 0.5
     first = flagged & (np.cumsum(flagged) <= RETRY_LANES)
     want = np.where(~flagged, xs * 2.0, np.where(first & (xs < 0.8), 10.0 * xs * 2.0,
                                                  100.0 * xs * 2.0 + 1.0))
-    assert np.sum(first & (xs < 0.8)) >= 4 and np.sum(flagged & ~first) >= 20
+    assert np.sum(first & (xs < 0.8)) >= 4 and np.sum(flagged & ~first) >= 5
     np.testing.assert_array_equal(np.asarray(got["y"]), want)
     np.testing.assert_array_equal(np.asarray(got["again"]), flagged & ~(first & (xs < 0.8)))
 
