@@ -35,11 +35,14 @@ import sys
 import time
 from pathlib import Path
 
+from jaxdamp.runtime import SMALL_LOOP_FLAG
+
 OUT = Path(__file__).parent / "results" / "cpu_executor.json"
+# setting -> (environment added to the child's; XLA_FLAGS is appended to), command prefix
 SETTINGS = {"default": ({}, []), "nproc_1": ({"NPROC": "1"}, []),
             "one_core": ({}, ["taskset", "-c", "0"]),
-            # jaxdamp.runtime.SMALL_LOOP_FLAG: the small batch's loop compiled as one kernel
-            "small_loops": ("SMALL_LOOP_FLAG", [])}
+            # the small batch's loop compiled as one kernel
+            "small_loops": ({"XLA_FLAGS": SMALL_LOOP_FLAG}, [])}
 HBM_NT = (64, 256)  # path_speed_accuracy.json: 60sym's batch reaches 1e-4 between these
 HBM_PERIODS = 3
 NOTE = ("2-core VM; each setting in fresh child processes, which run in float64 with "
@@ -78,11 +81,8 @@ def child_settings(calls: int) -> dict:
 def run_child(setting: str, calls: int) -> dict:
     env_add, prefix = SETTINGS[setting]
     env = dict(os.environ, JAX_PLATFORMS="cpu")
-    if env_add == "SMALL_LOOP_FLAG":
-        from jaxdamp.runtime import SMALL_LOOP_FLAG
-        env["XLA_FLAGS"] = f"{env.get('XLA_FLAGS', '')} {SMALL_LOOP_FLAG}".strip()
-    else:
-        env.update(env_add)
+    for name, value in env_add.items():
+        env[name] = (f"{env.get(name, '')} {value}".strip() if name == "XLA_FLAGS" else value)
     cmd = prefix + [sys.executable, __file__, "--child", "--calls", str(calls)]
     t = time.perf_counter()
     p = subprocess.run(cmd, env=env, capture_output=True, text=True)

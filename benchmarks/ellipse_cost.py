@@ -103,6 +103,14 @@ def _random_designs(n: int, seed: int):
     return tl, tr, br, bl2, br2, mu
 
 
+def _in_phase_path(jd):
+    """The in-phase path as an ellipse of zero width: the path engine's in-phase cycle, the one a
+    wedge has (the in-phase engine is the paper's three-pad model, whose pads may not open)."""
+    import jax.numpy as jnp
+
+    return jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
+
+
 def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     """Batches of n random designs (seeded; pads_vs_marcher.py's ranges: base angles 45-80 deg,
     2b_L/h_L 0.5-0.9, b_R/h_R -0.2-0.3 for the curved pad, 2b/h 0.5-0.9 on a wedge's right flank,
@@ -116,9 +124,7 @@ def random_shapes(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     wedge = curved._replace(br_over_hr=jnp.zeros(n), br2_over_hr=jnp.asarray(br2))
     mu = jnp.asarray(mu)
     rows = []
-    # The in-phase path as an ellipse of zero width: the path engine's in-phase cycle, the one a
-    # wedge has (the in-phase engine is the paper's three-pad model, whose pads may not open).
-    in_phase_path = jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
+    in_phase_path = _in_phase_path(jd)
     for psi in (2.0, 10.0):
         p = jnp.asarray(psi)
         in_phase = jax.jit(jax.vmap(lambda s, m: jd.amplitude_kernel(s, m, contacts, load, p,
@@ -164,7 +170,7 @@ def seated_split(jd, contacts, load, n: int = 256, seed: int = 3434) -> list:
     import jax.numpy as jnp
 
     tl, tr, br, bl2, _, mu = _random_designs(n, seed)
-    in_phase_path = jd.interblade_motion(0.0, 20.0, 100.0, 10.0)._replace(quadrature=jnp.zeros(3))
+    in_phase_path = _in_phase_path(jd)
     ellipse = jd.interblade_motion(90.0, 20.0, 100.0, 10.0)
     rows = []
     for psi in (2.0, 10.0):

@@ -87,6 +87,8 @@ def small_loops() -> bool:
     sorts (`lanes._write_rows`, `stages.SMALL_LANES`), which without the flag cost their batches
     of 16 5-12 % at their fastest (2026-12-02). Read when a program is traced."""
     return "xla_cpu_small_while_loop_byte_threshold" in os.environ.get("XLA_FLAGS", "")
+
+
 # Accelerator plugins for jaxlib: where one is installed the default backend may not be the CPU,
 # and the latency options were measured on the CPU only.
 _ACCELERATOR_PLUGINS = ("jax_plugins", "jax_cuda12_plugin", "jax_cuda13_plugin", "jax_rocm7_plugin",
