@@ -45,7 +45,7 @@ from .half import (Half, assemble_in_phase, empty_half, gross_slip_from_assembly
 from .periodic import CLOSE_TOL, iterate_to_periodic
 from .loops import run_by_loop, tree_where
 from .runtime import run_program
-from .geometry import DamperShape
+from .geometry import CONTACT_NAMES, DamperShape
 from .linalg import rowdot
 from .motion import Motion, loop_moment_coefficients, validate_motion
 from .fourier import half_fourier
@@ -61,7 +61,7 @@ ADMISSIBLE_TOL = 1e-9  # explicit states: equilibrium residual and cone toleranc
 INITIAL_STATES = ("gross_slip", "assembly")
 
 __all__ = ["AmplitudeCycle", "amplitude_cycle", "amplitude_kernel",
-           "gross_slip_state", "check_admissible",
+           "gross_slip_state", "check_admissible", "explicit_start",
            "moment_loop", "slip_fraction",
            "MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "INITIAL_STATES", "PRELIMINARY_HALVES",
            "history_halves"]
@@ -121,6 +121,32 @@ def check_admissible(shape: DamperShape, mu, N, T, tol=ADMISSIBLE_TOL):
     residual = -a.T @ N + c.T @ T + jnp.array([0.0, 1.0, 0.0])
     return (jnp.max(jnp.abs(residual)), jnp.max(jnp.abs(T) - jnp.asarray(mu, float) * N),
             jnp.min(N))
+
+
+def explicit_start(initial, shape: DamperShape, mu, pads, modes) -> tuple:
+    """(N, T) as float arrays from an explicit start `initial` (an (N, T) pair of one force per
+    pad, in the order of the names `pads`, units of F_D), checked: admissible (in equilibrium
+    with F_D within ADMISSIBLE_TOL * 1e3, N >= 0, |T| <= mu N within ADMISSIBLE_TOL); else a
+    one-line ValueError naming `initial` (modes: the named histories it could have been)."""
+    arrays = f"arrays of one force per pad ({', '.join(pads)}), shape ({len(pads)},)"
+    try:
+        N, T = (np.asarray(v, float) for v in initial)
+    except (TypeError, ValueError):
+        raise ValueError(f"initial must be {', '.join(modes)} or an (N, T) pair of {arrays}, "
+                         f"units of F_D; got {initial!r}") from None
+    if N.shape != (len(pads),) or T.shape != (len(pads),):
+        raise ValueError(f"initial (N, T) must be two {arrays}, units of F_D; got {N.shape} and "
+                         f"{T.shape}")
+    res, cone, n_min = (float(v) for v in check_admissible(shape, mu, N, T))
+    if not np.isfinite(res) or res > ADMISSIBLE_TOL * 1e3:
+        raise ValueError(f"initial (N, T) must be in equilibrium with F_D: residual must be in "
+                         f"[0, {ADMISSIBLE_TOL * 1e3:g}] F_D; got {res:g}")
+    if not n_min >= 0.0:
+        raise ValueError(f"initial N must be in [0, inf) F_D; got min N = {n_min:g}")
+    if not cone <= ADMISSIBLE_TOL:
+        raise ValueError(f"initial T must satisfy |T| <= mu N: excess must be in "
+                         f"[0, {ADMISSIBLE_TOL:g}] F_D; got {cone:g}")
+    return N, T
 
 
 def _half_moment(coefficients, half: Half):
@@ -335,23 +361,7 @@ def amplitude_cycle(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Con
                              f"pair of (3,) arrays; got {initial!r}")
         mode = initial
     else:
-        try:
-            N_init, T_init = (np.asarray(v, float) for v in initial)
-        except (TypeError, ValueError):
-            raise ValueError("initial must be gross_slip, assembly or an (N, T) pair of (3,) "
-                             "arrays (units of F_D)") from None
-        if N_init.shape != (3,) or T_init.shape != (3,):
-            raise ValueError("initial (N, T) must be two arrays of shape (3,) (R1, L1, L2), "
-                             "units of F_D")
-        res, cone, n_min = (float(v) for v in check_admissible(shape, mu, N_init, T_init))
-        if not np.isfinite(res) or res > ADMISSIBLE_TOL * 1e3:
-            raise ValueError(f"initial (N, T) must be in equilibrium with F_D: residual must be "
-                             f"in [0, {ADMISSIBLE_TOL * 1e3:g}] F_D; got {res:g}")
-        if n_min < 0.0:
-            raise ValueError(f"initial N must be in [0, inf) F_D; got min N = {n_min:g}")
-        if cone > ADMISSIBLE_TOL:
-            raise ValueError(f"initial T must satisfy |T| <= mu N: excess must be in "
-                             f"[0, {ADMISSIBLE_TOL:g}] F_D; got {cone:g}")
+        N_init, T_init = explicit_start(initial, shape, mu, CONTACT_NAMES, INITIAL_STATES)
         mode = "explicit"
     if motion is not None:
         motion = validate_motion(motion, load)

@@ -40,7 +40,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from ._validate import check_int, check_range, check_scalar, check_values
-from .amplitude import check_admissible
+from .amplitude import explicit_start
 from .conventions import (CENTRIFUGAL_LOAD, MRAD_PER_RAD, interblade_direction, travel_mm,
                           warn_small_rotation)
 from .engine import TRAVEL_TOL, Pads, Tracts, assemble, end_set, to_gross_slip, tract_rows
@@ -388,15 +388,7 @@ def elliptic_cycle(shape: DamperShape, mu, amplitude_mrad, motion: Motion,
                              f"({n_pads},) arrays (one per pad); got {initial!r}")
         mode = initial
     else:
-        N_init, T_init = (np.asarray(v, float) for v in initial)
-        if N_init.shape != (n_pads,) or T_init.shape != (n_pads,):
-            raise ValueError(f"initial (N, T) must be two arrays of one force per pad "
-                             f"({', '.join(pad_names(shape))}), shape ({n_pads},); got "
-                             f"{N_init.shape} and {T_init.shape}")
-        res, cone, n_min = (float(v) for v in check_admissible(shape, mu, N_init, T_init))
-        if not (res <= 1e-6 and cone <= 1e-9 and n_min >= 0.0):
-            raise ValueError("initial (N, T) must be admissible: in equilibrium with F_D (residual "
-                             "<= 1e-6 F_D), N >= 0 and |T| <= mu N")
+        N_init, T_init = explicit_start(initial, shape, mu, pad_names(shape), INITIAL_STATES)
         mode = "explicit"
     return _program(mode, max_tracts, max_periods)(
         shape, mu, contacts, load, jnp.asarray(float(amplitude_mrad)), motion, N_init, T_init)

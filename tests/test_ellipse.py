@@ -145,6 +145,18 @@ def test_elliptic_inputs_are_checked_and_paths_go_to_their_solver():
         jd.elliptic_cycle(SHAPE, 0.5, 0.0, motion)
     with pytest.raises(ValueError, match=r"^initial must be assembly, gross_slip or an \(N, T\) pair"):
         jd.elliptic_cycle(SHAPE, 0.5, 1.0, motion, initial="steady")
+    # An explicit start that is not a pair of arrays, or not admissible: one line naming initial
+    # (amplitude_cycle's explicit starts go through the same check, `amplitude.explicit_start`).
+    for start in (5, ("a", "b"), (np.ones(3), np.ones(3), np.ones(3))):
+        with pytest.raises(ValueError, match=r"^initial must be assembly, gross_slip or an \(N, T\) "
+                                             r"pair of arrays of one force per pad \(R1, L1, L2\)"):
+            jd.elliptic_cycle(SHAPE, 0.5, 1.0, motion, initial=start)
+    N, T, _ = jd.amplitude.gross_slip_state(SHAPE, 0.5)
+    for cycle in (lambda s: jd.elliptic_cycle(SHAPE, 0.5, 1.0, motion, initial=s),
+                  lambda s: jd.amplitude_cycle(SHAPE, 0.5, 1.0, initial=s)):
+        with pytest.raises(ValueError, match=r"^initial \(N, T\) must be in equilibrium with F_D: "
+                                             r"residual must be in \[0, 1e-06\] F_D; got 0.08"):
+            cycle((1.1 * np.asarray(N), T))
     with pytest.raises(ValueError, match=r"^ibpa must be a finite angle in \[-360, 360\] deg"):
         jd.interblade_motion(400.0, 20.0)
     jax.config.update("jax_enable_x64", False)
