@@ -422,10 +422,10 @@ def interblade_sweep(shape: DamperShape, mu, amplitude_mrad, phis_deg, h_c_mm, h
     shape, mu, contacts, load = prepare_inputs(shape, mu, contacts, load, wedge_ok=True)
     amplitude_mrad = check_scalar("amplitude_mrad", amplitude_mrad, 0.0, 1e4, lo_open=True,
                                   unit="mrad")
+    check_range("phis_deg", phis_deg, -360.0, 360.0, unit="deg")  # text too, in one line
     phis = np.atleast_1d(np.asarray(phis_deg, float))
     if phis.ndim != 1 or phis.size == 0:
         raise ValueError(f"phis_deg must be one or more angles in [-360, 360] deg; got {phis_deg!r}")
-    check_range("phis_deg", phis, -360.0, 360.0, unit="deg")
     h_c_mm = float(check_values("h_c", h_c_mm, max_ndim=0))
     h_l_mm = float(check_values("h_l", h_l_mm, max_ndim=0))
     if initial not in INITIAL_STATES:

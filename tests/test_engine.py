@@ -283,6 +283,9 @@ def test_the_interblade_sweep_is_one_program_of_the_per_angle_cycles():
         assert_tree_allclose(sweep.open_fraction[i], one.open_fraction, rtol=0, atol=1e-12)
     with pytest.raises(ValueError, match=r"^phis_deg must be in \[-360, 360\]"):
         jd.interblade_sweep(WEDGE, 0.5, 10.0, [0.0, 400.0], 20.0, 10.0, CONTACTS)
+    for text in ("x", ["x", 1.0]):  # numpy's "could not convert string to float" before
+        with pytest.raises(ValueError, match=r"^phis_deg must be a finite number in \[-360, 360\]"):
+            jd.interblade_sweep(WEDGE, 0.5, 10.0, text, 20.0, 10.0, CONTACTS)
 
 
 @pytest.mark.slow  # the forward derivative program of the wedge's elliptic kernel

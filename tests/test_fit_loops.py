@@ -186,6 +186,18 @@ def test_random_valid_loops_analysed(a, c, periods, per_period, t0, seed):
     assert np.all((lp.u >= 0) & (lp.u <= 1)) and lp.periods >= 1
 
 
+def test_synthetic_loops_refuse_times_that_are_not_numbers():
+    """sample_loop's and sample_contact_loop's t: one line naming t (numpy's conversion error
+    before; a NaN time gave NaN samples)."""
+    from jaxdamp.fit import sample_contact_loop
+
+    for t in ("a", [0.0, np.nan]):
+        with pytest.raises(ValueError, match=r"^t must be a finite number in \(-inf, inf\) periods"):
+            sample_loop(SHAPE, TRUE["mu"], 1.2, CONTACTS, t=t)
+        with pytest.raises(ValueError, match=r"^t must be a finite number in \(-inf, inf\) periods"):
+            sample_contact_loop(SHAPE, TRUE["mu"], 1.2, CONTACTS, contact=0, component="normal", t=t)
+
+
 def test_model_residual_is_zero_at_the_truth_on_random_sampling():
     """The travel-phase residual of exact model samples vanishes at the true parameters (random
     sampling that includes the reversals, so that the amplitude found is exact)."""

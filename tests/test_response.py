@@ -367,3 +367,20 @@ def test_a_scene_is_checked_once_and_taken_as_it_is():
     with pytest.raises(ValueError, match="^eta must be in \\[0, 1\\]; got 2$"):
         prepare_scene(SHAPE, 0.5, mode=MODE._replace(eta=2.0))
 
+
+
+def test_a_stiffness_method_refuses_options_it_does_not_take_before_any_work():
+    """A misspelt or misplaced option, or an unknown history, is one line naming it, raised when
+    the curve is built (it was a TypeError from the factory's call, or for initial= a message
+    listing a history the curves do not take, raised at the curve's first evaluation)."""
+    with pytest.raises(ValueError, match=r"^bogus is not an option of method 'exact': its options "
+                                         r"are initial$"):
+        damper_stiffness(SHAPE, 0.5, bogus=1)
+    with pytest.raises(ValueError, match=r"^initial is not an option of method 'interpolated': "
+                                         r"its options are none$"):
+        damper_stiffness(SHAPE, 0.5, method="interpolated", initial="assembly")
+    with pytest.raises(ValueError, match=r"^initial must be one of assembly, gross_slip; got 'x'$"):
+        damper_stiffness(SHAPE, 0.5, initial="x")
+    # (raised while its program is traced, before XLA compiles: JAX adds a note after the line)
+    with pytest.raises(ValueError, match=r"^initial must be one of assembly, gross_slip; got 'x'"):
+        design_peaks(SHAPE, 0.5, mode=MODE, initial="x")

@@ -6,6 +6,7 @@ from __future__ import annotations
 import jax.numpy as jnp
 import numpy as np
 
+from .._validate import check_range
 from ..amplitude import amplitude_cycle
 from ..conventions import travel_mm
 from ..geometry import DamperShape
@@ -20,7 +21,7 @@ def sample_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts = Contact
                 load: LoadCase = LoadCase(), *, t, initial: str = "gross_slip"):
     """(psi, M) of the model's exact steady loop sampled at times t (periods) of psi = psi_a cos(2 pi
     t): psi in mrad, M in N mm (numpy). A test loop for `fit_loops` (add noise and offsets)."""
-    t = np.asarray(t, float)
+    t = _times(t)
     ac = amplitude_cycle(shape, mu, psi_a_mrad, contacts, load, initial=initial)
     phase = np.mod(t, 1.0)
     forward = phase < 0.5  # psi decreasing from the top
@@ -40,7 +41,7 @@ def sample_contact_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts =
     the displacement inversion the fit uses."""
     if component not in COMPONENTS:
         raise ValueError(f"component must be tangential or normal; got {component!r}")
-    t = np.asarray(t, float)
+    t = _times(t)
     ac = amplitude_cycle(shape, mu, psi_a_mrad, contacts, load, initial=initial)
     F_D = float(load.F_D)
     kt = float(np.broadcast_to(np.asarray(contacts.kt, float), (3,))[contact]) / F_D
@@ -71,3 +72,9 @@ def sample_contact_loop(shape: DamperShape, mu, psi_a_mrad, contacts: Contacts =
     if component == "tangential":
         return T / kt - S, T * F_D
     return N / kn, N * F_D
+
+
+def _times(t) -> np.ndarray:
+    """The sample times t (periods) as floats, checked: finite numbers (one line naming t)."""
+    check_range("t", t, -np.inf, np.inf, lo_open=True, hi_open=True, unit="periods")
+    return np.asarray(t, float)

@@ -5,6 +5,7 @@ amplitude; "interpolated": the paper's, on the Base-Cycle), and the curves deriv
 
 from __future__ import annotations
 
+import inspect
 from typing import Callable, NamedTuple
 
 import jax
@@ -100,6 +101,7 @@ def exact_damper(shape, mu, contacts, load, initial: str = "gross_slip") -> Damp
     """k(psi_a) from the exact steady cycle at each amplitude (`jaxdamp.amplitude`), from the named
     initial state (gross_slip: the state after a gross-slip history). The stuck limit, the
     amplitude scale and the status come from the Base-Cycle."""
+    check_history(initial)  # here, before any work, not when k(psi) is first evaluated
     base = interpolated_damper(shape, mu, contacts, load)
 
     def curve(design):
@@ -254,7 +256,21 @@ def damper_stiffness_kernel(shape, mu, contacts, load, method: str = "exact",
     `prepare_scene` returns them)."""
     if method not in STIFFNESS_METHODS:
         raise ValueError(f"method must be one of {', '.join(STIFFNESS_METHODS)}; got {method!r}")
+    _check_options(method, options)
     return STIFFNESS_METHODS[method](shape, mu, contacts, load, **options)
+
+
+def _check_options(method: str, options: dict) -> None:
+    """ValueError in one line for an option that `method`'s factory does not take (its
+    parameters after the design's four; a factory taking **options takes any)."""
+    params = list(inspect.signature(STIFFNESS_METHODS[method]).parameters.values())[4:]
+    if any(p.kind is inspect.Parameter.VAR_KEYWORD for p in params):
+        return
+    taken = [p.name for p in params]
+    for name in options:
+        if name not in taken:
+            raise ValueError(f"{name} is not an option of method {method!r}: its options are "
+                             f"{', '.join(taken) or 'none'}")
 
 
 def damper_stiffness(shape, mu, contacts=None, load=None, method: str = "exact",
