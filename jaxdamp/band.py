@@ -350,7 +350,7 @@ def amplitude_bands_unchecked(shape: DamperShape, mu, contacts: Contacts, load: 
     """`amplitude_bands` on a design prepared already (`params.prepare_inputs`, or a
     `response.Scene`'s fields): the design is NOT checked here; the amplitudes and counts are."""
     psi = check_band_amplitudes(psi_a_mrad)
-    check_band_options(n_samples, steps, starts)
+    check_band_options(n_samples, steps, starts, refine, seed)
     n = psi.size
     program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
     out = map_in_parts(lambda part: run_program(program, inputs(part), runner), psi, CPU_CHUNK)
@@ -367,8 +367,11 @@ def check_band_amplitudes(psi_a_mrad) -> np.ndarray:
     return psi
 
 
-def check_band_options(n_samples: int, steps: int, starts: int) -> None:
-    """ValueError naming the count out of its range."""
+def check_band_options(n_samples: int, steps: int, starts: int, refine=True, seed=0) -> None:
+    """ValueError naming the count, flag or seed out of its range."""
+    if not isinstance(refine, (bool, np.bool_)):  # "no" and 0.5 were taken as True or False
+        raise ValueError(f"refine must be True or False; got {refine!r}")
+    check_int("seed", seed, 0)
     check_int("n_samples", n_samples, 2)
     check_int("steps", steps, 0)
     check_int("starts", starts, 1)
@@ -389,7 +392,7 @@ def compile_bands_ahead(shape: DamperShape, mu, contacts: Contacts, load: LoadCa
     """`runtime.compile_ahead` of the program `amplitude_bands_unchecked` runs for n_psi amplitudes
     with these options: for a caller whose amplitude grid waits on another result (`peak_band`'s
     on psi_BC). The counts are checked first: nothing compiles for options the call refuses."""
-    check_band_options(n_samples, steps, starts)
+    check_band_options(n_samples, steps, starts, refine, seed)
     program, inputs = _bands_call(shape, mu, contacts, load, n_samples, refine, steps, starts, seed)
     compile_ahead(program, inputs(np.ones(part_size(n_psi, CPU_CHUNK))), runner)
 

@@ -193,6 +193,14 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
     return base_cycle_kernel(*design.prepared(), max_tracts=max_tracts, max_pairs=max_pairs)
 
 
+def check_base_cycle(bc) -> BaseCycle:
+    """bc as it is, or a TypeError in one line naming it: for the public functions that read a
+    Base-Cycle (a number given there failed deep inside with an AttributeError on a tracer)."""
+    if not isinstance(bc, BaseCycle):
+        raise TypeError(f"bc must be a jaxdamp.BaseCycle (from base_cycle); got {type(bc).__name__}")
+    return bc
+
+
 __all__ = ["MAX_TRACTS", "MAX_PAIRS", "CLOSE_TOL", "EQUILIBRIUM_TOL", "mechanics",
-           "BaseCycle", "base_cycle_kernel",
+           "BaseCycle", "base_cycle_kernel", "check_base_cycle",
            "equilibrium_residual", "base_cycle"]

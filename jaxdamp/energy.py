@@ -9,7 +9,7 @@ import jax.numpy as jnp
 
 from ._validate import check_scalar, traced
 from .conventions import platform_arm, travel_mm
-from .cycle import BaseCycle
+from .cycle import BaseCycle, check_base_cycle
 from .half import Half
 from .harmonics import base_cycle_amplitude, cycle_work, moment
 from .statics import WorkShapeFactors
@@ -37,8 +37,9 @@ class CycleEnergy(NamedTuple):
 def contact_energies(bc: BaseCycle, psi_a_mrad=None) -> CycleEnergy:
     """Energy dissipated per cycle (N mm) at each contact and by the platform moment, at amplitude
     psi_a >= psi_BC (default: the Base-Cycle; a smaller psi_a is read as psi_BC).
-    Unchecked, traceable (jit, vmap, grad): takes a BaseCycle (checked when it was made); a
+    Traceable (jit, vmap, grad): takes a BaseCycle (its numbers checked when it was made); a
     concrete psi_a_mrad is checked (one number in (0, 10000] mrad)."""
+    check_base_cycle(bc)
     if psi_a_mrad is not None and not traced(psi_a_mrad):
         check_scalar("psi_a_mrad", psi_a_mrad, 0.0, 1e4, lo_open=True, unit="mrad")
     return _contact_energies(bc, psi_a_mrad)

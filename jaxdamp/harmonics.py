@@ -23,7 +23,7 @@ from .conventions import psi_mrad, travel_mm
 from .conventions import SMALL_ROTATION_MRAD as SMALL_ROTATION_MRAD
 from .conventions import SmallRotationWarning as SmallRotationWarning
 from .conventions import warn_small_rotation as warn_small_rotation
-from .cycle import BaseCycle, base_cycle_kernel
+from .cycle import BaseCycle, base_cycle_kernel, check_base_cycle
 from .design import as_design
 from .geometry import DamperShape
 from .params import Contacts, LoadCase, check_types, fast_ok, prepare_inputs, require_x64
@@ -70,7 +70,7 @@ def five_numbers(bc: BaseCycle) -> FiveNumbers:
     Called on concrete values, warns (SmallRotationWarning) when psi_BC exceeds the small-rotation
     limit SMALL_ROTATION_MRAD (e.g. kt = 1 N/mm gives psi_BC ~ 7000 mrad). Traceable: inside
     jit/vmap/grad it is `five_numbers_kernel`."""
-    nums = five_numbers_kernel(bc)
+    nums = five_numbers_kernel(check_base_cycle(bc))
     warn_small_rotation(nums.psi_bc, stacklevel=3)
     return nums
 
@@ -102,6 +102,7 @@ def complex_stiffness(bc: BaseCycle, psi_a_mrad, method="exact", initial="gross_
     interpolation; psi_a >= psi_BC the Base-Cycle stretched by full slip at both ends, exact first
     harmonic. Both agree at psi_a >= psi_BC, where gross slip erases the history.
     """
+    check_base_cycle(bc)
     if not isinstance(psi_a_mrad, jax.core.Tracer):
         # checked on concrete input only: a negative amplitude (or, for the exact cycle, zero) has no
         # cycle and came back as a silent 0 stiffness; psi_a = 0 is the full-stick limit when

@@ -251,8 +251,13 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
             raise ValueError("give psi_lo and psi_hi (mrad), or grid")
         check_range("psi_lo", psi_lo, 0.0, 1e4, lo_open=True, unit="mrad")
         check_range("psi_hi", psi_hi, 0.0, 1e4, lo_open=True, unit="mrad")
+        if np.any(np.asarray(psi_hi, float) < np.asarray(psi_lo, float)):
+            raise ValueError(f"psi_hi must be >= psi_lo (mrad); got psi_lo {psi_lo!r:.40}, "
+                             f"psi_hi {psi_hi!r:.40}")
     else:
         check_range("grid", grid, 0.0, 1e4, lo_open=True, unit="mrad")
+        if np.any(np.diff(np.asarray(grid, float), axis=-1) < 0.0):
+            raise ValueError("grid must be ascending along its last axis (mrad)")
     if initial == "explicit" and (N_init is None or T_init is None):
         raise ValueError('initial="explicit" needs N_init and T_init, (designs, 3) each')
     check_int("n_probes", n_probes, 1)

@@ -9,7 +9,7 @@ import jax.numpy as jnp
 
 from .linalg import generalized, solve3
 from .geometry import DamperShape, full_slip_slide_rates, pad_geometry
-from ._validate import require_x64, traced
+from ._validate import RANGES, check_range, is_concrete, require_x64, traced
 from .conventions import CENTRIFUGAL_LOAD, START_FRICTION_SIGNS
 from .params import check_shape_and_mu
 from .status import RESULTS, number_repr, status_repr
@@ -175,6 +175,11 @@ def design_br(shape: DamperShape, mu_max=0.7, lo=-0.45, hi=0.45) -> DesignResult
     the resultant inside L1-L2 (45sym at mu = 0.7)."""
     require_x64()
     check_shape_and_mu(shape, mu_max, "mu_max")
+    low, high = RANGES["br_over_hr"][:2]  # the bracket: two b_R/h_R in their range, in order
+    check_range("lo", lo, low, high)
+    check_range("hi", hi, low, high)
+    if is_concrete(lo) and is_concrete(hi) and not float(lo) < float(hi):
+        raise ValueError(f"lo must be below hi (b_R/h_R); got lo {lo:g}, hi {hi:g}")
     return design_br_kernel(shape, mu_max, lo, hi)
 
 

@@ -25,7 +25,7 @@ import jax.numpy as jnp
 import numpy as np
 
 from .batch import map_batched
-from ._validate import check_int, check_values, require_x64
+from ._validate import check_int, check_range, check_values, require_x64
 from .params import (RANGES, Contacts, LoadCase, check_contacts_and_load, validate_contacts,
                      validate_load)
 from .response import BladeMode, Scene, damper_stiffness_kernel, peak_response, prepare_scene
@@ -118,6 +118,11 @@ def sample_scenarios(key, n: int, uncertainty: Uncertainty = Uncertainty(),
     require_x64()
     u = validate_uncertainty(uncertainty)
     n = check_int("n", n, 1)  # 2.5, "3" or True are no count (int() took them)
+    key_data = getattr(key, "dtype", None)
+    if key_data is None or not (jax.dtypes.issubdtype(key.dtype, jax.dtypes.prng_key)
+                                or (key.dtype == np.uint32 and np.shape(key) == (2,))):
+        raise ValueError(f"key must be one JAX random key (jax.random.key(seed) or "
+                         f"jax.random.PRNGKey(seed)); got {type(key).__name__}")
     check_contacts_and_load(contacts, load)
     validate_contacts(contacts)
     validate_load(load)
@@ -179,7 +184,17 @@ def peak_distribution(shape, scenarios: Scenarios, mode: BladeMode | None = None
     load default to BladeMode() and LoadCase()."""
     if history not in HISTORIES + ("band",):
         raise ValueError(f"history must be one of gross_slip, assembly, band; got {history!r}")
+    if not isinstance(scenarios, Scenarios):
+        raise ValueError(f"scenarios must be a jaxdamp.Scenarios (from sample_scenarios); got "
+                         f"{type(scenarios).__name__}")
     forces = np.atleast_1d(check_values("force_n", force_n))
+    # Checked here, before the scenarios run (they were read after).
+    check_range("levels", levels, 0.0, 1.0)
+    if np.ndim(levels) > 1 or np.size(levels) == 0:
+        raise ValueError(f"levels must be one or more quantiles in [0, 1]; got {levels!r}")
+    if limit_mm_per_n is not None:
+        check_range("limit_mm_per_n", limit_mm_per_n, 0.0, np.inf, lo_open=True, hi_open=True,
+                    unit="mm/N")
     if not isinstance(shape, Scene):
         # the nominal mu only validates the scene; every sample brings its own
         shape = prepare_scene(shape, 0.5, Contacts(), load, mode)

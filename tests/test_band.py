@@ -233,3 +233,13 @@ def test_sparse_weights_are_convex_exchangeable_and_as_sparse_as_dirichlet():
         ref = np.random.default_rng(1).dirichlet(np.full(10, alpha), 40000)
         assert abs(w.max(axis=1).mean() - ref.max(axis=1).mean()) < 0.04
     assert np.all(np.asarray(sparse_weights(key, 0.15, jnp.zeros(4, bool), 3)) == 0.0)
+
+
+def test_band_refuses_a_refine_that_is_not_a_bool_and_a_bad_seed():
+    """"no" was taken as True; a text seed failed inside jax.random."""
+    shape = jd.family_shape("60sym")
+    with pytest.raises(ValueError, match=r"^refine must be True or False; got 'no'$"):
+        amplitude_band(shape, 0.5, 1.0, refine="no")
+    for seed in ("a", -1, 1.5):
+        with pytest.raises(ValueError, match=r"^seed must be an integer in \[0, inf\)"):
+            amplitude_band(shape, 0.5, 1.0, seed=seed)

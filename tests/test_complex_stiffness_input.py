@@ -54,3 +54,11 @@ def test_a_traced_cycle_at_concrete_amplitudes():
                                  method="interpolated")
     for got, want in zip(traced, plain):
         assert_tree_allclose(got, want, rtol=1e-12, atol=0.0)
+
+
+@pytest.mark.parametrize("call", [lambda x: jd.five_numbers(x), lambda x: jd.complex_stiffness(x, 1.0),
+                                  lambda x: jd.contact_energies(x)])
+def test_a_number_for_the_base_cycle_is_one_line_naming_bc(call):
+    """A number where the Base-Cycle goes failed inside with an AttributeError on a tracer."""
+    with pytest.raises(TypeError, match=r"^bc must be a jaxdamp.BaseCycle \(from base_cycle\); got int$"):
+        call(5)

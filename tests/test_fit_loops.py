@@ -198,6 +198,18 @@ def test_synthetic_loops_refuse_times_that_are_not_numbers():
             sample_contact_loop(SHAPE, TRUE["mu"], 1.2, CONTACTS, contact=0, component="normal", t=t)
 
 
+def test_a_loop_that_is_not_a_pair_of_number_arrays_is_one_line_naming_it():
+    """A lone array, text or a triple failed in `analyse_loop`'s call with Python's argument
+    errors; text columns with numpy's conversion error."""
+    for loop, says in ((np.ones(5), "got ndarray of length 5"), ("a", "got str"),
+                       ((np.ones(5), np.ones(5), 1.0), "got tuple of length 3")):
+        with pytest.raises(ValueError, match=r"^loops: loop 1 must be a \(psi_mrad, moment_nmm\) "
+                                             r"pair of 1-D arrays, a MomentLoop or a ContactLoop; " + says):
+            jd.fit_loops([loop], SHAPE)
+    with pytest.raises(LoopError, match=r"^loop 1: moment_nmm must be numbers; got \['x'"):
+        jd.fit_loops([(np.ones(5), ["x"] * 5)], SHAPE)
+
+
 def test_model_residual_is_zero_at_the_truth_on_random_sampling():
     """The travel-phase residual of exact model samples vanishes at the true parameters (random
     sampling that includes the reversals, so that the amplitude found is exact)."""

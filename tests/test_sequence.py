@@ -164,3 +164,13 @@ def test_stiffness_curve_checks_its_inputs(change, says):
                         initial=change.get("initial", "gross_slip"))
     assert str(e.value).startswith(says) and "\n" not in str(e.value)
 
+
+
+def test_stiffness_curve_refuses_an_interval_or_grid_the_wrong_way_round():
+    shape, mu = _stack(["60sym"], [0.5])
+    design = (shape, mu, jd.Contacts(np.array([2e4]), np.array([3.5e3])),
+              jd.LoadCase(np.array([1000.0]), np.array([100.0]), np.array([0.0])))
+    with pytest.raises(ValueError, match=r"^psi_hi must be >= psi_lo \(mrad\); got psi_lo 5.0, psi_hi 1.0$"):
+        stiffness_curve(design, 5.0, 1.0)
+    with pytest.raises(ValueError, match=r"^grid must be ascending along its last axis \(mrad\)$"):
+        stiffness_curve(design, grid=np.array([[3.0, 1.0]]))

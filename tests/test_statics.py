@@ -84,3 +84,11 @@ def test_bad_mu():
         jd.full_slip_statics(jd.family_shape("60sym"), 0.0)
     with pytest.raises(ValueError, match="mu"):
         jd.full_slip_statics(jd.family_shape("60sym"), -0.3)
+
+
+def test_design_rule_refuses_a_bracket_out_of_range_or_order():
+    shape = jd.family_shape("60sym")
+    with pytest.raises(ValueError, match=r"^lo must be in \[-0.5, 0.5\]; got -5$"):
+        jd.design_br(shape, lo=-5.0)
+    with pytest.raises(ValueError, match=r"^lo must be below hi \(b_R/h_R\); got lo 0.4, hi -0.4$"):
+        jd.design_br(shape, lo=0.4, hi=-0.4)

@@ -109,3 +109,21 @@ def test_bad_history_and_force_are_refused():
         peak_distribution(SHAPE, scen, history="worst")
     with pytest.raises(ValueError, match="force_n"):
         peak_distribution(SHAPE, scen, force_n=-1.0)
+
+
+def test_key_scenarios_levels_and_limit_are_refused_before_any_work(monkeypatch):
+    """One line naming each (the levels were read after every scenario had run, as numpy's
+    "Quantiles must be in the range [0, 1]"; a seed for a key was JAX's invalid key data)."""
+    import jaxdamp.uncertainty as unc
+
+    scen = sample_scenarios(jax.random.PRNGKey(0), 2)
+    with pytest.raises(ValueError, match=r"^key must be one JAX random key"):
+        sample_scenarios(0, 2)
+    monkeypatch.setattr(unc, "map_batched", lambda *a, **k: pytest.fail("ran the scenarios"))
+    for kwargs, says in (({"levels": (0.5, 1.5)}, r"^levels must be in \[0, 1\]; got 1.5$"),
+                         ({"levels": []}, r"^levels must be one or more quantiles in \[0, 1\]"),
+                         ({"limit_mm_per_n": -1.0}, r"^limit_mm_per_n must be in \(0, inf\) mm/N")):
+        with pytest.raises(ValueError, match=says):
+            peak_distribution(SHAPE, scen, **kwargs)
+    with pytest.raises(ValueError, match=r"^scenarios must be a jaxdamp.Scenarios"):
+        peak_distribution(SHAPE, 5)

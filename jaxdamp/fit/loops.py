@@ -98,6 +98,16 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     return list(zip(np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]))
 
 
+def _numbers(values, name: str, label: str) -> np.ndarray:
+    """A loop's column as a flat float array; LoopError naming it where it holds no numbers."""
+    try:
+        if isinstance(values, (str, bytes)):
+            raise TypeError
+        return np.asarray(values, float).reshape(-1)
+    except (TypeError, ValueError):
+        raise LoopError(f"{name}: {label} must be numbers; got {values!r:.60}") from None
+
+
 def analyse_loop(psi, moment, name: str = "loop", *, columns=("psi_mrad", "moment_nmm"),
                  unit: str = "mrad", max_amplitude: float = 1e4) -> MomentLoop:
     """Turning points, centre, amplitude and travel phase of a measured (psi, M) series.
@@ -105,8 +115,7 @@ def analyse_loop(psi, moment, name: str = "loop", *, columns=("psi_mrad", "momen
     LoopError (a ValueError, one line naming `name`) for: unequal lengths, a NaN or infinity, fewer
     than two points, a constant psi, no closed period (psi must go top-bottom-top or
     bottom-top-bottom), an amplitude outside (0, 1e4] mrad."""
-    psi = np.asarray(psi, float).reshape(-1)
-    moment = np.asarray(moment, float).reshape(-1)
+    psi, moment = (_numbers(v, name, label) for v, label in zip((psi, moment), columns))
     if psi.shape != moment.shape:
         raise LoopError(f"{name}: {columns[0]} and {columns[1]} have different lengths ({psi.size}, "
                         f"{moment.size})")

@@ -313,6 +313,16 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     return _with_offsets(_stacked(loops, shape, load, initial, mu, kn, kt, start, names), runner)
 
 
+def _pair(loop, name: str) -> tuple:
+    """A measured loop given as (psi_mrad, moment_nmm), checked as a pair (a lone array or text
+    failed inside `analyse_loop`'s call with Python's argument errors)."""
+    if isinstance(loop, (str, bytes)) or not hasattr(loop, "__len__") or len(loop) != 2:
+        raise ValueError(f"loops: {name} must be a (psi_mrad, moment_nmm) pair of 1-D arrays, a "
+                         f"MomentLoop or a ContactLoop; got {type(loop).__name__}"
+                         f"{'' if not hasattr(loop, '__len__') else f' of length {len(loop)}'}")
+    return tuple(loop)
+
+
 def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProblem:
     """`fit_problem` before the model has run: the offsets in theta0 zero, no residuals, no loss0."""
     require_x64()
@@ -339,7 +349,7 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
-    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*lp, name=nm)
+    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*_pair(lp, nm), name=nm)
              for lp, nm in zip(loops, names)]
     for lp, nm in zip(loops, names):
         check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
