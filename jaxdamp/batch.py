@@ -294,6 +294,9 @@ def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = Non
     """
     if chunk_size is not None and (isinstance(chunk_size, bool) or int(chunk_size) < 1):
         raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}")
+    for name, f in (("fn", fn), ("progress", progress)):
+        if not callable(f) and (f is not None or name == "fn"):
+            raise ValueError(f"{name} must be a function; got {type(f).__name__}")
     n = batch_length(batched)
     mesh = device_mesh(devices)
     ndev = mesh.devices.size

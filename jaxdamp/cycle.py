@@ -13,6 +13,7 @@ from typing import NamedTuple
 import jax
 import jax.numpy as jnp
 
+from ._validate import check_int
 from .design import Design, as_design
 from .geometry import WEDGE_REFUSED, DamperShape, is_wedge
 from .status import RESULTS, number_repr, status_repr
@@ -189,6 +190,8 @@ def base_cycle(shape: DamperShape | Design, mu=None, contacts: Contacts = Contac
     `status` (jaxdamp.RESULTS), never as NaN.
     Works under jax.vmap / jax.grad / jax.jacfwd (validation is skipped for traced inputs).
     """
+    check_int("max_tracts", max_tracts, 1)
+    check_int("max_pairs", max_pairs, 1)
     design = as_design(shape, mu, contacts, load)
     return base_cycle_kernel(*design.prepared(), max_tracts=max_tracts, max_pairs=max_pairs)
 

@@ -522,6 +522,8 @@ def amplitude_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = C
     grid; concrete inputs only)."""
     if method not in CURVE_METHODS:
         raise ValueError(f"method must be one of {', '.join(CURVE_METHODS)}; got {method!r}")
+    for name, count in (("max_tracts", max_tracts), ("max_pairs", max_pairs), ("n_probes", n_probes)):
+        check_int(name, count, 1)  # 0 failed inside with an IndexError
     if method == "sequence":
         if runner is not None:
             raise ValueError("runner: method 'sequence' runs host-driven rounds, not one program "

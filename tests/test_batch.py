@@ -293,3 +293,11 @@ def test_map_batched_matches_a_loop_and_rejects_bad_chunks():
     with pytest.raises(ValueError, match="chunk_size"):
         jd.map_batched(f, x, 2.0, chunk_size=0)
 
+
+
+def test_map_batched_refuses_what_is_not_a_function_before_any_work():
+    """A progress that is not a function failed after the first chunk had run."""
+    with pytest.raises(ValueError, match=r"^fn must be a function; got int$"):
+        jd.map_batched(5, np.ones(3))
+    with pytest.raises(ValueError, match=r"^progress must be a function; got int$"):
+        jd.map_batched(lambda x: x, np.ones(3), progress=5)

@@ -255,3 +255,13 @@ def test_per_contact_mu_runs_under_strict_ranks_and_equals_the_shared_value():
     assert abs(float(e.contacts.sum() - e.moment)) < 1e-9 * float(e.moment)
     ac = jd.amplitude_cycle(shape, np.array([0.4, 0.5, 0.6]), 1.0)
     assert jd.RESULTS.name_of(ac.status) == "ok" and float(ac.k_im) > 0.0
+
+
+def test_base_cycle_refuses_counts_below_one():
+    """max_pairs 0 was taken (a cycle of no pair)."""
+    for kwargs in ({"max_pairs": 0}, {"max_tracts": 0}):
+        with pytest.raises(ValueError, match=rf"^{next(iter(kwargs))} must be an integer in \[1, inf\)"):
+            jd.base_cycle(jd.family_shape("60sym"), 0.5, **kwargs)
+    for kwargs in ({"max_pairs": 0}, {"n_probes": 0, "method": "sequence"}):  # an IndexError inside
+        with pytest.raises(ValueError, match=r"must be an integer in \[1, inf\); got 0$"):
+            jd.amplitude_curves(jd.family_shape("60sym"), 0.5, [0.5, 1.0], **kwargs)

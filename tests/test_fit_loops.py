@@ -210,6 +210,19 @@ def test_a_loop_that_is_not_a_pair_of_number_arrays_is_one_line_naming_it():
         jd.fit_loops([(np.ones(5), ["x"] * 5)], SHAPE)
 
 
+def test_fit_options_are_refused_in_one_line_before_any_work():
+    """An unknown start key and names of another length were ignored, robust="no" taken as True,
+    a callback that is not a function failed after the first solver step."""
+    loop = sample_loop(SHAPE, TRUE["mu"], 1.2, CONTACTS, t=np.linspace(0.0, 2.0, 201))
+    for kwargs, says in (({"start": {"mux": 0.5}}, r"^start may give mu, kn, kt; got mux$"),
+                         ({"names": ["a", "b"]}, r"^names must give one name per loop \(1\); got 2$"),
+                         ({"robust": "no"}, r"^robust must be True or False; got 'no'$"),
+                         ({"callback": 5}, r"^callback must be a function \(stage, step, loss\) or None"),
+                         ({"max_steps": 0}, r"^max_steps must be an integer in \[1, inf\); got 0$")):
+        with pytest.raises(ValueError, match=says):
+            jd.fit_loops([loop], SHAPE, **kwargs)
+
+
 def test_model_residual_is_zero_at_the_truth_on_random_sampling():
     """The travel-phase residual of exact model samples vanishes at the true parameters (random
     sampling that includes the reversals, so that the amplitude found is exact)."""

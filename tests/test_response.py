@@ -384,3 +384,20 @@ def test_a_stiffness_method_refuses_options_it_does_not_take_before_any_work():
     # (raised while its program is traced, before XLA compiles: JAX adds a note after the line)
     with pytest.raises(ValueError, match=r"^initial must be one of assembly, gross_slip; got 'x'"):
         design_peaks(SHAPE, 0.5, mode=MODE, initial="x")
+
+
+def test_peak_search_options_and_the_damper_are_refused_in_one_line():
+    """A grid smaller than max_roots failed inside with a broadcasting error, one grid point
+    found no root silently, max_roots 0 with an IndexError, a number for the damper with an
+    AttributeError."""
+    d = damper_stiffness(SHAPE, 0.5)
+    for kwargs, says in (({"n_grid": 3}, r"^n_grid must be an integer in \[4, inf\); got 3$"),
+                         ({"n_grid": 1, "max_roots": 1}, r"^n_grid must be an integer in \[2, inf\)"),
+                         ({"max_roots": 0}, r"^max_roots must be an integer in \[1, inf\); got 0$"),
+                         ({"search_width": 0}, r"^search_width must be an integer in \[1, inf\)"),
+                         ({"amplitude_cap_mm": -1.0}, r"^amplitude_cap_mm must be in \(0, inf\) mm")):
+        with pytest.raises(ValueError, match=says):
+            peak_response(d, MODE, 1.0, **kwargs)
+    for call in (lambda: peak_response(5, MODE, 1.0), lambda: frf(5, MODE, 1.0, 1.0)):
+        with pytest.raises(TypeError, match=r"^damper must be a jaxdamp.DamperStiffness"):
+            call()

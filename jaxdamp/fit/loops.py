@@ -13,7 +13,7 @@ from ..geometry import CONTACT_NAMES
 
 __all__ = ["LoopError", "MomentLoop", "ContactLoop", "COMPONENTS", "MAX_DISP_MM",
            "MIN_SAMPLES_PER_HALF", "ZONE", "MIN_LOOP_AREA", "analyse_loop", "analyse_contact_loop",
-           "loop_work", "loop_direction_error"]
+           "loop_work", "loop_direction_error", "loop_pair"]
 
 MIN_SAMPLES_PER_HALF = 3
 ZONE = 0.25  # samples beyond +-ZONE of the range from its middle lie near a top / bottom
@@ -96,6 +96,16 @@ def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """[start, stop) of the runs of True in mask."""
     d = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
     return list(zip(np.nonzero(d == 1)[0], np.nonzero(d == -1)[0]))
+
+
+def loop_pair(loop, name: str) -> tuple:
+    """A measured loop given as (psi_mrad, moment_nmm), checked as a pair (a lone array or text
+    failed inside `analyse_loop`'s call with Python's argument errors)."""
+    if isinstance(loop, (str, bytes)) or not hasattr(loop, "__len__") or len(loop) != 2:
+        raise ValueError(f"loops: {name} must be a (psi_mrad, moment_nmm) pair of 1-D arrays, a "
+                         f"MomentLoop or a ContactLoop; got {type(loop).__name__}"
+                         f"{'' if not hasattr(loop, '__len__') else f' of length {len(loop)}'}")
+    return tuple(loop)
 
 
 def _numbers(values, name: str, label: str) -> np.ndarray:

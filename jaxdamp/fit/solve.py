@@ -13,7 +13,7 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .._validate import check_range, require_x64
+from .._validate import check_int, check_range, require_x64
 from ..amplitude import INITIAL_STATES, amplitude_kernel
 from ..geometry import CONTACT_NAMES, DamperShape, validate_shape
 from ..params import (VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, check_contacts_and_load,
@@ -21,7 +21,7 @@ from ..params import (VALIDATED_STIFFNESS_OVER_FD_PER_MM, Contacts, LoadCase, ch
 from ..response.scene import Scene
 from ..status import RESULTS
 from ..runtime import padded_size, run_program, side_by_side
-from .loops import (COMPONENTS, ContactLoop, LoopError, MomentLoop, analyse_loop,
+from .loops import (COMPONENTS, ContactLoop, LoopError, MomentLoop, analyse_loop, loop_pair,
                     loop_direction_error)
 from .model import contact_loop_force, loop_model_moment
 from .result import LoopFit, identify, z_value
@@ -313,16 +313,6 @@ def fit_problem(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initi
     return _with_offsets(_stacked(loops, shape, load, initial, mu, kn, kt, start, names), runner)
 
 
-def _pair(loop, name: str) -> tuple:
-    """A measured loop given as (psi_mrad, moment_nmm), checked as a pair (a lone array or text
-    failed inside `analyse_loop`'s call with Python's argument errors)."""
-    if isinstance(loop, (str, bytes)) or not hasattr(loop, "__len__") or len(loop) != 2:
-        raise ValueError(f"loops: {name} must be a (psi_mrad, moment_nmm) pair of 1-D arrays, a "
-                         f"MomentLoop or a ContactLoop; got {type(loop).__name__}"
-                         f"{'' if not hasattr(loop, '__len__') else f' of length {len(loop)}'}")
-    return tuple(loop)
-
-
 def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProblem:
     """`fit_problem` before the model has run: the offsets in theta0 zero, no residuals, no loss0."""
     require_x64()
@@ -338,6 +328,9 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     for key, g in (("mu", mu), ("kn", kn), ("kt", kt)):
         if g not in GROUPINGS[key]:
             raise ValueError(f"{key} grouping must be one of {', '.join(GROUPINGS[key])}; got {g!r}")
+    unknown = sorted(set(start or {}) - set(DEFAULT_START))
+    if unknown:
+        raise ValueError(f"start may give {', '.join(DEFAULT_START)}; got {', '.join(unknown)}")
     st = dict(DEFAULT_START, **(start or {}))
     # the start: mu in its range (params.RANGES), kn and kt inside the validated stiffness range
     # (at most VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] F_D per mm: above it no cycle is trustworthy)
@@ -348,8 +341,10 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     loops = list(loops)
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
+    if names is not None and len(names) != len(loops):
+        raise ValueError(f"names must give one name per loop ({len(loops)}); got {len(names)}")
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
-    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*_pair(lp, nm), name=nm)
+    loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*loop_pair(lp, nm), name=nm)
              for lp, nm in zip(loops, names)]
     for lp, nm in zip(loops, names):
         check_range("psi_a_mrad", lp.psi_a, 0.0, 1e4, lo_open=True, unit="mrad")
@@ -423,9 +418,13 @@ def fit_loops(loops, shape: DamperShape, *, load: LoadCase = LoadCase(), initial
     parameters the loops do not identify (NaN values, with the reason). Loops that cannot be used
     raise LoopError (a ValueError) naming the loop.
     """
-    if isinstance(max_steps, bool) or not isinstance(max_steps, int) or max_steps < 1:
-        raise ValueError(f"max_steps must be an integer >= 1; got {max_steps!r}")
+    check_int("max_steps", max_steps, 1)
     check_range("rtol", rtol, 0.0, 1.0, lo_open=True, hi_open=True)
+    if not isinstance(robust, (bool, np.bool_)):  # "no" was taken as True
+        raise ValueError(f"robust must be True or False; got {robust!r}")
+    if callback is not None and not callable(callback):
+        raise ValueError(f"callback must be a function (stage, step, loss) or None; got "
+                         f"{type(callback).__name__}")
     prob = _stacked(loops, shape, load, initial, mu, kn, kt, start, names)
     prob = side_by_side(lambda: _with_offsets(prob, runner), lambda: _first_step(prob, rtol, runner))[0]
     spec, n_phys, data, scale, theta = prob.spec, prob.n_phys, prob.data, prob.scale, prob.theta0

@@ -11,7 +11,7 @@ import numpy as np
 from .._validate import check_int, check_range, check_values, traced
 from ..status import number_repr, status_repr
 from .scene import BladeMode, validate_mode
-from .stiffness import DamperStiffness, stuck_damper
+from .stiffness import DamperStiffness, check_damper, stuck_damper
 
 __all__ = ["FRF", "FRF_POINTS", "dynamic_stiffness", "frf", "frf_amplitude_grid",
            "response_amplitude_linear", "linear_frf"]
@@ -58,6 +58,7 @@ def frf(damper: DamperStiffness, mode: BladeMode, force_n, amplitude_mm) -> FRF:
     checked path is `response_curves` (or `prepare_scene` for the mode). Concrete inputs are
     checked (the mode, a force > 0 N, amplitudes > 0 mm, 1-D).
     """
+    check_damper(damper)
     if not traced(mode, force_n, amplitude_mm):
         validate_mode(mode)
         check_values("force_n", force_n, max_ndim=0)

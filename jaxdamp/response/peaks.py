@@ -15,11 +15,11 @@ from ..geometry import is_wedge
 from ..motion import in_phase_motion, validate_motion
 from ..runtime import batch_jit
 from ..status import RESULTS, number_repr, status_repr
-from .._validate import check_values, traced
+from .._validate import check_int, check_range, check_values, traced
 from .root_search import GRID_CHUNK, grid_apart_then_roots, grid_then_roots
 from .frf import FRF, FRF_POINTS, dynamic_stiffness, frf, frf_amplitude_grid, linear_frf
 from .scene import BladeMode, Scene, prepare_scene, validate_mode
-from .stiffness import (DamperStiffness, check_history, damper_stiffness_kernel,
+from .stiffness import (DamperStiffness, check_damper, check_history, damper_stiffness_kernel,
                         path_cycle_kernel, path_damper, with_residual)
 
 __all__ = ["N_GRID", "GRID_DECADES", "MAX_ROOTS", "REFINE_STEPS",
@@ -130,6 +130,20 @@ def _amplitude_grid(damper: DamperStiffness, mode: BladeMode, forces, n_grid: in
 SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
 
 
+def _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width) -> None:
+    """`peak_response`'s damper and search options, each refused in one line (a grid smaller than
+    max_roots failed inside with a broadcasting error, one point found no root silently, no root
+    slot with an IndexError)."""
+    check_damper(damper)
+    max_roots = check_int("max_roots", max_roots, 1)
+    check_int("n_grid", n_grid, max(2, max_roots))  # a bracket needs two points; a root a bracket
+    if search_width is not None:
+        check_int("search_width", search_width, 1)
+    if amplitude_cap_mm is not None and not traced(amplitude_cap_mm):
+        check_range("amplitude_cap_mm", amplitude_cap_mm, 0.0, np.inf, lo_open=True, hi_open=True,
+                    unit="mm")
+
+
 def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: int = N_GRID,
                   max_roots: int = MAX_ROOTS, amplitude_cap_mm=None,
                   differentiable: bool = True, frequencies: bool = True,
@@ -161,6 +175,7 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     `damper_stiffness` made it). Otherwise unchecked, traceable (jit, vmap, grad): a damper built
     by hand or traced, with its mode and force_n, is taken as given.
     """
+    _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width)
     checked = isinstance(mode, Scene)
     mode = mode.mode if checked else mode
     if not traced(force_n):  # a concrete force is checked (a negative one gave NaN peaks)

@@ -25,7 +25,7 @@ from ..params import Contacts, LoadCase, prepare_inputs
 from ..residual import through_residual
 from ..status import RESULTS, number_repr, status_repr
 
-__all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS",
+__all__ = ["KOfPsi", "DamperStiffness", "CompiledSource", "STIFFNESS_METHODS", "check_damper",
            "interpolated_damper", "base_scale", "exact_damper", "register_stiffness_method",
            "damper_stiffness_kernel", "damper_stiffness", "tabulated_stiffness",
            "scaled_stiffness", "stuck_damper", "no_damper", "PATH_HISTORIES", "check_history", "PathStiffness", "path_cycle_kernel",
@@ -248,6 +248,15 @@ def register_stiffness_method(name: str, factory: Callable[..., DamperStiffness]
     Built in: "exact" (the travel-limited steady cycles of `jaxdamp.amplitude`, option initial=)
     and "interpolated" (the paper's linear microslip interpolation, for comparison with it)."""
     STIFFNESS_METHODS[name] = factory
+
+
+def check_damper(damper) -> DamperStiffness:
+    """damper as it is, or a TypeError in one line naming it (a number there failed inside with
+    an AttributeError)."""
+    if not isinstance(damper, DamperStiffness):
+        raise TypeError(f"damper must be a jaxdamp.DamperStiffness (from damper_stiffness); got "
+                        f"{type(damper).__name__}")
+    return damper
 
 
 def damper_stiffness_kernel(shape, mu, contacts, load, method: str = "exact",
