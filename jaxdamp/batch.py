@@ -294,9 +294,10 @@ def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = Non
     """
     if chunk_size is not None and (isinstance(chunk_size, bool) or int(chunk_size) < 1):
         raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}")
-    for name, f in (("fn", fn), ("progress", progress)):
-        if not callable(f) and (f is not None or name == "fn"):
-            raise ValueError(f"{name} must be a function; got {type(f).__name__}")
+    if not callable(fn):
+        raise ValueError(f"fn must be a function; got {type(fn).__name__}")
+    if progress is not None and not callable(progress):  # it failed after the first chunk ran
+        raise ValueError(f"progress must be a function; got {type(progress).__name__}")
     n = batch_length(batched)
     mesh = device_mesh(devices)
     ndev = mesh.devices.size

@@ -118,9 +118,9 @@ def sample_scenarios(key, n: int, uncertainty: Uncertainty = Uncertainty(),
     require_x64()
     u = validate_uncertainty(uncertainty)
     n = check_int("n", n, 1)  # 2.5, "3" or True are no count (int() took them)
-    key_data = getattr(key, "dtype", None)
-    if key_data is None or not (jax.dtypes.issubdtype(key.dtype, jax.dtypes.prng_key)
-                                or (key.dtype == np.uint32 and np.shape(key) == (2,))):
+    dtype = getattr(key, "dtype", None)  # a typed key, or the raw uint32 pair of PRNGKey
+    if dtype is None or not (jax.dtypes.issubdtype(dtype, jax.dtypes.prng_key)
+                             or (dtype == np.uint32 and np.shape(key) == (2,))):
         raise ValueError(f"key must be one JAX random key (jax.random.key(seed) or "
                          f"jax.random.PRNGKey(seed)); got {type(key).__name__}")
     check_contacts_and_load(contacts, load)
