@@ -39,12 +39,12 @@ CHECKED = {
     "sector_matrices", "full_matrices", "ring_response",
 }
 # Take a result made (and checked) by a checked function: a BaseCycle, an EllipticCycle.
-TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness"}
+TAKES_A_RESULT = {"five_numbers", "transitions_chart", "complex_stiffness", "contact_energies"}
 # Unchecked, traceable helpers (building blocks of the kernels, used inside jit/vmap/grad): their
 # docstrings say "unchecked" and "traceable".
 UNCHECKED = {
     "section_geometry", "platform_moment", "full_slip_state", "admissible_polytope",
-    "polytope_vertices", "curve_at", "cycle_work", "moment", "contact_energies",
+    "polytope_vertices", "curve_at", "cycle_work", "moment",
     "work_shape_factors", "frf", "frf_amplitude_grid", "linear_frf", "stuck_damper",
     "scaled_stiffness", "tabulated_stiffness", "peak_response", "run_half", "path_damper",
     "pad_names",
