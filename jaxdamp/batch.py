@@ -292,7 +292,8 @@ def map_batched(fn, batched, *shared, devices=None, chunk_size: int | None = Non
     before any result is read, so host and devices overlap. `fn` must be a stable (module-level)
     function: its jit(vmap) is cached by identity. progress(k) is called after each chunk is read.
     """
-    if chunk_size is not None and (isinstance(chunk_size, bool) or int(chunk_size) < 1):
+    if chunk_size is not None and (isinstance(chunk_size, bool)  # text or NaN: int()'s errors
+                                   or not isinstance(chunk_size, (int, np.integer)) or chunk_size < 1):
         raise ValueError(f"chunk_size must be an integer >= 1; got {chunk_size!r}")
     if not callable(fn):
         raise ValueError(f"fn must be a function; got {type(fn).__name__}")

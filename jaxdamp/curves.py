@@ -24,6 +24,7 @@ from .status import RESULTS, number_repr, status_repr
 from .stretch import base_cycle_amplitude, gross_slip_stiffness
 
 __all__ = ["StiffnessCurves", "cycle_curves", "curves_kernel", "prepare_curves_inputs",
+           "check_curve_request",
            "batch_size", "broadcast_designs", "flat_cycles", "stretched_curves", "padded_index",
            "STRETCH_MARGIN", "FLAT_CPU_CHUNK"]
 
@@ -252,3 +253,36 @@ def cycle_curves(shapes: DamperShape, mu, psi_a_mrad, contacts: Contacts = Conta
         for f, v in cyc.items():
             getattr(out, f)[todo] = v
     return jax.tree_util.tree_map(lambda x: jnp.asarray(x).reshape(size, n_amp), out)
+
+
+def check_curve_request(designs, psi_lo, psi_hi, grid, initial, N_init, T_init) -> None:
+    """`sequence.stiffness_curve`'s designs, amplitudes (psi_lo to psi_hi, or an ascending grid,
+    mrad) and start (a named history, or initial="explicit" with N_init, T_init), checked:
+    ValueError in one line naming the parameter and what it takes."""
+    if initial not in INITIAL_STATES + ("explicit",):
+        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}, explicit; "
+                         f"got {initial!r}")
+    if not isinstance(designs, tuple) or len(designs) != 4:
+        raise ValueError(f"designs must be a batch of designs (shapes, mu, contacts, load), e.g. "
+                         f"jaxdamp.stack_designs(...); got {type(designs).__name__}")
+    shapes, mu, contacts, load = designs
+    validate_shape(shapes)
+    validate_mu(mu)
+    validate_contacts(contacts)
+    validate_load(load)
+    if grid is None:
+        if psi_lo is None or psi_hi is None:
+            raise ValueError("give psi_lo and psi_hi (mrad), or grid")
+        check_range("psi_lo", psi_lo, 0.0, 1e4, lo_open=True, unit="mrad")
+        check_range("psi_hi", psi_hi, 0.0, 1e4, lo_open=True, unit="mrad")
+        if np.any(np.asarray(psi_hi, float) < np.asarray(psi_lo, float)):
+            raise ValueError(f"psi_hi must be >= psi_lo (mrad); got psi_lo {psi_lo!r:.40}, "
+                             f"psi_hi {psi_hi!r:.40}")
+    else:
+        check_range("grid", grid, 0.0, 1e4, lo_open=True, unit="mrad")
+        if np.any(np.diff(np.asarray(grid, float), axis=-1) < 0.0):
+            raise ValueError("grid must be ascending along its last axis (mrad)")
+    if initial == "explicit" and (N_init is None or T_init is None):
+        raise ValueError('initial="explicit" needs N_init and T_init, (designs, 3) each')
+    if initial != "explicit" and (N_init is not None or T_init is not None):  # were ignored
+        raise ValueError(f'N_init and T_init are for initial="explicit"; got initial={initial!r}')

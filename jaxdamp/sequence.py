@@ -35,12 +35,12 @@ import jax
 import jax.numpy as jnp
 import numpy as np
 
-from .amplitude import INITIAL_STATES, MAX_PAIRS, MAX_TRACTS, amplitude_kernel
-from .curves import (StiffnessCurves, cycle_curves, flat_cycles, padded_index,
+from .amplitude import MAX_PAIRS, MAX_TRACTS, amplitude_kernel
+from .curves import (StiffnessCurves, check_curve_request, cycle_curves, flat_cycles, padded_index,
                      prepare_curves_inputs, stretched_curves)
-from ._validate import check_int, check_range, require_x64
-from .geometry import DamperShape, validate_shape
-from .params import Contacts, LoadCase, validate_contacts, validate_load, validate_mu
+from ._validate import check_int, require_x64
+from .geometry import DamperShape
+from .params import Contacts, LoadCase
 from .conventions import travel_mm
 from .fourier import half_fourier
 from .geometry import platform_moment
@@ -238,28 +238,9 @@ def stiffness_curve(designs, psi_lo=None, psi_hi=None, *, grid=None, initial="gr
     Every input is checked here (ValueError naming the parameter and its range; Float64Required
     in float32); `stiffness_curve_unchecked` takes inputs checked already."""
     require_x64()
-    if initial not in INITIAL_STATES + ("explicit",):
-        raise ValueError(f"initial must be one of {', '.join(INITIAL_STATES)}, explicit; "
-                         f"got {initial!r}")
-    shapes, mu, contacts, load = designs
-    validate_shape(shapes)
-    validate_mu(mu)
-    validate_contacts(contacts)
-    validate_load(load)
-    if grid is None:
-        if psi_lo is None or psi_hi is None:
-            raise ValueError("give psi_lo and psi_hi (mrad), or grid")
-        check_range("psi_lo", psi_lo, 0.0, 1e4, lo_open=True, unit="mrad")
-        check_range("psi_hi", psi_hi, 0.0, 1e4, lo_open=True, unit="mrad")
-        if np.any(np.asarray(psi_hi, float) < np.asarray(psi_lo, float)):
-            raise ValueError(f"psi_hi must be >= psi_lo (mrad); got psi_lo {psi_lo!r:.40}, "
-                             f"psi_hi {psi_hi!r:.40}")
-    else:
-        check_range("grid", grid, 0.0, 1e4, lo_open=True, unit="mrad")
-        if np.any(np.diff(np.asarray(grid, float), axis=-1) < 0.0):
-            raise ValueError("grid must be ascending along its last axis (mrad)")
-    if initial == "explicit" and (N_init is None or T_init is None):
-        raise ValueError('initial="explicit" needs N_init and T_init, (designs, 3) each')
+    check_curve_request(designs, psi_lo, psi_hi, grid, initial, N_init, T_init)
+    for name, count in (("max_tracts", max_tracts), ("max_pairs", max_pairs)):
+        check_int(name, count, 1)
     check_int("n_probes", n_probes, 1)
     check_int("max_rounds", max_rounds, 0)
     check_int("max_probes", max_probes, 2)

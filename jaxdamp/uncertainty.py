@@ -96,6 +96,8 @@ class PeakDistribution(NamedTuple):
 
 def validate_uncertainty(u: Uncertainty) -> Uncertainty:
     """ValueError naming the field and its valid range."""
+    if not isinstance(u, Uncertainty):  # its fields were read as attributes: an AttributeError
+        raise ValueError(f"uncertainty must be a jaxdamp.Uncertainty; got {type(u).__name__}")
     mu_hi = RANGES["mu"][1]
     if not 0.0 < u.mu_low <= u.mu_high <= mu_hi:
         raise ValueError(f"mu range must satisfy 0 < mu_low <= mu_high <= {mu_hi:g}; got "

@@ -301,3 +301,6 @@ def test_map_batched_refuses_what_is_not_a_function_before_any_work():
         jd.map_batched(5, np.ones(3))
     with pytest.raises(ValueError, match=r"^progress must be a function; got int$"):
         jd.map_batched(lambda x: x, np.ones(3), progress=5)
+    for chunk in ("a", float("nan"), 2.5):  # int()'s own errors, or 2.5 taken as 2
+        with pytest.raises(ValueError, match=r"^chunk_size must be an integer >= 1"):
+            jd.map_batched(lambda x: x, np.ones(3), chunk_size=chunk)

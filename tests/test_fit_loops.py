@@ -208,6 +208,8 @@ def test_a_loop_that_is_not_a_pair_of_number_arrays_is_one_line_naming_it():
             jd.fit_loops([loop], SHAPE)
     with pytest.raises(LoopError, match=r"^loop 1: moment_nmm must be numbers; got \['x'"):
         jd.fit_loops([(np.ones(5), ["x"] * 5)], SHAPE)
+    with pytest.raises(ValueError, match=r"^loops must be a list of loops; got float$"):
+        jd.fit_loops(1.0, SHAPE)
 
 
 def test_fit_options_are_refused_in_one_line_before_any_work():
@@ -215,10 +217,12 @@ def test_fit_options_are_refused_in_one_line_before_any_work():
     a callback that is not a function failed after the first solver step."""
     loop = sample_loop(SHAPE, TRUE["mu"], 1.2, CONTACTS, t=np.linspace(0.0, 2.0, 201))
     for kwargs, says in (({"start": {"mux": 0.5}}, r"^start may give mu, kn, kt; got mux$"),
-                         ({"names": ["a", "b"]}, r"^names must give one name per loop \(1\); got 2$"),
+                         ({"names": ["a", "b"]}, r"^names must be a list of one name per loop \(1\); got \['a', 'b'\]$"),
                          ({"robust": "no"}, r"^robust must be True or False; got 'no'$"),
                          ({"callback": 5}, r"^callback must be a function \(stage, step, loss\) or None"),
-                         ({"max_steps": 0}, r"^max_steps must be an integer in \[1, inf\); got 0$")):
+                         ({"max_steps": 0}, r"^max_steps must be an integer in \[1, inf\); got 0$"),
+                         ({"start": 5}, r"^start must be a dict of mu, kn, kt or None; got int$"),
+                         ({"names": "a"}, r"^names must be a list of one name per loop \(1\)")):
         with pytest.raises(ValueError, match=says):
             jd.fit_loops([loop], SHAPE, **kwargs)
 

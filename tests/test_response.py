@@ -395,7 +395,8 @@ def test_peak_search_options_and_the_damper_are_refused_in_one_line():
                          ({"n_grid": 1, "max_roots": 1}, r"^n_grid must be an integer in \[2, inf\)"),
                          ({"max_roots": 0}, r"^max_roots must be an integer in \[1, inf\); got 0$"),
                          ({"search_width": 0}, r"^search_width must be an integer in \[1, inf\)"),
-                         ({"amplitude_cap_mm": -1.0}, r"^amplitude_cap_mm must be in \(0, inf\) mm")):
+                         ({"amplitude_cap_mm": -1.0}, r"^amplitude_cap_mm must be in \(0, inf\) mm"),
+                         ({"differentiable": "no"}, r"^differentiable must be True or False")):
         with pytest.raises(ValueError, match=says):
             peak_response(d, MODE, 1.0, **kwargs)
     for call in (lambda: peak_response(5, MODE, 1.0), lambda: frf(5, MODE, 1.0, 1.0)):

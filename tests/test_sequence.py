@@ -174,3 +174,10 @@ def test_stiffness_curve_refuses_an_interval_or_grid_the_wrong_way_round():
         stiffness_curve(design, 5.0, 1.0)
     with pytest.raises(ValueError, match=r"^grid must be ascending along its last axis \(mrad\)$"):
         stiffness_curve(design, grid=np.array([[3.0, 1.0]]))
+    # Not a batch, a count that is text, a start for another history (was ignored)
+    with pytest.raises(ValueError, match=r"^designs must be a batch of designs"):
+        stiffness_curve("60sym", 1.0, 5.0)
+    with pytest.raises(ValueError, match=r"^max_pairs must be an integer in \[1, inf\)"):
+        stiffness_curve(design, 1.0, 5.0, max_pairs="8")
+    with pytest.raises(ValueError, match=r'^N_init and T_init are for initial="explicit"'):
+        stiffness_curve(design, 1.0, 5.0, N_init=np.ones((1, 3)), T_init=np.zeros((1, 3)))

@@ -119,6 +119,8 @@ def test_key_scenarios_levels_and_limit_are_refused_before_any_work(monkeypatch)
     scen = sample_scenarios(jax.random.PRNGKey(0), 2)
     with pytest.raises(ValueError, match=r"^key must be one JAX random key"):
         sample_scenarios(0, 2)
+    with pytest.raises(ValueError, match=r"^uncertainty must be a jaxdamp.Uncertainty; got str$"):
+        sample_scenarios(jax.random.PRNGKey(0), 2, "wide")  # was an AttributeError
     monkeypatch.setattr(unc, "map_batched", lambda *a, **k: pytest.fail("ran the scenarios"))
     for kwargs, says in (({"levels": (0.5, 1.5)}, r"^levels must be in \[0, 1\]; got 1.5$"),
                          ({"levels": []}, r"^levels must be one or more quantiles in \[0, 1\]"),

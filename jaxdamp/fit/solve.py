@@ -328,6 +328,8 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     for key, g in (("mu", mu), ("kn", kn), ("kt", kt)):
         if g not in GROUPINGS[key]:
             raise ValueError(f"{key} grouping must be one of {', '.join(GROUPINGS[key])}; got {g!r}")
+    if start is not None and not isinstance(start, dict):
+        raise ValueError(f"start must be a dict of mu, kn, kt or None; got {type(start).__name__}")
     unknown = sorted(set(start or {}) - set(DEFAULT_START))
     if unknown:
         raise ValueError(f"start may give {', '.join(DEFAULT_START)}; got {', '.join(unknown)}")
@@ -338,11 +340,15 @@ def _stacked(loops, shape, load, initial, mu, kn, kt, start, names) -> FitProble
     k_hi = VALIDATED_STIFFNESS_OVER_FD_PER_MM[1] * float(np.max(np.asarray(load.F_D, float)))
     check_range("start_kn", st["kn"], 0.0, k_hi, lo_open=True, unit="N/mm")
     check_range("start_kt", st["kt"], 0.0, k_hi, lo_open=True, unit="N/mm")
+    if isinstance(loops, (str, bytes)) or not hasattr(loops, "__iter__"):
+        raise ValueError(f"loops must be a list of loops; got {type(loops).__name__}")
     loops = list(loops)
     if not loops:
         raise ValueError("loops must hold at least one (psi_mrad, moment_nmm) loop")
-    if names is not None and len(names) != len(loops):
-        raise ValueError(f"names must give one name per loop ({len(loops)}); got {len(names)}")
+    if names is not None and (isinstance(names, (str, bytes)) or not hasattr(names, "__len__")
+                              or len(names) != len(loops)):
+        raise ValueError(f"names must be a list of one name per loop ({len(loops)}); got "
+                         f"{names!r:.60}")
     names = names or [f"loop {i + 1}" for i in range(len(loops))]
     loops = [lp if isinstance(lp, (MomentLoop, ContactLoop)) else analyse_loop(*loop_pair(lp, nm), name=nm)
              for lp, nm in zip(loops, names)]

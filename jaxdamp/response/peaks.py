@@ -130,11 +130,14 @@ def _amplitude_grid(damper: DamperStiffness, mode: BladeMode, forces, n_grid: in
 SHARED_GRID_FACTOR = 1.5  # a force array's shared grid has this many times n_grid points
 
 
-def _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width) -> None:
+def _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width, flags) -> None:
     """`peak_response`'s damper and search options, each refused in one line (a grid smaller than
     max_roots failed inside with a broadcasting error, one point found no root silently, no root
     slot with an IndexError)."""
     check_damper(damper)
+    for name, flag in flags.items():  # "no" was taken as True
+        if not isinstance(flag, (bool, np.bool_)):
+            raise ValueError(f"{name} must be True or False; got {flag!r}")
     max_roots = check_int("max_roots", max_roots, 1)
     check_int("n_grid", n_grid, max(2, max_roots))  # a bracket needs two points; a root a bracket
     if search_width is not None:
@@ -175,7 +178,8 @@ def peak_response(damper: DamperStiffness, mode: BladeMode, force_n, *, n_grid: 
     `damper_stiffness` made it). Otherwise unchecked, traceable (jit, vmap, grad): a damper built
     by hand or traced, with its mode and force_n, is taken as given.
     """
-    _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width)
+    _check_search(damper, n_grid, max_roots, amplitude_cap_mm, search_width,
+                  dict(differentiable=differentiable, frequencies=frequencies))
     checked = isinstance(mode, Scene)
     mode = mode.mode if checked else mode
     if not traced(force_n):  # a concrete force is checked (a negative one gave NaN peaks)
